@@ -1,0 +1,73 @@
+# Helpers in the spirit of mola_add_library: one call per target, consistent
+# flags, include/ PUBLIC and src/ PRIVATE, alias hymm::<name>, installed and exported.
+
+function(hymm_set_warnings target)
+    target_compile_options(${target} PRIVATE -Wall -Wextra -Wshadow)
+    if(HYMM_WERROR)
+        target_compile_options(${target} PRIVATE -Werror)
+    endif()
+endfunction()
+
+# hymm_add_library(NAME SOURCES ... PUBLIC_LINK_LIBRARIES ... PRIVATE_LINK_LIBRARIES ...)
+function(hymm_add_library name)
+    cmake_parse_arguments(A "" "" "SOURCES;PUBLIC_LINK_LIBRARIES;PRIVATE_LINK_LIBRARIES" ${ARGN})
+    set(target hymm_${name})
+    add_library(${target} ${A_SOURCES})
+    add_library(hymm::${name} ALIAS ${target})
+    set_target_properties(${target} PROPERTIES EXPORT_NAME ${name} OUTPUT_NAME hymm_${name}
+                          POSITION_INDEPENDENT_CODE ON)
+    target_compile_features(${target} PUBLIC cxx_std_17)
+    target_include_directories(${target}
+        PUBLIC $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include>
+               $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>
+        PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/src)
+    target_link_libraries(${target} PUBLIC ${A_PUBLIC_LINK_LIBRARIES}
+                                    PRIVATE ${A_PRIVATE_LINK_LIBRARIES})
+    hymm_set_warnings(${target})
+    install(TARGETS ${target} EXPORT hymmTargets
+            ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
+            LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
+            RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+    install(DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/include/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+endfunction()
+
+# hymm_add_executable(NAME SOURCES ... LINK_LIBRARIES ...)
+function(hymm_add_executable name)
+    cmake_parse_arguments(A "" "" "SOURCES;LINK_LIBRARIES" ${ARGN})
+    add_executable(${name} ${A_SOURCES})
+    target_link_libraries(${name} PRIVATE ${A_LINK_LIBRARIES})
+    hymm_set_warnings(${name})
+    set_target_properties(${name} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/bin)
+    install(TARGETS ${name} RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+endfunction()
+
+# hymm_add_test(NAME SOURCES ... LINK_LIBRARIES ... [LABELS ...])
+# GoogleTest executable registered with ctest; test data paths come in as
+# compile definitions (HYMM_SOURCE_DIR, HYMM_BINARY_DIR).
+function(hymm_add_test name)
+    if(NOT HYMM_BUILD_TESTS)
+        return()
+    endif()
+    cmake_parse_arguments(A "" "" "SOURCES;LINK_LIBRARIES;LABELS" ${ARGN})
+    add_executable(${name} ${A_SOURCES})
+    target_link_libraries(${name} PRIVATE ${A_LINK_LIBRARIES} GTest::gtest GTest::gtest_main)
+    target_compile_definitions(${name} PRIVATE
+        HYMM_SOURCE_DIR="${PROJECT_SOURCE_DIR}" HYMM_BINARY_DIR="${PROJECT_BINARY_DIR}")
+    hymm_set_warnings(${name})
+    set_target_properties(${name} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/tests)
+    if(A_LABELS)
+        gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60 PROPERTIES LABELS "${A_LABELS}")
+    else()
+        gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60 PROPERTIES LABELS unit)
+    endif()
+endfunction()
+
+# hymm_add_benchmark(NAME SOURCES ... LINK_LIBRARIES ...)
+function(hymm_add_benchmark name)
+    cmake_parse_arguments(A "" "" "SOURCES;LINK_LIBRARIES" ${ARGN})
+    add_executable(${name} ${A_SOURCES})
+    target_link_libraries(${name} PRIVATE ${A_LINK_LIBRARIES} benchmark::benchmark)
+    target_compile_definitions(${name} PRIVATE HYMM_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+    hymm_set_warnings(${name})
+    set_target_properties(${name} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/benchmarks)
+endfunction()

@@ -1,0 +1,113 @@
+#include "hymm/core/trajectory_io.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+#include <stdexcept>
+
+namespace hymm::core
+{
+namespace
+{
+std::vector<double> parseNumbers(const std::string& line, const std::string& path, size_t lineno)
+{
+    std::string s = line;
+    std::replace(s.begin(), s.end(), ',', ' ');
+    std::istringstream is(s);
+    std::vector<double> v;
+    std::string tok;
+    while (is >> tok)
+    {
+        char* end = nullptr;
+        const double d = std::strtod(tok.c_str(), &end);
+        if (end == tok.c_str() || *end != '\0' || !std::isfinite(d))
+            throw std::runtime_error(
+                path + ":" + std::to_string(lineno) + ": '" + tok + "' is not a finite number");
+        v.push_back(d);
+    }
+    return v;
+}
+
+bool isCommentOrBlank(const std::string& line)
+{
+    const auto p = line.find_first_not_of(" \t\r");
+    return p == std::string::npos || line[p] == '#' || line[p] == '%';
+}
+}  // namespace
+
+void writeTum(const std::string& path, const std::vector<StampedPose2D>& poses)
+{
+    std::ofstream f(path);
+    if (!f) throw std::runtime_error("cannot write trajectory file '" + path + "'");
+    f << "# timestamp x y z qx qy qz qw\n" << std::setprecision(12);
+    for (const auto& p : poses)
+        f << p.t << ' ' << p.x << ' ' << p.y << " 0 0 0 " << std::sin(p.phi / 2) << ' '
+          << std::cos(p.phi / 2) << '\n';
+    if (!f) throw std::runtime_error("error writing trajectory file '" + path + "'");
+}
+
+std::vector<StampedPose2D> readTum(const std::string& path)
+{
+    std::ifstream f(path);
+    if (!f) throw std::runtime_error("cannot open trajectory file '" + path + "'");
+    std::vector<StampedPose2D> out;
+    std::string line;
+    size_t lineno = 0;
+    while (std::getline(f, line))
+    {
+        ++lineno;
+        if (isCommentOrBlank(line)) continue;
+        const auto v = parseNumbers(line, path, lineno);
+        if (v.size() != 8)
+            throw std::runtime_error(path + ":" + std::to_string(lineno) +
+                                     ": expected 8 TUM columns, got " + std::to_string(v.size()));
+        // Heading about z from the quaternion (planar poses).
+        const double phi = 2.0 * std::atan2(v[6], v[7]);
+        out.push_back(StampedPose2D{v[0], v[1], v[2], std::atan2(std::sin(phi), std::cos(phi))});
+    }
+    return out;
+}
+
+void writeLandmarksCsv(
+    const std::string& path, const std::vector<LandmarkRecord>& lms, const std::string& header)
+{
+    std::ofstream f(path);
+    if (!f) throw std::runtime_error("cannot write landmark file '" + path + "'");
+    f << "# " << header << '\n' << std::setprecision(12);
+    for (const auto& l : lms)
+    {
+        f << l.id << ',' << l.x << ',' << l.y;
+        for (double e : l.extra) f << ',' << e;
+        f << '\n';
+    }
+    if (!f) throw std::runtime_error("error writing landmark file '" + path + "'");
+}
+
+std::vector<LandmarkRecord> readLandmarksCsv(const std::string& path)
+{
+    std::ifstream f(path);
+    if (!f) throw std::runtime_error("cannot open landmark file '" + path + "'");
+    std::vector<LandmarkRecord> out;
+    std::string line;
+    size_t lineno = 0;
+    while (std::getline(f, line))
+    {
+        ++lineno;
+        if (isCommentOrBlank(line)) continue;
+        const auto v = parseNumbers(line, path, lineno);
+        if (v.size() < 3)
+            throw std::runtime_error(path + ":" + std::to_string(lineno) +
+                                     ": expected at least 3 columns (id,x,y)");
+        LandmarkRecord r;
+        r.id = static_cast<long>(v[0]);
+        r.x = v[1];
+        r.y = v[2];
+        r.extra.assign(v.begin() + 3, v.end());
+        out.push_back(std::move(r));
+    }
+    return out;
+}
+
+}  // namespace hymm::core
