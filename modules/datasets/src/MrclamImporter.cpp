@@ -1,0 +1,257 @@
+#include "hymm/datasets/MrclamImporter.h"
+
+#include <hymm/core/config_utils.h>
+#include <mrpt/core/bits_math.h>
+#include <mrpt/math/wrap2pi.h>
+#include <mrpt/obs/CObservationBearingRange.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "hymm/datasets/RawlogWriter.h"
+#include "hymm/datasets/import_dataset.h"
+#include "hymm/datasets/text_table.h"
+
+namespace hymm::datasets
+{
+namespace
+{
+// Times are printed with 2-3 decimals (50 Hz); equal prints are one observation.
+constexpr double kSameTimeTolS = 1e-6;
+
+bool isInteger(double v) { return std::isfinite(v) && v == std::floor(v); }
+
+/** Largest rounding error of a time printed with 5 significant digits [s]. */
+double printedTimeResolution(double t)
+{
+    constexpr int kSignificantDigits = 5;
+    const double mag = std::floor(std::log10(std::max(std::abs(t), 1.0)));
+    return 0.5 * std::pow(10.0, mag + 1 - kSignificantDigits) + 1e-9;
+}
+
+/**
+ * Rebuilds the times of a fixed-rate table (column 0 of `rows`) as t0 + i * period
+ * where they agree with the printed times within the printing resolution; counts the
+ * rows whose time changed as repaired `what`_time_rounding.
+ */
+void restoreUniformTimes(std::vector<std::vector<double>>& rows, double period,
+                         ImportSummary& summary, const std::string& what)
+{
+    if (period <= 0 || rows.empty() || !std::isfinite(rows[0][0])) return;
+    const double t0 = rows[0][0];
+    for (size_t i = 0; i < rows.size(); ++i)
+    {
+        const double t = t0 + static_cast<double>(i) * period;
+        double& printed = rows[i][0];
+        if (!std::isfinite(printed) || std::abs(printed - t) > printedTimeResolution(t))
+            continue;  // not on the grid: keep the printed time
+        if (std::abs(printed - t) > 1e-9) summary.repaired[what + "_time_rounding"]++;
+        printed = t;
+    }
+}
+}  // namespace
+
+void MrclamImporter::Options::loadFromConfigFile(
+    const mrpt::config::CConfigFileBase& cfg, const std::string& section)
+{
+    using namespace hymm::core;
+    std::vector<std::string> keys = {"name",        "robot",           "num_robots",
+                                     "max_range_m", "std_range_m",     "std_bearing_deg",
+                                     "sample_period_s"};
+    keys.insert(keys.end(), OdometryIntegrator::Options::keys().begin(),
+                OdometryIntegrator::Options::keys().end());
+    checkKnownKeys(cfg, section, keys);
+    name = readString(cfg, section, "name", name);
+    num_robots = static_cast<int>(readInt(cfg, section, "num_robots", num_robots));
+    if (num_robots < 1)
+        throwConfigError(section, "num_robots", std::to_string(num_robots), "must be >= 1");
+    robot = static_cast<int>(readInt(cfg, section, "robot", robot));
+    if (robot < 1 || robot > num_robots)
+        throwConfigError(section, "robot", std::to_string(robot),
+                         "must be in 1.." + std::to_string(num_robots));
+    sample_period_s = readDoubleMin(cfg, section, "sample_period_s", sample_period_s, 0, false);
+    max_range_m = readDoubleMin(cfg, section, "max_range_m", max_range_m, 0, true);
+    std_range_m = readDoubleMin(cfg, section, "std_range_m", std_range_m, 0, true);
+    std_bearing_deg = readDoubleMin(cfg, section, "std_bearing_deg", std_bearing_deg, 0, true);
+    odometry.loadFromConfigFile(cfg, section);
+}
+
+void MrclamImporter::Options::saveToConfigFile(
+    mrpt::config::CConfigFileBase& cfg, const std::string& section) const
+{
+    cfg.write(section, "name", name);
+    cfg.write(section, "robot", robot);
+    cfg.write(section, "num_robots", num_robots);
+    cfg.write(section, "sample_period_s", sample_period_s);
+    cfg.write(section, "max_range_m", max_range_m);
+    cfg.write(section, "std_range_m", std_range_m);
+    cfg.write(section, "std_bearing_deg", std_bearing_deg);
+    odometry.saveToConfigFile(cfg, section);
+}
+
+MrclamImporter::MrclamImporter(const Options& options) : options_(options) {}
+
+MrclamImporter::Inputs MrclamImporter::findInputs(const std::vector<std::string>& paths,
+                                                  int robot)
+{
+    const std::string r = "Robot" + std::to_string(robot) + "_";
+    Inputs in;
+    in.odometry = findInputFile(paths, r + "Odometry.dat", true);
+    in.measurements = findInputFile(paths, r + "Measurement.dat", true);
+    in.barcodes = findInputFile(paths, "Barcodes.dat", true);
+    in.landmarks = findInputFile(paths, "Landmark_Groundtruth.dat", false);
+    in.groundtruth = findInputFile(paths, r + "Groundtruth.dat", false);
+    return in;
+}
+
+std::map<int, int> MrclamImporter::readBarcodes(const std::string& path)
+{
+    std::map<int, int> out;
+    for (const auto& row : readNumericTable(path, 2))
+    {
+        if (!isInteger(row[0]) || !isInteger(row[1]))
+            throw std::runtime_error("'" + path + "': subject and barcode must be integers");
+        const int subject = static_cast<int>(row[0]), barcode = static_cast<int>(row[1]);
+        if (!out.emplace(barcode, subject).second)
+            throw std::runtime_error("'" + path + "': barcode " + std::to_string(barcode) +
+                                     " listed twice");
+    }
+    if (out.empty()) throw std::runtime_error("'" + path + "': no barcode found");
+    return out;
+}
+
+std::vector<mrpt::obs::CObservation::Ptr> MrclamImporter::readMeasurements(
+    const std::string& path, const std::map<int, int>& barcode_to_subject,
+    ImportSummary& summary) const
+{
+    std::vector<mrpt::obs::CObservation::Ptr> out;
+    mrpt::obs::CObservationBearingRange::Ptr obs;
+    double obs_t = -std::numeric_limits<double>::infinity();
+    const auto flush = [&]() {
+        if (obs && !obs->sensedData.empty()) out.push_back(obs);
+        obs.reset();
+    };
+    for (const auto& r : readNumericTable(path, 4, &summary, "measurement_malformed_line"))
+    {
+        const double t = r[0], range = r[2], bearing = r[3];
+        if (!std::isfinite(t) || !isInteger(r[1]) || !std::isfinite(range) ||
+            !std::isfinite(bearing))
+        {
+            summary.skip("measurement_nan");
+            continue;
+        }
+        if (t < obs_t - kSameTimeTolS)
+        {
+            summary.skip("measurement_non_monotonic");
+            continue;
+        }
+        const auto it = barcode_to_subject.find(static_cast<int>(r[1]));
+        if (it == barcode_to_subject.end())
+        {
+            summary.skip("unknown_barcode");
+            continue;
+        }
+        if (it->second >= 1 && it->second <= options_.num_robots)
+        {
+            summary.skip("robot_barcode");
+            continue;
+        }
+        if (!(range > 0) || range > options_.max_range_m)
+        {
+            summary.skip("measurement_out_of_range");
+            continue;
+        }
+        if (!obs || t > obs_t + kSameTimeTolS)
+        {
+            flush();
+            obs = mrpt::obs::CObservationBearingRange::Create();
+            obs->timestamp = mrpt::Clock::fromDouble(t);
+            obs->sensorLabel = "LANDMARKS";
+            obs->minSensorDistance = 0;
+            obs->maxSensorDistance = static_cast<float>(options_.max_range_m);
+            obs->fieldOfView_yaw = static_cast<float>(2 * M_PI);
+            obs->fieldOfView_pitch = 0;
+            obs->sensor_std_range = static_cast<float>(options_.std_range_m);
+            obs->sensor_std_yaw = static_cast<float>(mrpt::DEG2RAD(options_.std_bearing_deg));
+            obs->sensor_std_pitch = 0;
+            obs_t = t;
+        }
+        mrpt::obs::CObservationBearingRange::TMeasurement m;
+        m.range = static_cast<float>(range);
+        m.yaw = static_cast<float>(mrpt::math::wrapToPi(bearing));
+        m.pitch = 0;
+        m.landmarkID = it->second;
+        m.covariance.setZero();
+        obs->sensedData.push_back(m);
+        ++summary.measurements;
+    }
+    flush();
+    return out;
+}
+
+ImportSummary MrclamImporter::run(const Inputs& in, const std::string& out_dir) const
+{
+    ImportSummary summary;
+    summary.format = "mrclam";
+    ensureOutputDir(out_dir);
+    const std::string name =
+        options_.name.empty() ? "mrclam_robot" + std::to_string(options_.robot) : options_.name;
+    const std::string base = out_dir + "/" + name;
+
+    // 1. Odometry (unicycle: v, omega).
+    auto odo_rows = readNumericTable(in.odometry, 3, &summary, "odometry_malformed_line");
+    restoreUniformTimes(odo_rows, options_.sample_period_s, summary, "odometry");
+    std::vector<OdometryIntegrator::ControlSample> raw;
+    for (const auto& r : odo_rows) raw.push_back({r[0], r[1], r[2]});
+    const auto controls = OdometryIntegrator::sanitize(raw, OdometryIntegrator::Model::Unicycle,
+                                                       hymm::core::UteParams{}, summary);
+    summary.odometry_samples = controls.size();
+    const OdometryIntegrator odo(OdometryIntegrator::Model::Unicycle, hymm::core::UteParams{},
+                                 options_.odometry, controls);
+
+    // 2. Identified landmark measurements and rawlog.
+    const auto obs = readMeasurements(in.measurements, readBarcodes(in.barcodes), summary);
+    if (obs.empty())
+        throw std::runtime_error("no usable landmark measurement in '" + in.measurements + "'");
+    writeOdometryRawlog(base + ".rawlog", odo, obs, summary);
+
+    // 3. Ground truth: Vicon path and surveyed landmarks.
+    if (!in.groundtruth.empty())
+    {
+        auto gt_rows = readNumericTable(in.groundtruth, 4, &summary, "groundtruth_malformed_line");
+        restoreUniformTimes(gt_rows, options_.sample_period_s, summary, "groundtruth");
+        std::vector<hymm::core::StampedPose2D> gt;
+        for (const auto& r : gt_rows)
+        {
+            if (!std::isfinite(r[0]) || !std::isfinite(r[1]) || !std::isfinite(r[2]) ||
+                !std::isfinite(r[3]))
+                summary.skip("groundtruth_nan");
+            else if (!gt.empty() && !(r[0] > gt.back().t))
+                summary.skip("groundtruth_non_monotonic");
+            else
+                gt.push_back({r[0], r[1], r[2], mrpt::math::wrapToPi(r[3])});
+        }
+        hymm::core::writeTum(base + "_groundtruth.tum", gt);
+        summary.ground_truth_poses = gt.size();
+        summary.outputs.push_back(base + "_groundtruth.tum");
+    }
+    else
+        summary.skip("groundtruth_file_missing");
+    if (!in.landmarks.empty())
+    {
+        std::vector<hymm::core::LandmarkRecord> lms;
+        for (const auto& r : readNumericTable(in.landmarks, 5, &summary, "landmark_malformed_line"))
+            lms.push_back({static_cast<long>(r[0]), r[1], r[2], {r[3], r[4]}});
+        hymm::core::writeLandmarksCsv(base + "_landmarks.csv", lms,
+                                      "id,x,y,std_x,std_y (MRCLAM subject number; metres)");
+        summary.landmarks = lms.size();
+        summary.outputs.push_back(base + "_landmarks.csv");
+    }
+    else
+        summary.skip("landmarks_file_missing");
+    return summary;
+}
+
+}  // namespace hymm::datasets
