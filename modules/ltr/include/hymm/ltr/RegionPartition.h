@@ -1,0 +1,177 @@
+/**
+ * @file RegionPartition.h
+ * @brief The set of Local Triangular Regions and its growth (thesis Sec. 3.2-3.5).
+ *
+ * The partition covers the explored area with triangles whose vertices are feature-
+ * map landmarks (Fig. 3.1). It grows as the vehicle explores: update() proposes
+ * candidates among landmarks near the vehicle, checks them with BaseConditionChecker
+ * (Sec. 3.5) and adds those that pass. Candidates come, in order of preference, from
+ *  1. boundary edges of existing regions near the vehicle (edges used by one region):
+ *     the third vertex is taken on the free side of the edge, preferring the landmark
+ *     that sees the edge under the largest angle (the Delaunay choice: its
+ *     circumcircle holds no other candidate on that side), so neighbouring regions
+ *     share whole edges and the area is covered without gaps;
+ *  2. when no edge can grow, a seed: the Delaunay-empty triangle of eligible landmarks
+ *     nearest to the vehicle.
+ * A candidate that contains another nearby landmark is skipped.
+ *
+ * Each region keeps its reference triangle (vertex positions at creation) and the
+ * current vertex positions. Invariant of the point lookup: a uniform grid indexes the
+ * bounding boxes of the CURRENT triangles as of the last update() or
+ * updateVertexPositions() call; lookups (findRegion/findRegions) visit one grid cell
+ * and test only the regions listed there, never all regions. After the feature map
+ * changes (every filter update, a loop closure) call updateVertexPositions() before
+ * looking points up.
+ *
+ * Text save/load round-trips all regions (ids, vertex ids, reference and current
+ * vertices, creation times) exactly.
+ */
+#pragma once
+
+#include "hymm/ltr/AffineRegionMap.h"
+#include "hymm/ltr/BaseConditionChecker.h"
+#include "hymm/ltr/LandmarkCovarianceView.h"
+#include "hymm/ltr/TriangleFrame.h"
+
+#include <mrpt/config/CLoadableOptions.h>
+
+#include <array>
+#include <cstdint>
+#include <iosfwd>
+#include <map>
+#include <optional>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+namespace hymm::ltr
+{
+/** One LTR. */
+struct Region
+{
+    long id = -1;
+    std::array<long, 3> vertex_ids{{-1, -1, -1}};  //!< landmark ids of L1, L2, L3
+    TriangleFrame::Vertices reference;             //!< vertex positions at creation
+    TriangleFrame::Vertices current;               //!< vertex positions at the last refresh
+    double creation_time = 0;                      //!< [s] time stamp given to update()
+};
+
+class RegionPartition
+{
+public:
+    /** Ini section [LtrPartition]: these keys plus BaseConditionChecker::Options::keys();
+     *  unknown keys are errors. */
+    struct Options : public mrpt::config::CLoadableOptions
+    {
+        BaseConditionChecker::Options conditions;  //!< Sec. 3.5 conditions
+        double search_radius_m = 25.0;  //!< [m] candidate vertices lie this close to the vehicle
+        double grid_cell_size_m = 10.0;  //!< [m] cell of the point-lookup grid
+        int max_new_regions_per_update = 16;  //!< bound on work per update()
+        int max_seed_landmarks = 8;  //!< nearest eligible landmarks tried when seeding (>= 3)
+
+        void loadFromConfigFile(
+            const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
+        void saveToConfigFile(
+            mrpt::config::CConfigFileBase& cfg, const std::string& section) const override;
+        void validate(const std::string& section = "LtrPartition") const;
+    };
+
+    /** Throws std::invalid_argument on invalid options. */
+    explicit RegionPartition(const Options& options);
+    RegionPartition(const RegionPartition&) = delete;
+    RegionPartition& operator=(const RegionPartition&) = delete;
+
+    const Options& options() const { return options_; }
+    const BaseConditionChecker& checker() const { return checker_; }
+
+    /** Refreshes current vertex positions from `view`, then grows the partition around
+     *  view.vehiclePose(). Returns the ids of the regions created, in creation order. */
+    std::vector<long> update(const LandmarkCovarianceView& view, double time);
+
+    /** Checks one explicit candidate against all conditions (overlap against the
+     *  current triangles) and adds it if it passes. Returns the check and, on success,
+     *  the new region id in `id`. Call updateVertexPositions() first if the map moved. */
+    CheckResult tryAddRegion(
+        const std::array<long, 3>& ids, const LandmarkCovarianceView& view, double time,
+        long* id = nullptr);
+
+    /** Re-reads the current vertex positions of every region and rebuilds the lookup
+     *  grid (O(number of regions)). Vertices no longer in `view` keep their last
+     *  position; regionsWithMissingLandmarks() lists them. */
+    void updateVertexPositions(const LandmarkCovarianceView& view);
+    /** Regions with a vertex that `view` no longer has (candidates for removal). */
+    std::vector<long> regionsWithMissingLandmarks(const LandmarkCovarianceView& view) const;
+
+    // --- lookup -------------------------------------------------------------------
+    /** A region whose current triangle contains `p` (closed, lowest id on shared
+     *  borders), or nullopt. */
+    std::optional<long> findRegion(const Eigen::Vector2d& p) const;
+    /** All regions whose current triangle contains `p` (more than one only on shared
+     *  edges/vertices), sorted by id. */
+    std::vector<long> findRegions(const Eigen::Vector2d& p) const;
+    /** Regions whose current bounding box intersects the given box. */
+    std::vector<long> regionsInBox(const Eigen::Vector2d& lo, const Eigen::Vector2d& hi) const;
+
+    // --- access -------------------------------------------------------------------
+    size_t size() const { return regions_.size(); }
+    bool has(long id) const { return regions_.count(id) != 0; }
+    /** Throws std::out_of_range for an unknown id. */
+    const Region& region(long id) const;
+    std::vector<long> regionIds() const;
+    /** Regions that have `landmark_id` as a vertex, sorted by id. */
+    std::vector<long> regionsUsingLandmark(long landmark_id) const;
+    /** Regions sharing a whole edge (two vertex ids) with `id`. */
+    std::vector<long> edgeNeighbours(long id) const;
+
+    TriangleFrame referenceFrame(long id) const;
+    /** Throws std::invalid_argument if the current triangle became degenerate. */
+    TriangleFrame currentFrame(long id) const;
+    /** Reference -> current affine map of region `id`. */
+    AffineRegionMap referenceToCurrent(long id) const;
+
+    // --- removal ------------------------------------------------------------------
+    bool removeRegion(long id);
+    /** Removes every region using `landmark_id` (e.g. the landmark was pruned). */
+    std::vector<long> removeRegionsUsingLandmark(long landmark_id);
+    void clear();
+
+    // --- persistence --------------------------------------------------------------
+    void save(std::ostream& out) const;
+    /** Replaces the content; throws std::runtime_error with the line number on a
+     *  malformed stream. */
+    void load(std::istream& in);
+    void saveToFile(const std::string& path) const;
+    void loadFromFile(const std::string& path);
+
+private:
+    using EdgeKey = std::pair<long, long>;
+    static EdgeKey edgeKey(long a, long b) { return a < b ? EdgeKey{a, b} : EdgeKey{b, a}; }
+    std::int64_t cellKey(long ix, long iy) const;
+    void cellRange(const TriangleFrame::Vertices& v, long& x0, long& y0, long& x1, long& y1) const;
+    void indexRegion(const Region& r);
+    void unindexRegion(const Region& r);
+    long insertRegion(Region r);
+    std::vector<TriangleFrame::Vertices> nearbyTriangles(const TriangleFrame::Vertices& v) const;
+
+    // growth helpers (RegionPartition.cpp)
+    struct Neighbourhood;  // landmarks near the vehicle for one update()
+    bool growFromEdges(
+        const LandmarkCovarianceView& view, const Neighbourhood& nb, double time,
+        std::vector<EdgeKey>& failed_edges, std::vector<long>& created);
+    bool seed(
+        const LandmarkCovarianceView& view, const Neighbourhood& nb, double time,
+        std::vector<long>& created);
+    bool containsOtherLandmark(
+        const TriangleFrame::Vertices& tri, const std::array<long, 3>& ids,
+        const LandmarkCovarianceView& view, const std::vector<long>& nearby) const;
+
+    const Options options_;
+    const BaseConditionChecker checker_;
+    std::map<long, Region> regions_;
+    std::map<EdgeKey, std::vector<long>> edges_;
+    std::unordered_map<long, std::vector<long>> by_landmark_;
+    std::unordered_map<std::int64_t, std::vector<long>> grid_;
+    long next_id_ = 0;
+};
+
+}  // namespace hymm::ltr

@@ -1,0 +1,433 @@
+/**
+ * @file RegionPartition.cpp
+ * @brief Region bookkeeping, point lookup grid, removal and persistence.
+ *        Growth (candidate proposal) lives in RegionPartitionGrowth.cpp.
+ */
+#include "hymm/ltr/RegionPartition.h"
+
+#include <hymm/core/config_utils.h>
+
+#include <Eigen/LU>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+#include <stdexcept>
+
+namespace hymm::ltr
+{
+namespace
+{
+constexpr const char* kFileHeader = "hymm-ltr-partition 1";
+// Closed-triangle tolerance of the point lookup, in local (barycentric) units.
+constexpr double kLookupTol = 1e-12;
+
+/** Local coordinates of p in triangle v, or nullopt if v is degenerate. Uses the same
+ *  arithmetic as TriangleFrame::toLocal so lookups agree with it. */
+std::optional<Eigen::Vector2d> localIn(const TriangleFrame::Vertices& v, const Eigen::Vector2d& p)
+{
+    Eigen::Matrix2d d;
+    d.col(0) = v[1] - v[0];
+    d.col(1) = v[2] - v[0];
+    if (!(std::abs(d.determinant()) > 0)) return std::nullopt;
+    return Eigen::Vector2d(d.inverse() * (p - v[0]));
+}
+}  // namespace
+
+// ---------------------------------------------------------------------------------
+// Options
+// ---------------------------------------------------------------------------------
+void RegionPartition::Options::loadFromConfigFile(
+    const mrpt::config::CConfigFileBase& cfg, const std::string& s)
+{
+    using namespace hymm::core;
+    std::vector<std::string> known = BaseConditionChecker::Options::keys();
+    for (const char* k : {"search_radius_m", "grid_cell_size_m", "max_new_regions_per_update",
+                          "max_seed_landmarks"})
+        known.emplace_back(k);
+    checkKnownKeys(cfg, s, known);
+    conditions.loadValues(cfg, s);
+    search_radius_m = readDouble(cfg, s, "search_radius_m", search_radius_m);
+    grid_cell_size_m = readDouble(cfg, s, "grid_cell_size_m", grid_cell_size_m);
+    max_new_regions_per_update = static_cast<int>(
+        readInt(cfg, s, "max_new_regions_per_update", max_new_regions_per_update));
+    max_seed_landmarks =
+        static_cast<int>(readInt(cfg, s, "max_seed_landmarks", max_seed_landmarks));
+    validate(s);
+}
+
+void RegionPartition::Options::saveToConfigFile(
+    mrpt::config::CConfigFileBase& cfg, const std::string& s) const
+{
+    conditions.saveToConfigFile(cfg, s);
+    cfg.write(s, "search_radius_m", search_radius_m);
+    cfg.write(s, "grid_cell_size_m", grid_cell_size_m);
+    cfg.write(s, "max_new_regions_per_update", max_new_regions_per_update);
+    cfg.write(s, "max_seed_landmarks", max_seed_landmarks);
+}
+
+void RegionPartition::Options::validate(const std::string& s) const
+{
+    using hymm::core::throwConfigError;
+    conditions.validate(s);
+    if (!(search_radius_m > 0))
+        throwConfigError(s, "search_radius_m", std::to_string(search_radius_m), "must be > 0");
+    if (!(grid_cell_size_m > 0))
+        throwConfigError(s, "grid_cell_size_m", std::to_string(grid_cell_size_m), "must be > 0");
+    if (max_new_regions_per_update < 0)
+        throwConfigError(
+            s, "max_new_regions_per_update", std::to_string(max_new_regions_per_update),
+            "must be >= 0");
+    if (max_seed_landmarks < 3)
+        throwConfigError(
+            s, "max_seed_landmarks", std::to_string(max_seed_landmarks), "must be >= 3");
+}
+
+// ---------------------------------------------------------------------------------
+// Bookkeeping
+// ---------------------------------------------------------------------------------
+RegionPartition::RegionPartition(const Options& options)
+    : options_(options), checker_(options.conditions)
+{
+    options_.validate();
+}
+
+std::int64_t RegionPartition::cellKey(long ix, long iy) const
+{
+    const auto ux = static_cast<std::uint64_t>(static_cast<std::uint32_t>(ix));
+    const auto uy = static_cast<std::uint64_t>(static_cast<std::uint32_t>(iy));
+    return static_cast<std::int64_t>((ux << 32) | uy);
+}
+
+void RegionPartition::cellRange(
+    const TriangleFrame::Vertices& v, long& x0, long& y0, long& x1, long& y1) const
+{
+    const double c = options_.grid_cell_size_m;
+    double lx = v[0].x(), hx = lx, ly = v[0].y(), hy = ly;
+    for (const auto& p : v)
+    {
+        lx = std::min(lx, p.x());
+        hx = std::max(hx, p.x());
+        ly = std::min(ly, p.y());
+        hy = std::max(hy, p.y());
+    }
+    x0 = static_cast<long>(std::floor(lx / c));
+    x1 = static_cast<long>(std::floor(hx / c));
+    y0 = static_cast<long>(std::floor(ly / c));
+    y1 = static_cast<long>(std::floor(hy / c));
+}
+
+void RegionPartition::indexRegion(const Region& r)
+{
+    long x0, y0, x1, y1;
+    cellRange(r.current, x0, y0, x1, y1);
+    for (long ix = x0; ix <= x1; ++ix)
+        for (long iy = y0; iy <= y1; ++iy) grid_[cellKey(ix, iy)].push_back(r.id);
+}
+
+void RegionPartition::unindexRegion(const Region& r)
+{
+    long x0, y0, x1, y1;
+    cellRange(r.current, x0, y0, x1, y1);
+    for (long ix = x0; ix <= x1; ++ix)
+        for (long iy = y0; iy <= y1; ++iy)
+        {
+            const auto it = grid_.find(cellKey(ix, iy));
+            if (it == grid_.end()) continue;
+            auto& ids = it->second;
+            ids.erase(std::remove(ids.begin(), ids.end(), r.id), ids.end());
+            if (ids.empty()) grid_.erase(it);
+        }
+}
+
+long RegionPartition::insertRegion(Region r)
+{
+    // Keep every triangle counter-clockwise so that alpha, beta have one orientation.
+    Eigen::Matrix2d d;
+    d.col(0) = r.reference[1] - r.reference[0];
+    d.col(1) = r.reference[2] - r.reference[0];
+    if (d.determinant() < 0)
+    {
+        std::swap(r.vertex_ids[1], r.vertex_ids[2]);
+        std::swap(r.reference[1], r.reference[2]);
+        std::swap(r.current[1], r.current[2]);
+    }
+    if (r.id < 0) r.id = next_id_;
+    next_id_ = std::max(next_id_, r.id + 1);
+    for (int k = 0; k < 3; ++k)
+    {
+        const long a = r.vertex_ids[static_cast<size_t>(k)];
+        edges_[edgeKey(a, r.vertex_ids[static_cast<size_t>((k + 1) % 3)])].push_back(r.id);
+        by_landmark_[a].push_back(r.id);
+    }
+    indexRegion(r);
+    const long id = r.id;
+    regions_.emplace(id, std::move(r));
+    return id;
+}
+
+CheckResult RegionPartition::tryAddRegion(
+    const std::array<long, 3>& ids, const LandmarkCovarianceView& view, double time, long* id)
+{
+    for (const long l : ids)
+        if (!view.has(l)) return checker_.check(ids, view, {});  // reports UnknownLandmark
+    const TriangleFrame::Vertices v{view.mean(ids[0]), view.mean(ids[1]), view.mean(ids[2])};
+    // Overlap only against regions whose boxes meet the candidate's (grid query).
+    const CheckResult res = checker_.check(ids, view, nearbyTriangles(v));
+    if (!res.accepted()) return res;
+    Region r;
+    r.vertex_ids = ids;
+    r.reference = v;
+    r.current = v;
+    r.creation_time = time;
+    const long new_id = insertRegion(std::move(r));
+    if (id) *id = new_id;
+    return res;
+}
+
+std::vector<TriangleFrame::Vertices> RegionPartition::nearbyTriangles(
+    const TriangleFrame::Vertices& v) const
+{
+    Eigen::Vector2d lo = v[0], hi = v[0];
+    for (const auto& p : v)
+    {
+        lo = lo.cwiseMin(p);
+        hi = hi.cwiseMax(p);
+    }
+    std::vector<TriangleFrame::Vertices> out;
+    for (const long id : regionsInBox(lo, hi)) out.push_back(regions_.at(id).current);
+    return out;
+}
+
+void RegionPartition::updateVertexPositions(const LandmarkCovarianceView& view)
+{
+    grid_.clear();
+    for (auto& [id, r] : regions_)
+    {
+        for (size_t k = 0; k < 3; ++k)
+            if (view.has(r.vertex_ids[k])) r.current[k] = view.mean(r.vertex_ids[k]);
+        indexRegion(r);
+    }
+}
+
+std::vector<long> RegionPartition::regionsWithMissingLandmarks(
+    const LandmarkCovarianceView& view) const
+{
+    std::vector<long> out;
+    for (const auto& [id, r] : regions_)
+        if (!view.has(r.vertex_ids[0]) || !view.has(r.vertex_ids[1]) || !view.has(r.vertex_ids[2]))
+            out.push_back(id);
+    return out;
+}
+
+// ---------------------------------------------------------------------------------
+// Lookup and access
+// ---------------------------------------------------------------------------------
+std::vector<long> RegionPartition::findRegions(const Eigen::Vector2d& p) const
+{
+    std::vector<long> out;
+    const double c = options_.grid_cell_size_m;
+    const auto it = grid_.find(cellKey(
+        static_cast<long>(std::floor(p.x() / c)), static_cast<long>(std::floor(p.y() / c))));
+    if (it == grid_.end()) return out;
+    for (const long id : it->second)
+    {
+        const auto l = localIn(regions_.at(id).current, p);
+        if (l && TriangleFrame::insideLocal(*l, kLookupTol)) out.push_back(id);
+    }
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+std::optional<long> RegionPartition::findRegion(const Eigen::Vector2d& p) const
+{
+    const std::vector<long> ids = findRegions(p);
+    if (ids.empty()) return std::nullopt;
+    return ids.front();
+}
+
+std::vector<long> RegionPartition::regionsInBox(
+    const Eigen::Vector2d& lo, const Eigen::Vector2d& hi) const
+{
+    long x0, y0, x1, y1;
+    cellRange({lo, hi, hi}, x0, y0, x1, y1);
+    std::vector<long> out;
+    for (long ix = x0; ix <= x1; ++ix)
+        for (long iy = y0; iy <= y1; ++iy)
+        {
+            const auto it = grid_.find(cellKey(ix, iy));
+            if (it != grid_.end()) out.insert(out.end(), it->second.begin(), it->second.end());
+        }
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
+}
+
+const Region& RegionPartition::region(long id) const
+{
+    const auto it = regions_.find(id);
+    if (it == regions_.end())
+        throw std::out_of_range("RegionPartition: unknown region id " + std::to_string(id));
+    return it->second;
+}
+
+std::vector<long> RegionPartition::regionIds() const
+{
+    std::vector<long> out;
+    out.reserve(regions_.size());
+    for (const auto& kv : regions_) out.push_back(kv.first);
+    return out;
+}
+
+std::vector<long> RegionPartition::regionsUsingLandmark(long landmark_id) const
+{
+    const auto it = by_landmark_.find(landmark_id);
+    if (it == by_landmark_.end()) return {};
+    std::vector<long> out = it->second;
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+std::vector<long> RegionPartition::edgeNeighbours(long id) const
+{
+    const Region& r = region(id);
+    std::vector<long> out;
+    for (size_t k = 0; k < 3; ++k)
+        for (const long other : edges_.at(edgeKey(r.vertex_ids[k], r.vertex_ids[(k + 1) % 3])))
+            if (other != id) out.push_back(other);
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
+}
+
+TriangleFrame RegionPartition::referenceFrame(long id) const
+{
+    return TriangleFrame(region(id).reference);
+}
+
+TriangleFrame RegionPartition::currentFrame(long id) const
+{
+    return TriangleFrame(region(id).current);
+}
+
+AffineRegionMap RegionPartition::referenceToCurrent(long id) const
+{
+    return AffineRegionMap(referenceFrame(id), currentFrame(id));
+}
+
+// ---------------------------------------------------------------------------------
+// Removal
+// ---------------------------------------------------------------------------------
+bool RegionPartition::removeRegion(long id)
+{
+    const auto it = regions_.find(id);
+    if (it == regions_.end()) return false;
+    const Region& r = it->second;
+    unindexRegion(r);
+    auto drop = [id](std::vector<long>& v) { v.erase(std::remove(v.begin(), v.end(), id), v.end()); };
+    for (size_t k = 0; k < 3; ++k)
+    {
+        const EdgeKey e = edgeKey(r.vertex_ids[k], r.vertex_ids[(k + 1) % 3]);
+        drop(edges_[e]);
+        if (edges_[e].empty()) edges_.erase(e);
+        auto& lm = by_landmark_[r.vertex_ids[k]];
+        drop(lm);
+        if (lm.empty()) by_landmark_.erase(r.vertex_ids[k]);
+    }
+    regions_.erase(it);
+    return true;
+}
+
+std::vector<long> RegionPartition::removeRegionsUsingLandmark(long landmark_id)
+{
+    const std::vector<long> ids = regionsUsingLandmark(landmark_id);
+    for (const long id : ids) removeRegion(id);
+    return ids;
+}
+
+void RegionPartition::clear()
+{
+    regions_.clear();
+    edges_.clear();
+    by_landmark_.clear();
+    grid_.clear();
+    next_id_ = 0;
+}
+
+// ---------------------------------------------------------------------------------
+// Persistence
+// ---------------------------------------------------------------------------------
+void RegionPartition::save(std::ostream& out) const
+{
+    out << kFileHeader << "\n" << "next_id " << next_id_ << "\n" << "regions " << regions_.size()
+        << "\n";
+    out << std::setprecision(17);
+    for (const auto& [id, r] : regions_)
+    {
+        out << id << ' ' << r.vertex_ids[0] << ' ' << r.vertex_ids[1] << ' ' << r.vertex_ids[2]
+            << ' ' << r.creation_time;
+        for (const auto* tri : {&r.reference, &r.current})
+            for (const auto& p : *tri) out << ' ' << p.x() << ' ' << p.y();
+        out << "\n";
+    }
+}
+
+void RegionPartition::load(std::istream& in)
+{
+    auto bad = [](int line, const std::string& what) {
+        throw std::runtime_error(
+            "RegionPartition::load: line " + std::to_string(line) + ": " + what);
+    };
+    std::string line;
+    if (!std::getline(in, line) || line != kFileHeader)
+        bad(1, std::string("expected header '") + kFileHeader + "'");
+    std::string word;
+    long next_id = 0;
+    size_t n = 0;
+    if (!std::getline(in, line) || !(std::istringstream(line) >> word >> next_id) ||
+        word != "next_id")
+        bad(2, "expected 'next_id <n>'");
+    if (!std::getline(in, line) || !(std::istringstream(line) >> word >> n) || word != "regions")
+        bad(3, "expected 'regions <n>'");
+    std::vector<Region> loaded;
+    for (size_t i = 0; i < n; ++i)
+    {
+        const int ln = static_cast<int>(i) + 4;
+        if (!std::getline(in, line)) bad(ln, "missing region line");
+        std::istringstream is(line);
+        Region r;
+        is >> r.id >> r.vertex_ids[0] >> r.vertex_ids[1] >> r.vertex_ids[2] >> r.creation_time;
+        for (auto* tri : {&r.reference, &r.current})
+            for (auto& p : *tri) is >> p.x() >> p.y();
+        if (!is) bad(ln, "expected 'id v1 v2 v3 time' and 12 coordinates");
+        const std::string why = TriangleFrame::degeneracyReason(r.reference, FrameLimits());
+        if (!why.empty()) bad(ln, "degenerate reference triangle: " + why);
+        loaded.push_back(std::move(r));
+    }
+    clear();
+    for (auto& r : loaded)
+    {
+        if (regions_.count(r.id)) bad(0, "duplicate region id " + std::to_string(r.id));
+        insertRegion(std::move(r));
+    }
+    next_id_ = std::max(next_id_, next_id);
+}
+
+void RegionPartition::saveToFile(const std::string& path) const
+{
+    std::ofstream f(path);
+    if (!f) throw std::runtime_error("RegionPartition: cannot write '" + path + "'");
+    save(f);
+    if (!f) throw std::runtime_error("RegionPartition: error writing '" + path + "'");
+}
+
+void RegionPartition::loadFromFile(const std::string& path)
+{
+    std::ifstream f(path);
+    if (!f) throw std::runtime_error("RegionPartition: cannot open '" + path + "'");
+    load(f);
+}
+
+}  // namespace hymm::ltr
