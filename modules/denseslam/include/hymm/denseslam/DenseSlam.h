@@ -1,0 +1,113 @@
+/**
+ * @file DenseSlam.h
+ * @brief The DenseSLAM pipeline: one rawlog entry at a time, the steps of thesis
+ *        Fig. 3.3 — motion prediction, landmark extraction, data association and EKF
+ *        update/augmentation — with the dense layers hanging off the feature map.
+ *
+ * The pipeline owns the feature EKF and the landmark extractor; it knows nothing about
+ * files or command lines (SlamApp does that), so a robot program can feed it rawlog
+ * entries or live observations directly.
+ */
+#pragma once
+
+#include <hymm/denseslam/RawlogReader.h>
+#include <hymm/ekf/EkfSlam.h>
+#include <hymm/extract/TreeExtractor.h>
+#include <mrpt/config/CLoadableOptions.h>
+#include <mrpt/obs/CObservation2DRangeScan.h>
+#include <mrpt/obs/CObservationBearingRange.h>
+#include <mrpt/poses/CPose2D.h>
+#include <mrpt/system/CTimeLogger.h>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace hymm::denseslam
+{
+class DenseSlam
+{
+public:
+    /** Where landmark observations come from. */
+    enum class LandmarkSource
+    {
+        BearingRange,  //!< CObservationBearingRange in the rawlog (e.g. MRPT simul-landmarks)
+        LaserTrees,    //!< trunks extracted from CObservation2DRangeScan (e.g. Victoria Park)
+        Both
+    };
+
+    struct Options : public mrpt::config::CLoadableOptions
+    {
+        LandmarkSource landmark_source = LandmarkSource::BearingRange;
+        bool use_landmark_ids = true;   //!< use IDs the rawlog carries; false: data association
+        double odometry_cov_scale = 1.0;  //!< multiplies the odometry covariance of the rawlog
+        double odometry_std_xy = 0.0;     //!< [m] added in quadrature to the odometry (per step)
+        double odometry_std_phi = 0.0;    //!< [rad] likewise (ini: odometry_std_phi_deg)
+        double sensor_std_range = 0.0;    //!< [m] > 0 overrides the rawlog's sensor noise
+        double sensor_std_bearing = 0.0;  //!< [rad] > 0 overrides (ini: sensor_std_bearing_deg)
+        double min_range = 0.0;           //!< [m] observations closer than this are skipped
+        double max_range = 1e9;           //!< [m] observations farther than this are skipped
+        bool enable_profiler = false;
+
+        void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
+                                const std::string& section) override;
+        void saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
+                              const std::string& section) const override;
+    };
+
+    /** One estimated vehicle pose, after the update of a sensory frame. */
+    struct PathSample
+    {
+        double t = 0;  //!< [s] timestamp of the frame's observations
+        Eigen::Vector3d pose = Eigen::Vector3d::Zero();
+        Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+    };
+
+    /** Counters of what the pipeline did and skipped, for summaries and metrics. */
+    struct Stats
+    {
+        size_t entries = 0, predictions = 0, frames = 0, observations = 0;
+        size_t associated = 0, created = 0, rejected_gate = 0, ambiguous = 0,
+               rejected_numeric = 0;
+        size_t skipped_invalid = 0;   //!< NaN / non-finite / out-of-range readings
+        size_t scans = 0, extracted = 0;
+    };
+
+    /** Builds the pipeline from an .ini: sections [DenseSlam], [EkfSlam], [TreeExtractor]. */
+    static DenseSlam fromConfig(const mrpt::config::CConfigFileBase& cfg);
+
+    DenseSlam(const Options& opts, const ekf::EkfSlam::Options& ekf_opts,
+              const extract::TreeExtractor::Options& tree_opts);
+
+    /** Processes one rawlog entry (actions, sensory frame or single observation). */
+    void processEntry(const RawlogEntry& entry);
+
+    /** Applies an odometry increment (the action of an MRPT rawlog). */
+    void processOdometry(const mrpt::poses::CPosePDFGaussian& increment);
+
+    /** Processes the observations of one sensory frame and records a path sample. */
+    void processFrame(const mrpt::obs::CSensoryFrame& frame);
+
+    const ekf::EkfSlam& ekf() const { return ekf_; }
+    const std::vector<PathSample>& path() const { return path_; }
+    const Stats& stats() const { return stats_; }
+    const Options& options() const { return options_; }
+    mrpt::system::CTimeLogger& profiler() { return profiler_; }
+
+private:
+    void processBearingRange(const mrpt::obs::CObservationBearingRange& obs);
+    void processScan(const mrpt::obs::CObservation2DRangeScan& scan);
+    void processOdometryObservation(const mrpt::obs::CObservation& obs);
+    void update(const std::vector<ekf::RangeBearingObs>& obs, const mrpt::poses::CPose3D& sensor);
+    Eigen::Matrix2d sensorNoise(double std_range, double std_bearing) const;
+
+    Options options_;
+    ekf::EkfSlam ekf_;
+    extract::TreeExtractor trees_;
+    std::vector<PathSample> path_;
+    Stats stats_;
+    std::optional<mrpt::poses::CPose2D> last_odometry_;  //!< for observation-only rawlogs
+    mrpt::system::CTimeLogger profiler_{false, "hymm::DenseSlam"};
+};
+
+}  // namespace hymm::denseslam

@@ -1,0 +1,36 @@
+/**
+ * @file MapPlot.h
+ * @brief PNG figure of a feature map: estimated path and landmarks with their
+ *        n-sigma uncertainty ellipses, over the ground truth when it is known
+ *        (the layout of thesis Fig. 2.8).
+ */
+#pragma once
+
+#include <Eigen/Core>
+
+#include <string>
+#include <vector>
+
+namespace hymm::denseslam
+{
+struct MapPlot
+{
+    struct Landmark
+    {
+        Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+        Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
+    };
+    std::vector<Eigen::Vector2d> estimated_path;
+    std::vector<Eigen::Vector2d> true_path;
+    std::vector<Landmark> estimated_landmarks;
+    std::vector<Eigen::Vector2d> true_landmarks;
+    double sigma_scale = 3.0;      //!< ellipses at this many standard deviations
+    double pixels_per_metre = 8;   //!< scale, reduced if the image would exceed max_side
+    int max_side = 2400;           //!< largest image side [px]
+};
+
+/** Writes the figure as a PNG; throws if there is nothing to draw or the file cannot
+ *  be written. Legend: grey = truth, blue = estimate, red = n-sigma ellipses. */
+void writeMapPng(const MapPlot& plot, const std::string& path);
+
+}  // namespace hymm::denseslam

@@ -1,0 +1,54 @@
+/**
+ * @file SlamApp.h
+ * @brief Everything `hymm-slam` does, as a library class: read the .ini and the
+ *        rawlog, run DenseSlam over every entry, write the outputs, and evaluate
+ *        against ground truth when it is given (the counterpart of MRPT's KFSLAMApp).
+ *
+ * Outputs in `out_dir`:
+ *  - path.tum        estimated vehicle path (TUM format, rawlog timestamps)
+ *  - landmarks.csv   id,x,y,cxx,cxy,cyy (final estimates and 2x2 covariances)
+ *  - map.png         path and landmarks with 3-sigma ellipses (over the truth if known)
+ *  - metrics.json    with ground truth: path RMSE, landmark errors, NEES statistics
+ *  - summary.txt     counters (associations, rejections, skipped readings) and timing
+ */
+#pragma once
+
+#include <hymm/denseslam/DenseSlam.h>
+
+#include <iosfwd>
+#include <string>
+
+namespace hymm::denseslam
+{
+class SlamApp
+{
+public:
+    struct Args
+    {
+        std::string config;          //!< .ini file (required)
+        std::string rawlog;          //!< input rawlog (required)
+        std::string out_dir;         //!< output folder, created if missing (required)
+        std::string gt_path;         //!< true path: TUM, or MRPT's *_ground_truth_robot_path.txt
+        std::string gt_landmarks;    //!< true landmarks: id,x,y CSV, or MRPT's *_ground_truth.txt
+        bool quiet = false;          //!< no progress lines
+        bool png = true;             //!< write map.png
+    };
+
+    explicit SlamApp(Args args);
+
+    /** Runs the whole job. Throws std::exception with a clear message on bad input;
+     *  nothing is written to out_dir before the config and rawlog have been opened. */
+    void run(std::ostream& log);
+
+    const DenseSlam& slam() const;
+
+private:
+    Args args_;
+    std::unique_ptr<DenseSlam> slam_;
+};
+
+/** Parses argv for hymm-slam; throws std::invalid_argument on bad usage.
+ *  Returns false when --help was asked for (usage already printed). */
+bool parseSlamArgs(int argc, char** argv, SlamApp::Args& args, std::ostream& out);
+
+}  // namespace hymm::denseslam

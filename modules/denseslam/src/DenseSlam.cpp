@@ -1,0 +1,243 @@
+#include "hymm/denseslam/DenseSlam.h"
+
+#include <hymm/core/config_utils.h>
+#include <mrpt/math/wrap2pi.h>
+#include <mrpt/obs/CActionRobotMovement2D.h>
+#include <mrpt/obs/CObservationOdometry.h>
+#include <mrpt/system/datetime.h>
+
+#include <cmath>
+
+namespace hymm::denseslam
+{
+namespace
+{
+constexpr double kDeg = M_PI / 180.0;
+
+DenseSlam::LandmarkSource parseSource(const std::string& s, const std::string& section)
+{
+    if (s == "bearing_range") return DenseSlam::LandmarkSource::BearingRange;
+    if (s == "laser_trees") return DenseSlam::LandmarkSource::LaserTrees;
+    if (s == "both") return DenseSlam::LandmarkSource::Both;
+    core::throwConfigError(section, "landmark_source", s,
+                           "must be one of bearing_range, laser_trees, both");
+}
+
+const char* sourceName(DenseSlam::LandmarkSource s)
+{
+    switch (s)
+    {
+        case DenseSlam::LandmarkSource::BearingRange: return "bearing_range";
+        case DenseSlam::LandmarkSource::LaserTrees: return "laser_trees";
+        default: return "both";
+    }
+}
+}  // namespace
+
+void DenseSlam::Options::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
+                                            const std::string& s)
+{
+    core::checkKnownKeys(cfg, s,
+                         {"landmark_source", "use_landmark_ids", "odometry_cov_scale",
+                          "odometry_std_xy", "odometry_std_phi_deg", "sensor_std_range",
+                          "sensor_std_bearing_deg", "min_range", "max_range", "enable_profiler"});
+    landmark_source = parseSource(core::readString(cfg, s, "landmark_source", sourceName(landmark_source)), s);
+    use_landmark_ids = core::readBool(cfg, s, "use_landmark_ids", use_landmark_ids);
+    odometry_cov_scale = core::readDoubleMin(cfg, s, "odometry_cov_scale", odometry_cov_scale, 0.0, true);
+    odometry_std_xy = core::readDoubleMin(cfg, s, "odometry_std_xy", odometry_std_xy, 0.0, false);
+    odometry_std_phi =
+        kDeg * core::readDoubleMin(cfg, s, "odometry_std_phi_deg", odometry_std_phi / kDeg, 0.0, false);
+    sensor_std_range = core::readDoubleMin(cfg, s, "sensor_std_range", sensor_std_range, 0.0, false);
+    sensor_std_bearing = kDeg * core::readDoubleMin(cfg, s, "sensor_std_bearing_deg",
+                                                    sensor_std_bearing / kDeg, 0.0, false);
+    min_range = core::readDoubleMin(cfg, s, "min_range", min_range, 0.0, false);
+    max_range = core::readDoubleMin(cfg, s, "max_range", max_range, min_range, true);
+    enable_profiler = core::readBool(cfg, s, "enable_profiler", enable_profiler);
+}
+
+void DenseSlam::Options::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
+                                          const std::string& s) const
+{
+    cfg.write(s, "landmark_source", sourceName(landmark_source));
+    cfg.write(s, "use_landmark_ids", use_landmark_ids);
+    cfg.write(s, "odometry_cov_scale", odometry_cov_scale);
+    cfg.write(s, "odometry_std_xy", odometry_std_xy);
+    cfg.write(s, "odometry_std_phi_deg", odometry_std_phi / kDeg);
+    cfg.write(s, "sensor_std_range", sensor_std_range);
+    cfg.write(s, "sensor_std_bearing_deg", sensor_std_bearing / kDeg);
+    cfg.write(s, "min_range", min_range);
+    cfg.write(s, "max_range", max_range);
+    cfg.write(s, "enable_profiler", enable_profiler);
+}
+
+DenseSlam DenseSlam::fromConfig(const mrpt::config::CConfigFileBase& cfg)
+{
+    Options o;
+    o.loadFromConfigFile(cfg, "DenseSlam");
+    ekf::EkfSlam::Options e;
+    e.loadFromConfigFile(cfg, "EkfSlam");
+    extract::TreeExtractor::Options t;
+    t.loadFromConfigFile(cfg, "TreeExtractor");
+    return DenseSlam(o, e, t);
+}
+
+DenseSlam::DenseSlam(const Options& opts, const ekf::EkfSlam::Options& ekf_opts,
+                     const extract::TreeExtractor::Options& tree_opts)
+    : options_(opts), ekf_(ekf_opts), trees_(tree_opts)
+{
+    profiler_.enable(options_.enable_profiler);
+}
+
+void DenseSlam::processEntry(const RawlogEntry& entry)
+{
+    ++stats_.entries;
+    if (entry.actions)
+    {
+        // Step 1 (Fig. 3.3): motion prediction from the odometry of the action.
+        if (auto mov = entry.actions->getBestMovementEstimation())
+        {
+            mrpt::poses::CPosePDFGaussian inc;
+            inc.copyFrom(*mov->poseChange);
+            processOdometry(inc);
+        }
+    }
+    if (entry.frame) processFrame(*entry.frame);
+    if (entry.observation)
+    {
+        if (IS_CLASS(*entry.observation, mrpt::obs::CObservationOdometry))
+        {
+            processOdometryObservation(*entry.observation);
+        }
+        else
+        {
+            mrpt::obs::CSensoryFrame sf;
+            sf.insert(entry.observation);
+            processFrame(sf);
+        }
+    }
+}
+
+void DenseSlam::processOdometry(const mrpt::poses::CPosePDFGaussian& increment)
+{
+    mrpt::system::CTimeLoggerEntry tle(profiler_, "denseslam.1_predict");
+    mrpt::poses::CPosePDFGaussian inc = increment;
+    inc.cov *= options_.odometry_cov_scale;
+    inc.cov(0, 0) += options_.odometry_std_xy * options_.odometry_std_xy;
+    inc.cov(1, 1) += options_.odometry_std_xy * options_.odometry_std_xy;
+    inc.cov(2, 2) += options_.odometry_std_phi * options_.odometry_std_phi;
+    ekf_.predictOdometry(inc);
+    ++stats_.predictions;
+}
+
+void DenseSlam::processOdometryObservation(const mrpt::obs::CObservation& obs)
+{
+    const auto& odo = dynamic_cast<const mrpt::obs::CObservationOdometry&>(obs);
+    if (last_odometry_)
+    {
+        mrpt::poses::CPosePDFGaussian inc;
+        inc.mean = odo.odometry - *last_odometry_;
+        inc.cov.setZero();
+        processOdometry(inc);
+    }
+    last_odometry_ = odo.odometry;
+}
+
+void DenseSlam::processFrame(const mrpt::obs::CSensoryFrame& frame)
+{
+    double t = std::nan("");
+    for (const auto& o : frame)
+    {
+        if (!o) continue;
+        if (std::isnan(t) && o->timestamp != INVALID_TIMESTAMP)
+            t = mrpt::Clock::toDouble(o->timestamp);
+        if (auto br = std::dynamic_pointer_cast<mrpt::obs::CObservationBearingRange>(o))
+        {
+            if (options_.landmark_source != LandmarkSource::LaserTrees) processBearingRange(*br);
+        }
+        else if (auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(o))
+        {
+            ++stats_.scans;
+            if (options_.landmark_source != LandmarkSource::BearingRange) processScan(*scan);
+        }
+        else if (IS_CLASS(*o, mrpt::obs::CObservationOdometry))
+        {
+            processOdometryObservation(*o);
+        }
+    }
+    ++stats_.frames;
+    PathSample s;
+    s.t = std::isnan(t) ? static_cast<double>(stats_.frames) : t;
+    s.pose = ekf_.vehiclePose();
+    s.cov = ekf_.vehicleCov();
+    path_.push_back(s);
+}
+
+Eigen::Matrix2d DenseSlam::sensorNoise(double std_range, double std_bearing) const
+{
+    const double sr = options_.sensor_std_range > 0 ? options_.sensor_std_range : std_range;
+    const double sb = options_.sensor_std_bearing > 0 ? options_.sensor_std_bearing : std_bearing;
+    return Eigen::Vector2d(sr * sr, sb * sb).asDiagonal();
+}
+
+void DenseSlam::processBearingRange(const mrpt::obs::CObservationBearingRange& obs)
+{
+    std::vector<ekf::RangeBearingObs> z;
+    z.reserve(obs.sensedData.size());
+    const Eigen::Matrix2d R_default = sensorNoise(obs.sensor_std_range, obs.sensor_std_yaw);
+    for (const auto& m : obs.sensedData)
+    {
+        if (!std::isfinite(m.range) || !std::isfinite(m.yaw) || m.range < options_.min_range ||
+            m.range > options_.max_range || m.range <= 0)
+        {
+            ++stats_.skipped_invalid;
+            continue;
+        }
+        ekf::RangeBearingObs o;
+        o.z = Eigen::Vector2d(m.range, mrpt::math::wrapToPi(m.yaw));
+        o.R = R_default;
+        if (obs.validCovariances && options_.sensor_std_range <= 0)
+        {
+            // Per-measurement covariance of (range, yaw) from the 3x3 (range, yaw, pitch).
+            o.R << m.covariance(0, 0), m.covariance(0, 1), m.covariance(1, 0), m.covariance(1, 1);
+        }
+        o.id = options_.use_landmark_ids ? m.landmarkID : -1;
+        z.push_back(o);
+    }
+    update(z, obs.sensorLocationOnRobot);
+}
+
+void DenseSlam::processScan(const mrpt::obs::CObservation2DRangeScan& scan)
+{
+    std::vector<ekf::RangeBearingObs> z;
+    {
+        mrpt::system::CTimeLoggerEntry tle(profiler_, "denseslam.2_extract");
+        const auto res = trees_.extract(scan);
+        stats_.skipped_invalid += res.skipped_invalid;
+        const Eigen::Matrix2d R = sensorNoise(trees_.options().std_range, trees_.options().std_bearing);
+        for (const auto& tr : res.trees)
+        {
+            if (tr.range < options_.min_range || tr.range > options_.max_range) continue;
+            ekf::RangeBearingObs o;
+            o.z = Eigen::Vector2d(tr.range, tr.bearing);
+            o.R = R;
+            z.push_back(o);
+        }
+        stats_.extracted += z.size();
+    }
+    update(z, scan.sensorPose);
+}
+
+void DenseSlam::update(const std::vector<ekf::RangeBearingObs>& obs, const mrpt::poses::CPose3D& sensor)
+{
+    if (obs.empty()) return;
+    mrpt::system::CTimeLoggerEntry tle(profiler_, "denseslam.3_update");
+    stats_.observations += obs.size();
+    const auto r = ekf_.updateRangeBearing(obs, sensor);
+    stats_.associated += r.associated;
+    stats_.created += r.created;
+    stats_.rejected_gate += r.rejected_gate;
+    stats_.ambiguous += r.ambiguous;
+    stats_.rejected_numeric += r.rejected_numeric;
+}
+
+}  // namespace hymm::denseslam

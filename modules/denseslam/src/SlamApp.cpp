@@ -1,0 +1,113 @@
+#include "hymm/denseslam/SlamApp.h"
+
+#include <hymm/core/config_utils.h>
+#include <hymm/core/trajectory_io.h>
+#include <hymm/denseslam/MapPlot.h>
+#include <hymm/denseslam/slam_outputs.h>
+#include <mrpt/3rdparty/tclap/CmdLine.h>
+#include <mrpt/system/filesystem.h>
+
+#include <chrono>
+#include <fstream>
+#include <iomanip>
+#include <ostream>
+#include <stdexcept>
+
+namespace hymm::denseslam
+{
+SlamApp::SlamApp(Args args) : args_(std::move(args)) {}
+
+const DenseSlam& SlamApp::slam() const
+{
+    if (!slam_) throw std::logic_error("SlamApp::slam() called before run()");
+    return *slam_;
+}
+
+void SlamApp::run(std::ostream& log)
+{
+    using Clock = std::chrono::steady_clock;
+    if (args_.config.empty() || args_.rawlog.empty() || args_.out_dir.empty())
+        throw std::invalid_argument("hymm-slam needs --config, --rawlog and --out");
+
+    // Inputs first: a bad config or rawlog must fail before anything is written.
+    const auto cfg = core::openConfigFile(args_.config);
+    slam_ = std::make_unique<DenseSlam>(DenseSlam::fromConfig(*cfg));
+    RawlogReader reader(args_.rawlog);
+    std::optional<GroundTruth> gt;
+    if (!args_.gt_path.empty() || !args_.gt_landmarks.empty())
+        gt = loadGroundTruth(args_.gt_path, args_.gt_landmarks);
+
+    // Main loop: one rawlog entry at a time, throttled progress.
+    const auto t0 = Clock::now();
+    auto last_report = t0;
+    RawlogEntry entry;
+    while (reader.next(entry))
+    {
+        slam_->processEntry(entry);
+        const auto now = Clock::now();
+        if (!args_.quiet && now - last_report > std::chrono::seconds(2))
+        {
+            last_report = now;
+            log << "[hymm-slam] entry " << reader.entriesRead() << ", landmarks "
+                << slam_->ekf().numLandmarks() << ", "
+                << std::chrono::duration<double>(now - t0).count() << " s\n"
+                << std::flush;
+        }
+    }
+    const double run_s = std::chrono::duration<double>(Clock::now() - t0).count();
+    if (reader.entriesRead() == 0)
+        throw std::runtime_error("rawlog '" + args_.rawlog + "' holds no entries");
+
+    // Outputs.
+    if (!mrpt::system::directoryExists(args_.out_dir) &&
+        !mrpt::system::createDirectory(args_.out_dir))
+        throw std::runtime_error("cannot create output folder '" + args_.out_dir + "'");
+    const std::string out = args_.out_dir + "/";
+    writeEstimatedPath(*slam_, out + "path.tum");
+    writeEstimatedLandmarks(slam_->ekf(), out + "landmarks.csv");
+    if (args_.png) writeMapPng(makeMapPlot(*slam_, gt ? &*gt : nullptr), out + "map.png");
+    if (gt) computeMetrics(*slam_, *gt, run_s).save(out + "metrics.json");
+    writeSummary(*slam_, run_s, reader.entriesRead(), out + "summary.txt");
+
+    if (!args_.quiet)
+    {
+        std::ifstream s(out + "summary.txt");
+        log << s.rdbuf() << "[hymm-slam] results in " << args_.out_dir << "\n";
+    }
+}
+
+bool parseSlamArgs(int argc, char** argv, SlamApp::Args& a, std::ostream& out)
+{
+    TCLAP::CmdLine cmd("hymm-slam: EKF feature SLAM with dense layers (HYMM)", ' ', "0.1");
+    TCLAP::ValueArg<std::string> config("c", "config", ".ini configuration file", true, "", "FILE.ini", cmd);
+    TCLAP::ValueArg<std::string> rawlog("r", "rawlog", "input MRPT rawlog", true, "", "FILE.rawlog", cmd);
+    TCLAP::ValueArg<std::string> outd("o", "out", "output folder", true, "", "DIR", cmd);
+    TCLAP::ValueArg<std::string> gtp("", "gt-path",
+        "true path: TUM file, or MRPT simul-landmarks *_ground_truth_robot_path.txt", false, "", "FILE", cmd);
+    TCLAP::ValueArg<std::string> gtl("", "gt-landmarks",
+        "true landmarks: id,x,y CSV, or MRPT simul-landmarks *_ground_truth.txt", false, "", "FILE", cmd);
+    TCLAP::SwitchArg quiet("q", "quiet", "no progress output", cmd);
+    TCLAP::SwitchArg nopng("", "no-png", "do not write map.png", cmd);
+    // MRPT's TCLAP returns false both after --help and after a usage error (which it
+    // has already described): tell them apart so a bad command line exits non-zero.
+    if (!cmd.parse(argc, argv))
+    {
+        for (int i = 1; i < argc; ++i)
+        {
+            const std::string arg = argv[i];
+            if (arg == "--help" || arg == "-h" || arg == "--version") return false;
+        }
+        throw std::invalid_argument("invalid command line (see --help)");
+    }
+    (void)out;
+    a.config = config.getValue();
+    a.rawlog = rawlog.getValue();
+    a.out_dir = outd.getValue();
+    a.gt_path = gtp.getValue();
+    a.gt_landmarks = gtl.getValue();
+    a.quiet = quiet.getValue();
+    a.png = !nopng.getValue();
+    return true;
+}
+
+}  // namespace hymm::denseslam

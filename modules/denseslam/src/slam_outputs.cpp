@@ -1,0 +1,178 @@
+#include "hymm/denseslam/slam_outputs.h"
+
+#include <hymm/core/trajectory_io.h>
+#include <hymm/eval/LandmarkEvaluator.h>
+#include <hymm/eval/TrajectoryEvaluator.h>
+#include <hymm/eval/metrics_report.h>
+#include <hymm/eval/nees.h>
+#include <mrpt/system/filesystem.h>
+
+#include <fstream>
+#include <iomanip>
+#include <stdexcept>
+
+namespace hymm::denseslam
+{
+namespace
+{
+bool endsWith(const std::string& s, const std::string& suffix)
+{
+    return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+std::vector<core::StampedPose2D> estimatedPath(const DenseSlam& slam)
+{
+    std::vector<core::StampedPose2D> out;
+    out.reserve(slam.path().size());
+    for (const auto& s : slam.path()) out.push_back({s.t, s.pose[0], s.pose[1], s.pose[2]});
+    return out;
+}
+
+std::vector<eval::LandmarkEstimate> estimatedLandmarks(const ekf::EkfSlam& ekf)
+{
+    std::vector<eval::LandmarkEstimate> out;
+    for (long id : ekf.landmarkIds())
+    {
+        if (ekf.landmarkBlock(id).dim != 2) continue;
+        eval::LandmarkEstimate e;
+        e.id = id;
+        e.position = ekf.landmarkMean(id);
+        e.cov = ekf.landmarkCov(id);
+        e.has_cov = true;
+        out.push_back(e);
+    }
+    return out;
+}
+}  // namespace
+
+GroundTruth loadGroundTruth(const std::string& path_file, const std::string& landmarks_file)
+{
+    GroundTruth gt;
+    if (!path_file.empty())
+    {
+        if (!mrpt::system::fileExists(path_file))
+            throw std::runtime_error("ground-truth path file not found: '" + path_file + "'");
+        if (endsWith(path_file, "_ground_truth_robot_path.txt"))
+        {
+            gt.path = eval::readSimulLandmarksPath(path_file);
+            gt.path_has_timestamps = false;
+        }
+        else
+        {
+            gt.path = core::readTum(path_file);
+        }
+    }
+    if (!landmarks_file.empty())
+    {
+        if (!mrpt::system::fileExists(landmarks_file))
+            throw std::runtime_error("ground-truth landmark file not found: '" + landmarks_file + "'");
+        gt.landmarks = endsWith(landmarks_file, "_ground_truth.txt")
+                           ? eval::readSimulLandmarksLandmarks(landmarks_file)
+                           : core::readLandmarksCsv(landmarks_file);
+    }
+    return gt;
+}
+
+void writeEstimatedPath(const DenseSlam& slam, const std::string& file)
+{
+    core::writeTum(file, estimatedPath(slam));
+}
+
+void writeEstimatedLandmarks(const ekf::EkfSlam& ekf, const std::string& file)
+{
+    std::vector<core::LandmarkRecord> recs;
+    for (const auto& e : estimatedLandmarks(ekf))
+        recs.push_back({e.id, e.position.x(), e.position.y(), {e.cov(0, 0), e.cov(0, 1), e.cov(1, 1)}});
+    core::writeLandmarksCsv(file, recs, "id,x,y,cxx,cxy,cyy");
+}
+
+MapPlot makeMapPlot(const DenseSlam& slam, const GroundTruth* gt)
+{
+    MapPlot p;
+    for (const auto& s : slam.path()) p.estimated_path.emplace_back(s.pose[0], s.pose[1]);
+    for (const auto& e : estimatedLandmarks(slam.ekf())) p.estimated_landmarks.push_back({e.position, e.cov});
+    if (gt)
+    {
+        for (const auto& s : gt->path) p.true_path.emplace_back(s.x, s.y);
+        for (const auto& l : gt->landmarks) p.true_landmarks.emplace_back(l.x, l.y);
+    }
+    return p;
+}
+
+eval::MetricsJson computeMetrics(const DenseSlam& slam, const GroundTruth& gt, double run_seconds)
+{
+    eval::MetricsJson j;
+    j.set("run_seconds", run_seconds);
+    j.set("steps", static_cast<unsigned long>(slam.path().size()));
+    j.set("landmarks_estimated", static_cast<unsigned long>(slam.ekf().numLandmarks()));
+
+    if (!gt.path.empty())
+    {
+        eval::TrajectoryEvaluator::Options to;
+        to.association = gt.path_has_timestamps ? eval::TrajectoryEvaluator::Association::Interpolate
+                                                : eval::TrajectoryEvaluator::Association::Index;
+        const auto traj = eval::TrajectoryEvaluator(to).evaluate(estimatedPath(slam), gt.path);
+        eval::writeTrajectoryMetrics(j.object("path"), traj);
+
+        // Vehicle NEES per matched step (3 DOF), against the single-run 95% band.
+        const auto& path = slam.path();
+        std::vector<double> nees_series;
+        size_t i = 0;
+        for (const auto& e : traj.errors)
+        {
+            while (i < path.size() && path[i].t != e.t) ++i;
+            if (i == path.size()) break;
+            const auto v = eval::nees(Eigen::Vector3d(e.dx, e.dy, e.dphi), path[i].cov);
+            nees_series.push_back(v.ok() ? v.value : std::nan(""));
+            ++i;
+        }
+        const auto band = eval::averageNeesBounds(3, 1, 0.95);
+        double sum = 0;
+        size_t n = 0;
+        for (double v : nees_series)
+            if (std::isfinite(v)) sum += v, ++n;
+        auto& nj = j.object("vehicle_nees");
+        nj.set("mean", n ? sum / n : std::nan(""));
+        nj.set("steps", static_cast<unsigned long>(n));
+        nj.set("band_lower", band.lower);
+        nj.set("band_upper", band.upper);
+        nj.set("fraction_inside_band", eval::fractionInsideBounds(nees_series, band));
+    }
+    if (!gt.landmarks.empty())
+    {
+        const auto lr = eval::LandmarkEvaluator(eval::LandmarkEvaluator::Options{})
+                            .evaluate(estimatedLandmarks(slam.ekf()), gt.landmarks);
+        eval::writeLandmarkMetrics(j.object("landmarks"), lr);
+        std::vector<double> lm_nees;
+        for (const auto& m : lr.matches)
+            if (m.has_nees && m.nees.ok()) lm_nees.push_back(m.nees.value);
+        const auto band = eval::averageNeesBounds(2, 1, 0.95);
+        auto& lj = j.object("landmark_nees");
+        lj.set("band_lower", band.lower);
+        lj.set("band_upper", band.upper);
+        lj.set("fraction_inside_band", eval::fractionInsideBounds(lm_nees, band));
+    }
+    return j;
+}
+
+void writeSummary(const DenseSlam& slam, double run_seconds, size_t entries, const std::string& file)
+{
+    std::ofstream f(file);
+    if (!f) throw std::runtime_error("cannot write '" + file + "'");
+    const auto& s = slam.stats();
+    const auto pose = slam.ekf().vehiclePose();
+    f << std::fixed << std::setprecision(3) << "rawlog entries       " << entries << "\n"
+      << "predictions          " << s.predictions << "\n"
+      << "sensory frames       " << s.frames << "\n"
+      << "observations         " << s.observations << " (associated " << s.associated
+      << ", created " << s.created << ", gate rejects " << s.rejected_gate << ", ambiguous "
+      << s.ambiguous << ", numeric rejects " << s.rejected_numeric << ")\n"
+      << "skipped readings     " << s.skipped_invalid << "\n"
+      << "laser scans          " << s.scans << " (landmarks extracted " << s.extracted << ")\n"
+      << "landmarks in map     " << slam.ekf().numLandmarks() << "\n"
+      << "final pose           " << pose[0] << " " << pose[1] << " " << pose[2] << "\n"
+      << "run time [s]         " << run_seconds << "\n";
+    if (!f) throw std::runtime_error("error writing '" + file + "'");
+}
+
+}  // namespace hymm::denseslam

@@ -1,0 +1,224 @@
+/**
+ * @file EkfSlam.h
+ * @brief EKF feature SLAM (thesis chapter 2): vehicle pose plus landmark blocks with
+ *        full correlations, UTE / odometry prediction, batched range-bearing updates,
+ *        exact augmentation (Eq. 2.53), data association (known ids, NN or JCBB), pruning
+ *        of tentative landmarks and passive states with Unidirectional Information Flow.
+ *
+ * Costs with n active states and m associated observations per step:
+ *  - prediction O(n): only P_vv and the vehicle-map cross block P_vm change (Eq. 2.36);
+ *  - update O(n^2 m): P H^T is gathered from the vehicle and one landmark block per
+ *    observation (O(n m), never a dense H times P), then P -= W W^T is one symmetric
+ *    rank-2m update with W = P H^T L^-T, S = L L^T (Eq. 2.44-2.47 rearranged);
+ *  - augmentation O(n k) for k new landmarks plus one O(n^2) reallocation per batch.
+ */
+#pragma once
+
+#include <hymm/core/UteVehicleModel.h>
+#include <hymm/ekf/DataAssociation.h>
+#include <hymm/ekf/PassiveStates.h>
+#include <hymm/ekf/StateLayout.h>
+#include <mrpt/config/CLoadableOptions.h>
+#include <mrpt/obs/CActionRobotMovement2D.h>
+#include <mrpt/poses/CPose3D.h>
+#include <mrpt/poses/CPosePDFGaussian.h>
+#include <mrpt/system/CTimeLogger.h>
+
+#include <Eigen/Core>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace hymm::ekf
+{
+/** One range-bearing observation of a point landmark, in the sensor frame. */
+struct RangeBearingObs
+{
+    Eigen::Vector2d z = Eigen::Vector2d::Zero();  //!< (range [m], bearing [rad])
+    Eigen::Matrix2d R = Eigen::Matrix2d::Identity();  //!< noise covariance, must be PD
+    long id = -1;  //!< >= 0: known association (landmark id); -1: associate by gating
+};
+
+/** What updateRangeBearing() did with each observation. Every observation is counted in
+ *  exactly one of associated / created / rejected_gate / ambiguous / rejected_numeric /
+ *  rejected_invalid. */
+struct UpdateReport
+{
+    size_t associated = 0;        //!< used to update an existing landmark
+    size_t created = 0;           //!< started a new (tentative) landmark
+    /** Inside the association gate of some landmark but not paired (lost a NN conflict
+     *  or excluded by JCBB's joint test), or a known id of a block that is not a point. */
+    size_t rejected_gate = 0;
+    size_t ambiguous = 0;         //!< outside the association gate of every landmark but
+                                  //!< inside the creation gate of one: discarded
+    size_t rejected_numeric = 0;  //!< innovation covariance not PD: update skipped
+    size_t rejected_invalid = 0;  //!< NaN/inf z or R, R not PD, negative range: skipped
+    size_t pruned = 0;            //!< tentative landmarks removed at the end of the step
+    size_t jcbb_nodes = 0;        //!< interpretation-tree nodes explored (JCBB only)
+    std::vector<long> assigned_ids;  //!< per observation: landmark id updated/created, or -1
+    std::string rejection_reason;    //!< why an update was skipped (empty if none)
+};
+
+class EkfSlam
+{
+public:
+    /** Ini section [EkfSlam]; unknown keys are errors, absent keys keep the defaults. */
+    struct Options : public mrpt::config::CLoadableOptions
+    {
+        /** Association of observations without id: NN (Eq. 2.60) or JCBB. Ini:
+         *  association_method = nn | jcbb. */
+        AssociationMethod association_method = AssociationMethod::NearestNeighbour;
+        /** Chi-square probability of the individual and joint association gates. */
+        double association_gate_prob = 0.99;
+        /** Chi-square probability of the creation gate (> association_gate_prob): an
+         *  observation inside it for some landmark but associated with none is ambiguous. */
+        double creation_gate_prob = 0.9999;
+        size_t jcbb_max_nodes = 100000;  //!< JCBB node budget per step (0: unlimited)
+        bool prune_tentative = true;     //!< remove landmarks that are never confirmed
+        /** A landmark is confirmed once used by this many observations (creation counts). */
+        int confirm_min_observations = 2;
+        /** Unconfirmed landmarks older than this many update steps are removed. */
+        int confirm_window_steps = 5;
+        /** Additive stabilising noise per prediction (thesis Eq. 2.6's v), std dev. */
+        double stabilising_std_xy = 0.0;   //!< [m]
+        double stabilising_std_phi = 0.0;  //!< [rad] (ini: stabilising_std_phi_deg)
+        bool enable_profiler = false;      //!< CTimeLogger sections "ekf.*"
+
+        void loadFromConfigFile(
+            const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
+        void saveToConfigFile(
+            mrpt::config::CConfigFileBase& cfg, const std::string& section) const override;
+        /** Throws std::invalid_argument naming the section, key and value. */
+        void validate(const std::string& section = "EkfSlam") const;
+    };
+
+    /** Throws std::invalid_argument on invalid options. Starts at the origin with zero
+     *  covariance and no landmarks. */
+    explicit EkfSlam(const Options& options);
+    EkfSlam(const EkfSlam&) = default;  // value semantics: a copy is an independent filter
+    EkfSlam& operator=(const EkfSlam&) = delete;
+
+    const Options& options() const { return options_; }
+
+    /** Drops every landmark and passive block; sets the vehicle pose and covariance. */
+    void reset(const Eigen::Vector3d& pose, const Eigen::Matrix3d& cov);
+
+    // ---- Prediction (Eq. 2.33-2.36) ----
+
+    /** UTE model step (hymm::core::uteStep) with control u = (v_encoder, steering) of
+     *  covariance Q over dt seconds: P_vv = F P_vv F^T + B Q B^T (+ stabilising noise),
+     *  P_vm = F P_vm. */
+    void predictUte(const Eigen::Vector2d& u, const Eigen::Matrix2d& Q, double dt,
+                    const hymm::core::UteParams& p);
+    /** Odometry increment d ~ N(mean, cov) in the vehicle frame: x <- x (+) d. */
+    void predictOdometry(const mrpt::poses::CPosePDFGaussian& increment);
+    /** As above from an MRPT action (its poseChange PDF, converted to a Gaussian). */
+    void predictOdometry(const mrpt::obs::CActionRobotMovement2D& action);
+
+    // ---- Update ----
+
+    /**
+     * Associates, fuses and augments one batch of observations taken by a sensor at
+     * `sensorPoseOnVehicle` (x, y, yaw used). All associated observations are fused in one
+     * batched update; new landmarks are then added with the exact augmentation of Eq. 2.53
+     * at the updated vehicle pose. Invalid observations are skipped and counted, never
+     * thrown. Ends the step: tentative landmarks are confirmed or pruned.
+     */
+    UpdateReport updateRangeBearing(const std::vector<RangeBearingObs>& obs,
+                                    const mrpt::poses::CPose3D& sensorPoseOnVehicle);
+
+    // ---- Active state access ----
+
+    Eigen::Vector3d vehiclePose() const { return x_.head<3>(); }
+    Eigen::Matrix3d vehicleCov() const { return P_.topLeftCorner<3, 3>(); }
+    size_t numLandmarks() const { return layout_.numLandmarks(); }
+    std::vector<long> landmarkIds() const { return layout_.ids(); }
+    bool hasLandmark(long id) const { return layout_.has(id); }
+    const LandmarkBlock& landmarkBlock(long id) const { return layout_.get(id); }
+    /** Mean / covariance of a 2D point landmark; throws if unknown or not 2-DOF. */
+    Eigen::Vector2d landmarkMean(long id) const;
+    Eigen::Matrix2d landmarkCov(long id) const;
+    /** Any landmark block (2-DOF points, 3-DOF poses, ...). */
+    Eigen::VectorXd landmarkBlockMean(long id) const;
+    Eigen::MatrixXd landmarkBlockCov(long id) const;
+    const Eigen::VectorXd& mean() const { return x_; }  //!< active states
+    const Eigen::MatrixXd& cov() const { return P_; }   //!< active states
+    const StateLayout& layout() const { return layout_; }
+    long currentStep() const { return step_; }
+
+    /**
+     * Adds an active landmark block by the augmentation of Eq. 2.53 for any block size:
+     * mean `mean`, P_new = G_v P_vv G_v^T + noise_cov, P_new,* = G_v P_v*. `noise_cov`
+     * is the measurement term (G_z R G_z^T). id < 0 picks a fresh id. The block starts
+     * confirmed (it was not created from a single gated observation). Returns the id.
+     */
+    long addLandmark(const Eigen::VectorXd& mean, const Eigen::MatrixXd& G_v,
+                     const Eigen::MatrixXd& noise_cov, long id = -1);
+    /** Marginalises a landmark out (deletes its rows and columns). Throws if unknown. */
+    void removeLandmark(long id);
+
+    /** Replaces the whole active state (checkpoints, tests, benchmarks). `blocks` lists
+     *  (id, dim) in state order after the vehicle; landmarks start confirmed. Drops passive
+     *  blocks. Throws on size mismatch, non-finite or non-symmetric covariance. */
+    void setActiveState(const Eigen::VectorXd& x, const Eigen::MatrixXd& P,
+                        const std::vector<std::pair<long, int>>& blocks);
+
+    // ---- Passive states (UIF, thesis 3.7.1) ----
+
+    /** Adds a passive block with its own covariance and its cross-covariance with the
+     *  active states (dim x numActiveStates). */
+    void addPassiveState(long id, const Eigen::VectorXd& mean, const Eigen::MatrixXd& cov,
+                         const Eigen::MatrixXd& cross_with_active);
+    /** Passive block from a vehicle-relative measurement, as Eq. 2.53: cov = G_v P_vv
+     *  G_v^T + noise_cov and cross = G_v P_v* (e.g. G_v = I, noise 0: a vehicle-pose copy). */
+    void addPassiveFromVehicle(long id, const Eigen::VectorXd& mean, const Eigen::MatrixXd& G_v,
+                               const Eigen::MatrixXd& noise_cov);
+    void removePassiveState(long id) { passive_.remove(id); }
+    const PassiveStates& passive() const { return passive_; }
+
+    const mrpt::system::CTimeLogger& profiler() const { return profiler_; }
+    /** Mutable access, e.g. to clear it or to disable it (an enabled CTimeLogger prints
+     *  its statistics when destroyed). */
+    mrpt::system::CTimeLogger& profiler() { return profiler_; }
+
+private:
+    struct Pairing
+    {
+        size_t obs;           //!< index into the observation batch
+        size_t offset;        //!< landmark offset in the state
+        long id;
+        Eigen::Vector2d h;    //!< predicted observation
+        Eigen::Matrix<double, 2, 3> Hv;
+        Eigen::Matrix2d Hl;
+    };
+    struct NewLandmark
+    {
+        size_t obs;
+        long id;  //!< -1: fresh id
+    };
+
+    void applyVehicleMotion(const Eigen::Vector3d& pose, const Eigen::Matrix3d& F,
+                            const Eigen::Matrix3d& Q);
+    /** Data association of one batch; fills pairings, new landmarks and the report. */
+    void associateBatch(const std::vector<RangeBearingObs>& obs, const std::vector<bool>& valid,
+                        const Eigen::Vector3d& sensor, std::vector<Pairing>& pairs,
+                        std::vector<NewLandmark>& created, UpdateReport& report) const;
+    /** Batched sparse update; false (state untouched) if S is not PD. */
+    bool fuse(const std::vector<Pairing>& pairs, const std::vector<RangeBearingObs>& obs,
+              std::string& reason);
+    /** Eq. 2.53 for several new blocks at once: G (sum d x 3), noise blockdiag. */
+    void augment(const std::vector<std::pair<long, Eigen::VectorXd>>& blocks,
+                 const Eigen::MatrixXd& G, const Eigen::MatrixXd& noise, bool confirmed);
+    size_t pruneTentative();
+    Pairing makePairing(size_t obs, const LandmarkBlock& b, const Eigen::Vector3d& sensor) const;
+
+    const Options options_;
+    StateLayout layout_;
+    Eigen::VectorXd x_;
+    Eigen::MatrixXd P_;
+    PassiveStates passive_;
+    long step_ = 0;
+    mrpt::system::CTimeLogger profiler_;
+};
+
+}  // namespace hymm::ekf

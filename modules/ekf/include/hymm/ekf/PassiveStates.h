@@ -1,0 +1,84 @@
+/**
+ * @file PassiveStates.h
+ * @brief Passive states with Unidirectional Information Flow (thesis 3.7.1, Example 3.3,
+ *        Fig. 3.14): state blocks that receive information from the active EKF states
+ *        through their cross-covariance but never give any back.
+ *
+ * Stored per passive block p: its mean x_p, its own covariance P_pp and the
+ * cross-covariance P_pa with every active state. Passive-passive cross terms are never
+ * stored: nothing in the filter reads them, since passive states are never observed and
+ * never enter the motion model. The storage is therefore N_p x n_a + sum(d_p^2) numbers
+ * instead of (N_a + N_p)^2 (Example 3.3).
+ *
+ * The filter (EkfSlam) owns one PassiveStates and drives it: it passes the same F, gains
+ * and augmentation Jacobians it applies to the active states. The active states never
+ * read anything from here, so they are bitwise identical with or without passive states.
+ */
+#pragma once
+
+#include <Eigen/Core>
+
+#include <cstddef>
+#include <unordered_map>
+#include <vector>
+
+namespace hymm::ekf
+{
+class PassiveStates
+{
+public:
+    /** Adds a block; `cross` is dim x n_active (cov(x_p, x_active)). Throws on a used or
+     *  negative id, size mismatches, or a non-symmetric / non-finite covariance. */
+    void add(long id, const Eigen::VectorXd& mean, const Eigen::MatrixXd& cov,
+             const Eigen::MatrixXd& cross, size_t n_active);
+    /** Throws std::out_of_range if unknown. */
+    void remove(long id);
+
+    bool has(long id) const { return index_.count(id) != 0; }
+    size_t numBlocks() const { return blocks_.size(); }
+    size_t totalDim() const { return static_cast<size_t>(mean_.size()); }
+    std::vector<long> ids() const;
+
+    Eigen::VectorXd mean(long id) const;
+    Eigen::MatrixXd cov(long id) const;
+    /** cov(x_p, x_active): dim x n_active. */
+    Eigen::MatrixXd crossCov(long id) const;
+    /** Number of covariance entries stored (N_p * n_active + sum of d_p^2). */
+    size_t storedCovarianceEntries() const;
+
+    // ---- Propagation, called by the filter with what it applies to the active states ----
+
+    /** Prediction (Eq. 2.36 applied to the cross terms): P_pv <- P_pv F^T. */
+    void predictVehicle(const Eigen::Matrix3d& F);
+    /** Cross-covariance with the active states, all passive rows stacked (N_p x n_a). */
+    const Eigen::MatrixXd& crossAll() const { return cross_; }
+    /**
+     * Kalman update with the active gain factor W_a = P_aa H^T L^-T (n_a x M), the
+     * passive one W_p = P_pa H^T L^-T (N_p x M) and y = L^-1 nu, where S = L L^T:
+     * x_p += W_p y (= K_p nu), P_pa -= W_p W_a^T (= K_p S K_a^T), and each own block
+     * P_pp -= W_p,blk W_p,blk^T (= K_p S K_p^T restricted to the block).
+     */
+    void applyUpdate(const Eigen::MatrixXd& W_p, const Eigen::MatrixXd& W_a, const Eigen::VectorXd& y);
+    /** A new active block was appended: its cross-covariance with the passive rows. */
+    void appendActiveColumns(const Eigen::MatrixXd& new_cols);
+    /** Active entries [offset, offset + dim) were removed (marginalised out). */
+    void removeActiveColumns(size_t offset, size_t dim);
+    /** The active state was reset: drops every passive block. */
+    void clear();
+
+private:
+    struct Block
+    {
+        long id;
+        int dim;
+        size_t row;  //!< first row in mean_ / cross_
+    };
+    std::vector<Block> blocks_;
+    std::unordered_map<long, size_t> index_;
+    Eigen::VectorXd mean_;
+    Eigen::MatrixXd cross_;               //!< N_p x n_active
+    std::vector<Eigen::MatrixXd> own_;    //!< own covariance per block
+    const Block& block(long id) const;
+};
+
+}  // namespace hymm::ekf

@@ -1,0 +1,353 @@
+#include "hymm/ekf/EkfSlam.h"
+
+#include <hymm/core/RangeBearingModel.h>
+#include <hymm/ekf/pose_composition.h>
+#include <mrpt/core/exceptions.h>
+#include <mrpt/math/wrap2pi.h>
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace hymm::ekf
+{
+namespace
+{
+/** Deletes rows and columns [o, o + d) of a square matrix (marginalisation). */
+void eraseRowsCols(Eigen::MatrixXd& P, Eigen::Index o, Eigen::Index d)
+{
+    const Eigen::Index n = P.rows(), t = n - o - d;
+    Eigen::MatrixXd Q(n - d, n - d);
+    Q.topLeftCorner(o, o) = P.topLeftCorner(o, o);
+    Q.topRightCorner(o, t) = P.topRightCorner(o, t);
+    Q.bottomLeftCorner(t, o) = P.bottomLeftCorner(t, o);
+    Q.bottomRightCorner(t, t) = P.bottomRightCorner(t, t);
+    P.swap(Q);
+}
+
+/** Copies the strict lower triangle onto the upper one in cache-sized tiles (a plain
+ *  row-by-row copy reads P with stride n and costs as much as a tenth of the update). */
+void mirrorLowerToUpper(Eigen::MatrixXd& P)
+{
+    constexpr Eigen::Index kTile = 64;
+    const Eigen::Index n = P.rows();
+    for (Eigen::Index j0 = 0; j0 < n; j0 += kTile)
+    {
+        const Eigen::Index w = std::min(kTile, n - j0);
+        // Diagonal tile: element by element.
+        for (Eigen::Index j = j0 + 1; j < j0 + w; ++j)
+            for (Eigen::Index i = j0; i < j; ++i) P(i, j) = P(j, i);
+        // Tiles below the diagonal tile, transposed into the tiles right of it.
+        for (Eigen::Index i0 = j0 + w; i0 < n; i0 += kTile)
+        {
+            const Eigen::Index h = std::min(kTile, n - i0);
+            P.block(j0, i0, w, h) = P.block(i0, j0, h, w).transpose();
+        }
+    }
+}
+
+void eraseEntries(Eigen::VectorXd& x, Eigen::Index o, Eigen::Index d)
+{
+    const Eigen::Index t = x.size() - o - d;
+    if (t > 0) x.segment(o, t) = x.tail(t).eval();
+    x.conservativeResize(x.size() - d);
+}
+
+Eigen::Matrix3d stabilisingNoise(const EkfSlam::Options& o)
+{
+    return Eigen::Vector3d(o.stabilising_std_xy * o.stabilising_std_xy,
+                           o.stabilising_std_xy * o.stabilising_std_xy,
+                           o.stabilising_std_phi * o.stabilising_std_phi)
+        .asDiagonal();
+}
+
+void checkCovariance(const Eigen::MatrixXd& C, Eigen::Index n, const char* what)
+{
+    if (C.rows() != n || C.cols() != n)
+        throw std::invalid_argument(std::string(what) + ": wrong covariance size");
+    if (!C.allFinite()) throw std::invalid_argument(std::string(what) + ": non-finite covariance");
+    if ((C - C.transpose()).cwiseAbs().maxCoeff() > 1e-9 * (1.0 + C.cwiseAbs().maxCoeff()))
+        throw std::invalid_argument(std::string(what) + ": covariance is not symmetric");
+}
+}  // namespace
+
+EkfSlam::EkfSlam(const Options& options)
+    : options_(options), profiler_(options.enable_profiler, "hymm::EkfSlam")
+{
+    options_.validate();
+    reset(Eigen::Vector3d::Zero(), Eigen::Matrix3d::Zero());
+}
+
+void EkfSlam::reset(const Eigen::Vector3d& pose, const Eigen::Matrix3d& cov)
+{
+    checkCovariance(cov, 3, "EkfSlam::reset");
+    if (!pose.allFinite()) throw std::invalid_argument("EkfSlam::reset: non-finite pose");
+    layout_.clear();
+    passive_.clear();
+    x_ = pose;
+    x_[2] = mrpt::math::wrapToPi(x_[2]);
+    P_ = 0.5 * (cov + cov.transpose());
+    step_ = 0;
+}
+
+// ---------------------------------------------------------------- prediction
+void EkfSlam::applyVehicleMotion(
+    const Eigen::Vector3d& pose, const Eigen::Matrix3d& F, const Eigen::Matrix3d& Q)
+{
+    // Eq. 2.36: the map is static, so only P_vv and the vehicle rows/columns change: O(n).
+    const Eigen::Index n = P_.rows(), nm = n - 3;
+    x_.head<3>() = pose;
+    const Eigen::Matrix3d Pvv = P_.topLeftCorner<3, 3>();
+    P_.topLeftCorner<3, 3>() = F * Pvv * F.transpose() + Q;
+    P_.topLeftCorner<3, 3>() = (0.5 * (P_.topLeftCorner<3, 3>() + P_.topLeftCorner<3, 3>().transpose())).eval();
+    if (nm > 0)
+    {
+        P_.topRightCorner(3, nm) = (F * P_.topRightCorner(3, nm)).eval();
+        P_.bottomLeftCorner(nm, 3) = P_.topRightCorner(3, nm).transpose();
+    }
+    passive_.predictVehicle(F);
+}
+
+void EkfSlam::predictUte(const Eigen::Vector2d& u, const Eigen::Matrix2d& Q, double dt,
+                         const hymm::core::UteParams& p)
+{
+    mrpt::system::CTimeLoggerEntry tle(profiler_, "ekf.1_predict");
+    if (!u.allFinite() || !std::isfinite(dt) || dt < 0.0)
+        throw std::invalid_argument("EkfSlam::predictUte: non-finite control or negative dt");
+    checkCovariance(Q, 2, "EkfSlam::predictUte(Q)");
+    Eigen::Matrix3d F;
+    Eigen::Matrix<double, 3, 2> B;
+    const Eigen::Vector3d pose = hymm::core::uteStep(x_.head<3>(), u, dt, p, &F, &B);
+    // Eq. 2.34-2.35: control noise enters through B; stabilising noise is additive.
+    applyVehicleMotion(pose, F, B * Q * B.transpose() + stabilisingNoise(options_));
+}
+
+void EkfSlam::predictOdometry(const mrpt::poses::CPosePDFGaussian& increment)
+{
+    mrpt::system::CTimeLoggerEntry tle(profiler_, "ekf.1_predict");
+    const Eigen::Vector3d d(increment.mean.x(), increment.mean.y(), increment.mean.phi());
+    Eigen::Matrix3d Sigma = increment.cov.asEigen();
+    if (!d.allFinite()) throw std::invalid_argument("EkfSlam::predictOdometry: non-finite increment");
+    checkCovariance(Sigma, 3, "EkfSlam::predictOdometry(increment.cov)");
+    Eigen::Matrix3d Jx, Jd;
+    const Eigen::Vector3d pose = composePose(x_.head<3>(), d, &Jx, &Jd);
+    applyVehicleMotion(pose, Jx, Jd * Sigma * Jd.transpose() + stabilisingNoise(options_));
+}
+
+void EkfSlam::predictOdometry(const mrpt::obs::CActionRobotMovement2D& action)
+{
+    ASSERTMSG_(action.poseChange.get() != nullptr,
+               "EkfSlam::predictOdometry: CActionRobotMovement2D without poseChange PDF");
+    mrpt::poses::CPosePDFGaussian g;
+    g.copyFrom(*action.poseChange);
+    predictOdometry(g);
+}
+
+// ---------------------------------------------------------------- update
+EkfSlam::Pairing EkfSlam::makePairing(
+    size_t obs, const LandmarkBlock& b, const Eigen::Vector3d& sensor) const
+{
+    Pairing pr;
+    pr.obs = obs;
+    pr.offset = b.offset;
+    pr.id = b.id;
+    pr.h = hymm::core::observeRangeBearing(
+        x_.head<3>(), sensor, x_.segment<2>(static_cast<Eigen::Index>(b.offset)), &pr.Hv, &pr.Hl);
+    return pr;
+}
+
+bool EkfSlam::fuse(
+    const std::vector<Pairing>& pairs, const std::vector<RangeBearingObs>& obs, std::string& reason)
+{
+    const Eigen::Index n = P_.rows(), M = static_cast<Eigen::Index>(2 * pairs.size());
+    // P H^T gathered from the vehicle columns and one landmark block per observation:
+    // O(n m) instead of a dense H times P.
+    Eigen::MatrixXd PHt(n, M);
+    for (size_t a = 0; a < pairs.size(); ++a)
+    {
+        const auto& pr = pairs[a];
+        const auto o = static_cast<Eigen::Index>(pr.offset);
+        PHt.middleCols<2>(static_cast<Eigen::Index>(2 * a)).noalias() =
+            P_.leftCols<3>() * pr.Hv.transpose() + P_.middleCols<2>(o) * pr.Hl.transpose();
+    }
+    // S = H P H^T + R (Eq. 2.39), rows taken from P H^T; innovation with wrapped bearing.
+    Eigen::MatrixXd S(M, M);
+    Eigen::VectorXd nu(M);
+    for (size_t a = 0; a < pairs.size(); ++a)
+    {
+        const auto& pr = pairs[a];
+        const auto r = static_cast<Eigen::Index>(2 * a);
+        S.middleRows<2>(r).noalias() =
+            pr.Hv * PHt.topRows<3>() + pr.Hl * PHt.middleRows<2>(static_cast<Eigen::Index>(pr.offset));
+        S.block<2, 2>(r, r) += obs[pr.obs].R;
+        nu.segment<2>(r) = rangeBearingInnovation(obs[pr.obs].z, pr.h);
+    }
+    S = (0.5 * (S + S.transpose())).eval();
+
+    Eigen::LLT<Eigen::MatrixXd> llt(S);
+    if (llt.info() != Eigen::Success)
+    {
+        reason = "innovation covariance S of the batch is not positive definite";
+        return false;
+    }
+    // W = P H^T L^-T, so K = W L^-1 and K S K^T = W W^T (Eq. 2.44-2.47). Stored transposed.
+    const Eigen::MatrixXd Wt = llt.matrixL().solve(PHt.transpose());
+    const Eigen::VectorXd y = llt.matrixL().solve(nu);
+    if (!Wt.allFinite() || !y.allFinite())
+    {
+        reason = "non-finite Kalman gain";
+        return false;
+    }
+    // Passive blocks see the same gain through their cross-covariance (read before P moves).
+    if (passive_.numBlocks() > 0)
+    {
+        const Eigen::MatrixXd& Cpa = passive_.crossAll();
+        Eigen::MatrixXd PpHt(Cpa.rows(), M);
+        for (size_t a = 0; a < pairs.size(); ++a)
+        {
+            const auto& pr = pairs[a];
+            PpHt.middleCols<2>(static_cast<Eigen::Index>(2 * a)).noalias() =
+                Cpa.leftCols<3>() * pr.Hv.transpose() +
+                Cpa.middleCols<2>(static_cast<Eigen::Index>(pr.offset)) * pr.Hl.transpose();
+        }
+        const Eigen::MatrixXd Wp = llt.matrixL().solve(PpHt.transpose()).transpose();
+        passive_.applyUpdate(Wp, Wt.transpose(), y);
+    }
+
+    x_.noalias() += Wt.transpose() * y;
+    x_[2] = mrpt::math::wrapToPi(x_[2]);
+    // P -= W W^T as one symmetric rank-M update of the lower triangle (n^2 M flops), then
+    // mirrored. This is algebraically the Joseph form for the optimal gain, keeps P exactly
+    // symmetric and subtracts a PSD term built from a Cholesky factor; the explicit Joseph
+    // form (I-KH)P(I-KH)^T + KRK^T would cost O(n^3) with a dense I-KH.
+    P_.selfadjointView<Eigen::Lower>().rankUpdate(Wt.transpose(), -1.0);
+    mirrorLowerToUpper(P_);
+    return true;
+}
+
+// ---------------------------------------------------------------- augmentation
+void EkfSlam::augment(const std::vector<std::pair<long, Eigen::VectorXd>>& blocks,
+                      const Eigen::MatrixXd& G, const Eigen::MatrixXd& noise, bool confirmed)
+{
+    // Eq. 2.53 with Jacobian [I 0; G_v 0] of the augmented state wrt (x, z): the new rows
+    // are G_v P_v* and the new diagonal block G_v P_vv G_v^T + G_z R G_z^T. Several blocks
+    // at once also get their mutual terms G_va P_vv G_vb^T through the shared vehicle.
+    const Eigen::Index n = P_.rows(), k = G.rows();
+    if (k == 0) return;
+    const Eigen::MatrixXd cross = G * P_.topRows<3>();  // k x n
+    const Eigen::MatrixXd Pnn = G * P_.topLeftCorner<3, 3>() * G.transpose() + noise;
+    // Passive rows: cov(x_p, new) = P_pv G_v^T.
+    if (passive_.numBlocks() > 0)
+        passive_.appendActiveColumns(passive_.crossAll().leftCols<3>() * G.transpose());
+
+    x_.conservativeResize(n + k);
+    P_.conservativeResize(n + k, n + k);
+    P_.bottomLeftCorner(k, n) = cross;
+    P_.topRightCorner(n, k) = cross.transpose();
+    P_.bottomRightCorner(k, k) = 0.5 * (Pnn + Pnn.transpose());
+    Eigen::Index row = n;
+    for (const auto& [id, mean] : blocks)
+    {
+        x_.segment(row, mean.size()) = mean;
+        LandmarkBlock& b = layout_.get(layout_.add(id, static_cast<int>(mean.size()), step_).id);
+        b.times_seen = 1;
+        b.confirmed = confirmed;
+        row += mean.size();
+    }
+}
+
+long EkfSlam::addLandmark(const Eigen::VectorXd& mean, const Eigen::MatrixXd& G_v,
+                          const Eigen::MatrixXd& noise_cov, long id)
+{
+    const auto d = mean.size();
+    if (d < 1 || !mean.allFinite()) throw std::invalid_argument("EkfSlam::addLandmark: bad mean");
+    if (G_v.rows() != d || G_v.cols() != 3 || !G_v.allFinite())
+        throw std::invalid_argument("EkfSlam::addLandmark: G_v must be dim x 3 and finite");
+    checkCovariance(noise_cov, d, "EkfSlam::addLandmark(noise_cov)");
+    if (id < 0) id = layout_.nextFreeId();
+    if (layout_.has(id))
+        throw std::invalid_argument("EkfSlam::addLandmark: id " + std::to_string(id) + " exists");
+    augment({{id, mean}}, G_v, noise_cov, true);
+    return id;
+}
+
+void EkfSlam::removeLandmark(long id)
+{
+    const LandmarkBlock b = layout_.remove(id);  // throws if unknown
+    const auto o = static_cast<Eigen::Index>(b.offset), d = static_cast<Eigen::Index>(b.dim);
+    eraseEntries(x_, o, d);
+    eraseRowsCols(P_, o, d);
+    passive_.removeActiveColumns(b.offset, static_cast<size_t>(b.dim));
+}
+
+// ---------------------------------------------------------------- accessors
+Eigen::VectorXd EkfSlam::landmarkBlockMean(long id) const
+{
+    const LandmarkBlock& b = layout_.get(id);
+    return x_.segment(static_cast<Eigen::Index>(b.offset), b.dim);
+}
+
+Eigen::MatrixXd EkfSlam::landmarkBlockCov(long id) const
+{
+    const LandmarkBlock& b = layout_.get(id);
+    const auto o = static_cast<Eigen::Index>(b.offset);
+    return P_.block(o, o, b.dim, b.dim);
+}
+
+Eigen::Vector2d EkfSlam::landmarkMean(long id) const
+{
+    if (layout_.get(id).dim != 2)
+        throw std::invalid_argument("EkfSlam::landmarkMean: landmark " + std::to_string(id) +
+                                    " is not a 2D point");
+    return landmarkBlockMean(id);
+}
+
+Eigen::Matrix2d EkfSlam::landmarkCov(long id) const
+{
+    if (layout_.get(id).dim != 2)
+        throw std::invalid_argument("EkfSlam::landmarkCov: landmark " + std::to_string(id) +
+                                    " is not a 2D point");
+    return landmarkBlockCov(id);
+}
+
+void EkfSlam::setActiveState(const Eigen::VectorXd& x, const Eigen::MatrixXd& P,
+                             const std::vector<std::pair<long, int>>& blocks)
+{
+    StateLayout layout;
+    for (const auto& [id, dim] : blocks) layout.add(id, dim, step_);
+    if (static_cast<Eigen::Index>(layout.size()) != x.size() || !x.allFinite())
+        throw std::invalid_argument("EkfSlam::setActiveState: x size does not match the blocks");
+    checkCovariance(P, x.size(), "EkfSlam::setActiveState");
+    for (auto& b : layout.blocks())
+    {
+        b.confirmed = true;
+        b.times_seen = 1;
+    }
+    layout_ = layout;
+    x_ = x;
+    x_[2] = mrpt::math::wrapToPi(x_[2]);
+    P_ = 0.5 * (P + P.transpose());
+    passive_.clear();
+}
+
+// ---------------------------------------------------------------- passive states
+void EkfSlam::addPassiveState(long id, const Eigen::VectorXd& mean, const Eigen::MatrixXd& cov,
+                              const Eigen::MatrixXd& cross_with_active)
+{
+    passive_.add(id, mean, cov, cross_with_active, static_cast<size_t>(x_.size()));
+}
+
+void EkfSlam::addPassiveFromVehicle(long id, const Eigen::VectorXd& mean,
+                                    const Eigen::MatrixXd& G_v, const Eigen::MatrixXd& noise_cov)
+{
+    if (G_v.rows() != mean.size() || G_v.cols() != 3)
+        throw std::invalid_argument("EkfSlam::addPassiveFromVehicle: G_v must be dim x 3");
+    checkCovariance(noise_cov, mean.size(), "EkfSlam::addPassiveFromVehicle(noise_cov)");
+    const Eigen::MatrixXd cov = G_v * P_.topLeftCorner<3, 3>() * G_v.transpose() + noise_cov;
+    passive_.add(id, mean, 0.5 * (cov + cov.transpose()), G_v * P_.topRows<3>(),
+                 static_cast<size_t>(x_.size()));
+}
+
+}  // namespace hymm::ekf

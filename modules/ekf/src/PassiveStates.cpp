@@ -1,0 +1,156 @@
+#include "hymm/ekf/PassiveStates.h"
+
+#include <stdexcept>
+#include <string>
+
+namespace hymm::ekf
+{
+namespace
+{
+/** Removes rows [r, r + d) of a dense matrix. */
+void eraseRows(Eigen::MatrixXd& A, Eigen::Index r, Eigen::Index d)
+{
+    const Eigen::Index tail = A.rows() - r - d;
+    if (tail > 0) A.middleRows(r, tail) = A.bottomRows(tail).eval();
+    A.conservativeResize(A.rows() - d, Eigen::NoChange);
+}
+}  // namespace
+
+void PassiveStates::add(long id, const Eigen::VectorXd& mean, const Eigen::MatrixXd& cov,
+                        const Eigen::MatrixXd& cross, size_t n_active)
+{
+    const auto d = mean.size();
+    const std::string who = "PassiveStates::add(id=" + std::to_string(id) + "): ";
+    if (id < 0) throw std::invalid_argument(who + "negative id");
+    if (has(id)) throw std::invalid_argument(who + "id already exists");
+    if (d < 1) throw std::invalid_argument(who + "empty mean");
+    if (cov.rows() != d || cov.cols() != d)
+        throw std::invalid_argument(who + "cov must be dim x dim");
+    if (cross.rows() != d || cross.cols() != static_cast<Eigen::Index>(n_active))
+        throw std::invalid_argument(who + "cross must be dim x n_active");
+    if (!mean.allFinite() || !cov.allFinite() || !cross.allFinite())
+        throw std::invalid_argument(who + "non-finite input");
+    if ((cov - cov.transpose()).cwiseAbs().maxCoeff() > 1e-9 * (1.0 + cov.cwiseAbs().maxCoeff()))
+        throw std::invalid_argument(who + "cov is not symmetric");
+
+    Block b{id, static_cast<int>(d), static_cast<size_t>(mean_.size())};
+    const Eigen::Index rows = mean_.size();
+    mean_.conservativeResize(rows + d);
+    mean_.tail(d) = mean;
+    if (rows == 0) cross_.resize(0, static_cast<Eigen::Index>(n_active));
+    cross_.conservativeResize(rows + d, Eigen::NoChange);
+    cross_.bottomRows(d) = cross;
+    own_.push_back(0.5 * (cov + cov.transpose()));
+    index_[id] = blocks_.size();
+    blocks_.push_back(b);
+}
+
+void PassiveStates::remove(long id)
+{
+    const auto it = index_.find(id);
+    if (it == index_.end())
+        throw std::out_of_range("PassiveStates::remove: unknown id " + std::to_string(id));
+    const size_t pos = it->second;
+    const Block b = blocks_[pos];
+    const auto r = static_cast<Eigen::Index>(b.row), d = static_cast<Eigen::Index>(b.dim);
+    const Eigen::Index tail = mean_.size() - r - d;
+    if (tail > 0) mean_.segment(r, tail) = mean_.tail(tail).eval();
+    mean_.conservativeResize(mean_.size() - d);
+    eraseRows(cross_, r, d);
+    blocks_.erase(blocks_.begin() + static_cast<std::ptrdiff_t>(pos));
+    own_.erase(own_.begin() + static_cast<std::ptrdiff_t>(pos));
+    index_.erase(it);
+    for (size_t k = pos; k < blocks_.size(); ++k)
+    {
+        blocks_[k].row -= static_cast<size_t>(d);
+        index_[blocks_[k].id] = k;
+    }
+}
+
+std::vector<long> PassiveStates::ids() const
+{
+    std::vector<long> out;
+    for (const auto& b : blocks_) out.push_back(b.id);
+    return out;
+}
+
+const PassiveStates::Block& PassiveStates::block(long id) const
+{
+    const auto it = index_.find(id);
+    if (it == index_.end())
+        throw std::out_of_range("PassiveStates: unknown passive id " + std::to_string(id));
+    return blocks_[it->second];
+}
+
+Eigen::VectorXd PassiveStates::mean(long id) const
+{
+    const Block& b = block(id);
+    return mean_.segment(static_cast<Eigen::Index>(b.row), b.dim);
+}
+
+Eigen::MatrixXd PassiveStates::cov(long id) const
+{
+    block(id);  // throws a clear error if unknown
+    return own_[index_.at(id)];
+}
+
+Eigen::MatrixXd PassiveStates::crossCov(long id) const
+{
+    const Block& b = block(id);
+    return cross_.middleRows(static_cast<Eigen::Index>(b.row), b.dim);
+}
+
+size_t PassiveStates::storedCovarianceEntries() const
+{
+    size_t n = static_cast<size_t>(cross_.size());
+    for (const auto& o : own_) n += static_cast<size_t>(o.size());
+    return n;
+}
+
+void PassiveStates::predictVehicle(const Eigen::Matrix3d& F)
+{
+    if (blocks_.empty()) return;
+    cross_.leftCols<3>() = (cross_.leftCols<3>() * F.transpose()).eval();
+}
+
+void PassiveStates::applyUpdate(
+    const Eigen::MatrixXd& W_p, const Eigen::MatrixXd& W_a, const Eigen::VectorXd& y)
+{
+    if (blocks_.empty()) return;
+    mean_.noalias() += W_p * y;
+    cross_.noalias() -= W_p * W_a.transpose();
+    for (size_t k = 0; k < blocks_.size(); ++k)
+    {
+        const auto Wb = W_p.middleRows(static_cast<Eigen::Index>(blocks_[k].row), blocks_[k].dim);
+        own_[k].noalias() -= Wb * Wb.transpose();
+        own_[k] = (0.5 * (own_[k] + own_[k].transpose())).eval();
+    }
+}
+
+void PassiveStates::appendActiveColumns(const Eigen::MatrixXd& new_cols)
+{
+    if (blocks_.empty()) return;
+    const Eigen::Index c = cross_.cols();
+    cross_.conservativeResize(Eigen::NoChange, c + new_cols.cols());
+    cross_.rightCols(new_cols.cols()) = new_cols;
+}
+
+void PassiveStates::removeActiveColumns(size_t offset, size_t dim)
+{
+    if (blocks_.empty()) return;
+    const auto o = static_cast<Eigen::Index>(offset), d = static_cast<Eigen::Index>(dim);
+    const Eigen::Index tail = cross_.cols() - o - d;
+    if (tail > 0) cross_.middleCols(o, tail) = cross_.rightCols(tail).eval();
+    cross_.conservativeResize(Eigen::NoChange, cross_.cols() - d);
+}
+
+void PassiveStates::clear()
+{
+    blocks_.clear();
+    index_.clear();
+    mean_.resize(0);
+    cross_.resize(0, 0);
+    own_.clear();
+}
+
+}  // namespace hymm::ekf
