@@ -24,6 +24,10 @@ function(hymm_add_library name)
     target_link_libraries(${target} PUBLIC ${A_PUBLIC_LINK_LIBRARIES}
                                     PRIVATE ${A_PRIVATE_LINK_LIBRARIES})
     hymm_set_warnings(${target})
+    if(HYMM_NATIVE)
+        # AVX-512 is left out: GCC 12 warns inside its own intrinsics headers with Eigen.
+        target_compile_options(${target} PUBLIC -march=native -mno-avx512f)
+    endif()
     install(TARGETS ${target} EXPORT hymmTargets
             ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
             LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}

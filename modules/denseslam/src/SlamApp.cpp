@@ -4,6 +4,7 @@
 #include <hymm/core/trajectory_io.h>
 #include <hymm/denseslam/MapPlot.h>
 #include <hymm/denseslam/slam_outputs.h>
+#include <vector>
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <mrpt/system/filesystem.h>
 
@@ -41,10 +42,17 @@ void SlamApp::run(std::ostream& log)
     const auto t0 = Clock::now();
     auto last_report = t0;
     RawlogEntry entry;
+    std::vector<FrameTiming> timing;
     while (reader.next(entry))
     {
+        const auto e0 = Clock::now();
+        const size_t obs_before = slam_->stats().observations;
         slam_->processEntry(entry);
         const auto now = Clock::now();
+        if (entry.frame || entry.observation)
+            timing.push_back({reader.entriesRead(), slam_->ekf().numLandmarks(),
+                              slam_->stats().observations - obs_before,
+                              std::chrono::duration<double>(now - e0).count()});
         if (!args_.quiet && now - last_report > std::chrono::seconds(2))
         {
             last_report = now;
@@ -68,6 +76,7 @@ void SlamApp::run(std::ostream& log)
     if (args_.png) writeMapPng(makeMapPlot(*slam_, gt ? &*gt : nullptr), out + "map.png");
     if (gt) computeMetrics(*slam_, *gt, run_s).save(out + "metrics.json");
     writeSummary(*slam_, run_s, reader.entriesRead(), out + "summary.txt");
+    writeTiming(timing, out + "timing.csv");
 
     if (!args_.quiet)
     {

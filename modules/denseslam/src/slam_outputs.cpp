@@ -155,6 +155,39 @@ eval::MetricsJson computeMetrics(const DenseSlam& slam, const GroundTruth& gt, d
     return j;
 }
 
+eval::MetricsJson evaluateResultFiles(const std::string& path_tum, const std::string& landmarks_csv,
+                                      const GroundTruth& gt)
+{
+    eval::MetricsJson j;
+    if (!path_tum.empty() && !gt.path.empty())
+    {
+        eval::TrajectoryEvaluator::Options to;
+        to.association = gt.path_has_timestamps ? eval::TrajectoryEvaluator::Association::Interpolate
+                                                : eval::TrajectoryEvaluator::Association::Index;
+        const auto traj = eval::TrajectoryEvaluator(to).evaluate(core::readTum(path_tum), gt.path);
+        eval::writeTrajectoryMetrics(j.object("path"), traj);
+    }
+    if (!landmarks_csv.empty() && !gt.landmarks.empty())
+    {
+        const auto recs = core::readLandmarksCsv(landmarks_csv);
+        const bool has_cov = !recs.empty() && recs.front().extra.size() >= 3;
+        const auto est = eval::landmarkEstimatesFromRecords(recs, has_cov ? 0 : -1);
+        const auto lr = eval::LandmarkEvaluator(eval::LandmarkEvaluator::Options{}).evaluate(est, gt.landmarks);
+        eval::writeLandmarkMetrics(j.object("landmarks"), lr);
+    }
+    return j;
+}
+
+void writeTiming(const std::vector<FrameTiming>& timing, const std::string& file)
+{
+    std::ofstream f(file);
+    if (!f) throw std::runtime_error("cannot write '" + file + "'");
+    f << "entry,landmarks,observations,seconds\n" << std::setprecision(9);
+    for (const auto& t : timing)
+        f << t.entry << ',' << t.landmarks << ',' << t.observations << ',' << t.seconds << '\n';
+    if (!f) throw std::runtime_error("error writing '" + file + "'");
+}
+
 void writeSummary(const DenseSlam& slam, double run_seconds, size_t entries, const std::string& file)
 {
     std::ofstream f(file);

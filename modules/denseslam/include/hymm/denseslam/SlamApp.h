@@ -10,6 +10,7 @@
  *  - map.png         path and landmarks with 3-sigma ellipses (over the truth if known)
  *  - metrics.json    with ground truth: path RMSE, landmark errors, NEES statistics
  *  - summary.txt     counters (associations, rejections, skipped readings) and timing
+ *  - timing.csv      processing time of every sensory frame against map size
  */
 #pragma once
 

@@ -44,6 +44,26 @@ MapPlot makeMapPlot(const DenseSlam& slam, const GroundTruth* gt);
  */
 eval::MetricsJson computeMetrics(const DenseSlam& slam, const GroundTruth& gt, double run_seconds);
 
+/** Wall-clock cost of processing one sensory frame (or single observation). */
+struct FrameTiming
+{
+    size_t entry = 0;         //!< rawlog entry index (1-based)
+    size_t landmarks = 0;     //!< map size after the frame
+    size_t observations = 0;  //!< landmark observations used in the frame
+    double seconds = 0;       //!< processing time of the frame
+};
+
+/** CSV "entry,landmarks,observations,seconds", one line per frame. */
+void writeTiming(const std::vector<FrameTiming>& timing, const std::string& file);
+
+/**
+ * Scores result files written by any SLAM program (hymm-slam, MRPT kf-slam, ...)
+ * against ground truth with the same metrics as computeMetrics(): path file (TUM),
+ * optional landmark CSV "id,x,y[,cxx,cxy,cyy]". Used by the hymm-eval app.
+ */
+eval::MetricsJson evaluateResultFiles(const std::string& path_tum, const std::string& landmarks_csv,
+                                      const GroundTruth& gt);
+
 /** Human-readable counters and timing. */
 void writeSummary(const DenseSlam& slam, double run_seconds, size_t entries,
                   const std::string& file);

@@ -1,0 +1,42 @@
+// hymm-eval: scores a SLAM result (path in TUM format, landmark CSV) against ground
+// truth with the metrics hymm-slam reports, so any program's output can be compared.
+#include <hymm/denseslam/slam_outputs.h>
+#include <mrpt/3rdparty/tclap/CmdLine.h>
+#include <mrpt/core/exceptions.h>
+
+#include <iostream>
+
+int main(int argc, char** argv)
+{
+    try
+    {
+        TCLAP::CmdLine cmd("hymm-eval: metrics of a SLAM result against ground truth", ' ', "0.1");
+        TCLAP::ValueArg<std::string> path("p", "path", "estimated path (TUM)", false, "", "FILE", cmd);
+        TCLAP::ValueArg<std::string> lms("l", "landmarks", "estimated landmarks id,x,y[,cxx,cxy,cyy]",
+                                         false, "", "FILE", cmd);
+        TCLAP::ValueArg<std::string> gtp("", "gt-path", "true path (TUM or simul-landmarks)", false,
+                                         "", "FILE", cmd);
+        TCLAP::ValueArg<std::string> gtl("", "gt-landmarks", "true landmarks (CSV or simul-landmarks)",
+                                         false, "", "FILE", cmd);
+        TCLAP::ValueArg<std::string> out("o", "out", "write the JSON here instead of stdout", false,
+                                         "", "FILE", cmd);
+        if (!cmd.parse(argc, argv))
+        {
+            for (int i = 1; i < argc; ++i)
+                if (std::string(argv[i]) == "--help" || std::string(argv[i]) == "--version") return 0;
+            return 1;
+        }
+        const auto gt = hymm::denseslam::loadGroundTruth(gtp.getValue(), gtl.getValue());
+        const auto j = hymm::denseslam::evaluateResultFiles(path.getValue(), lms.getValue(), gt);
+        if (out.getValue().empty())
+            std::cout << j.dump() << "\n";
+        else
+            j.save(out.getValue());
+        return 0;
+    }
+    catch (const std::exception& e)
+    {
+        std::cerr << "hymm-eval: error: " << mrpt::exception_to_str(e) << "\n";
+        return 1;
+    }
+}
