@@ -1,0 +1,54 @@
+/**
+ * @file OdometryAccumulator.h
+ * @brief Composes the pose increments of the measured controls between two sensory
+ *        frames, with the covariance propagated from the control noise: what the
+ *        simulator writes as the frame's CActionRobotMovement2D.
+ *
+ * Each dead-reckoning step adds d = hymm::core::uteIncrement(u, dt) (Eq. A.4 in the frame
+ * of the tracked point), so composing the increments from a pose reproduces integrating
+ * uteStep with the same controls. With D the increment so far and Q = diag(std_speed^2,
+ * std_steering^2) the noise of one control reading,
+ *     D' = D (+) d,   P' = J_D P J_D^T + J_d (J_u Q J_u^T) J_d^T,
+ * J_D, J_d the Jacobians of the pose composition and J_u = d(d)/du. covariance() adds a
+ * tiny floor (kFloorStdXy, kFloorStdPhi) so that the matrix is positive definite even
+ * for zero steps or a parked vehicle.
+ */
+#pragma once
+
+#include <hymm/core/UteVehicleModel.h>
+
+#include <Eigen/Core>
+
+namespace hymm::sim
+{
+class OdometryAccumulator
+{
+public:
+    static constexpr double kFloorStdXy = 1e-4;   //!< [m], far below any control noise
+    static constexpr double kFloorStdPhi = 1e-5;  //!< [rad]
+
+    OdometryAccumulator(const hymm::core::UteParams& ute, double std_speed, double std_steering);
+
+    /** Starts a new increment at the identity. */
+    void reset();
+
+    /** Adds one step of `dt` seconds with the measured control `u` = (v_e, alpha). */
+    void addStep(const Eigen::Vector2d& u, double dt);
+
+    /** (dx, dy, dphi): the pose at the last step in the frame of the pose at reset(). */
+    const Eigen::Vector3d& mean() const { return mean_; }
+
+    /** Covariance of mean(), including the floor. */
+    Eigen::Matrix3d covariance() const;
+
+    size_t steps() const { return steps_; }
+
+private:
+    const hymm::core::UteParams ute_;
+    Eigen::Matrix2d Q_;
+    Eigen::Vector3d mean_;
+    Eigen::Matrix3d cov_;
+    size_t steps_ = 0;
+};
+
+}  // namespace hymm::sim

@@ -1,0 +1,156 @@
+/**
+ * @file World.h
+ * @brief The simulated 2D world: point landmarks (poles, trees: circles with a radius)
+ *        and polygonal objects (walls, buildings, cars), some of which move or appear
+ *        and disappear, plus the ray casting the sensors use.
+ *
+ * Configuration: section [World] sets landmark and object generation; every section
+ * named [Object_<name>] adds one object (keys below). Generated items are placed along
+ * both sides of the vehicle's path from their own seed (World::Options::seed), so the
+ * world stays the same when the noise seed of a Monte Carlo run changes.
+ */
+#pragma once
+
+#include <mrpt/config/CLoadableOptions.h>
+
+#include <Eigen/Core>
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "hymm/sim/geometry.h"
+
+namespace hymm::sim
+{
+class ClosedPath;
+
+/** A pole or tree: what the landmark detector reports (its centre) and what the laser
+ *  sees (its circular trunk). */
+struct Landmark
+{
+    long id = 0;
+    Vec2 position = Vec2::Zero();  //!< centre [m]
+    double radius = 0.2;           //!< [m]
+};
+
+/** Pose of an object at time `t` [s since the start of the run]; phi in radians. */
+struct PoseKey
+{
+    double t = 0;
+    double x = 0, y = 0, phi = 0;
+};
+
+/**
+ * A polygonal object. Its outline is given in its own frame and placed by a pose that
+ * is piecewise-linear in time between the keys of `trajectory` (held before the first
+ * and after the last key); a single key is a fixed object. Fast dynamic objects move
+ * while observed; slow ones are moved (two keys close in time), added or removed
+ * (`appear_s`/`disappear_s`) between two visits.
+ *
+ * Ini section [Object_<name>]:
+ *   kind = building          ; free label (wall, car, person, ...)
+ *   shape = box              ; box | polygon
+ *   size = 12 8              ; box: length (along the object's x) and width [m]
+ *   vertices = 0 0 10 0 0 6  ; polygon: x y pairs in the object frame [m]
+ *   pose = 20 30 15          ; x y yaw_deg of a fixed object
+ *   trajectory = 0 -10 5 0  20 10 5 0   ; or: t x y yaw_deg keys (t in s from the start)
+ *   appear_s = 100           ; optional: absent before this time [s]
+ *   disappear_s = 100        ; optional: absent from this time on [s]
+ */
+struct WorldObject
+{
+    long id = 0;
+    std::string name;
+    std::string kind = "object";
+    Polygon outline;                  //!< object frame, counter-clockwise
+    std::vector<PoseKey> trajectory;  //!< at least one key, strictly increasing times
+    double present_from = -std::numeric_limits<double>::infinity();
+    double present_to = std::numeric_limits<double>::infinity();
+
+    bool moves() const { return trajectory.size() > 1; }
+    bool presentAt(double t) const { return t >= present_from && t < present_to; }
+    bool isStatic() const { return !moves() && std::isinf(present_from) && std::isinf(present_to); }
+    Eigen::Vector3d poseAt(double t) const;
+    Polygon outlineAt(double t) const;
+
+    /** Parses [section] (see above); throws naming section, key and value. */
+    static WorldObject fromConfig(const mrpt::config::CConfigFileBase& cfg,
+                                  const std::string& section, long id);
+    /** Writes the object back as a polygon section. */
+    void toConfig(mrpt::config::CConfigFileBase& cfg, const std::string& section) const;
+};
+
+/** The world as it is at one instant, restricted to a disc around a sensor. */
+class WorldSnapshot
+{
+public:
+    struct Hit
+    {
+        double range = 0;       //!< [m]
+        bool landmark = false;  //!< a landmark's trunk, else an object's outline
+        long id = -1;           //!< id of the landmark or object hit
+    };
+
+    /** Nearest hit of the ray from `origin` at global angle `angle` closer than
+     *  `max_range`, ignoring the landmark `skip_landmark` (-1: none). */
+    std::optional<Hit> castRay(const Vec2& origin, double angle, double max_range,
+                               long skip_landmark = -1) const;
+
+    std::vector<Landmark> landmarks;
+    std::vector<std::pair<long, Polygon>> objects;  //!< (object id, global outline)
+};
+
+class World
+{
+public:
+    struct Options : public mrpt::config::CLoadableOptions
+    {
+        std::vector<Landmark> landmarks;     //!< explicit: `landmarks = x y radius ...`
+        std::vector<WorldObject> objects;    //!< from the [Object_<name>] sections
+        double landmark_spacing_m = 0;       //!< along-path landmark spacing (0: none)
+        double landmark_offset_min_m = 3;    //!< lateral distance of the centre from the path
+        double landmark_offset_max_m = 12;   //!< [m]
+        double landmark_radius_min_m = 0.1;  //!< trunk radius range [m]
+        double landmark_radius_max_m = 0.4;
+        double landmark_separation_m = 4;  //!< min distance between generated landmarks
+                                           //!< and from them to any object [m]
+        double object_spacing_m = 0;       //!< along-path object spacing (0: none)
+        double object_offset_min_m = 8;    //!< lateral distance of the centre from the path
+        double object_offset_max_m = 20;   //!< [m]
+        double object_size_min_m = 3;      //!< generated object diameter range [m]
+        double object_size_max_m = 12;
+        double object_separation_m = 4;  //!< min gap between objects [m]
+        double clearance_m = 3;          //!< min gap between generated items and path [m]
+        long seed = 1;                   //!< seed of the generation (not of the noise)
+
+        /** Reads [World] and every [Object_<name>] section (ids in name order). */
+        void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
+                                const std::string& section) override;
+        void saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
+                              const std::string& section) const override;
+    };
+
+    /** Prefix of the object sections. */
+    static constexpr const char* kObjectSectionPrefix = "Object_";
+
+    World(std::vector<Landmark> landmarks, std::vector<WorldObject> objects);
+
+    /** The configured landmarks and objects plus those generated along `path` (none
+     *  when `path` is null). Landmark ids are 0..n-1, object ids 0..m-1. */
+    static World build(const Options& options, const ClosedPath* path);
+
+    /** Everything present at time `t` whose bounding circle reaches the disc
+     *  (`centre`, `radius`). */
+    WorldSnapshot snapshot(double t, const Vec2& centre, double radius) const;
+
+    const std::vector<Landmark>& landmarks() const { return landmarks_; }
+    const std::vector<WorldObject>& objects() const { return objects_; }
+
+private:
+    std::vector<Landmark> landmarks_;
+    std::vector<WorldObject> objects_;
+};
+
+}  // namespace hymm::sim

@@ -1,0 +1,49 @@
+#include "hymm/sim/OdometryAccumulator.h"
+
+#include <mrpt/math/wrap2pi.h>
+
+#include <cmath>
+
+namespace hymm::sim
+{
+OdometryAccumulator::OdometryAccumulator(const hymm::core::UteParams& ute, double std_speed,
+                                         double std_steering)
+    : ute_(ute)
+{
+    Q_ = Eigen::Vector2d(std_speed * std_speed, std_steering * std_steering).asDiagonal();
+    reset();
+}
+
+void OdometryAccumulator::reset()
+{
+    mean_.setZero();
+    cov_.setZero();
+    steps_ = 0;
+}
+
+void OdometryAccumulator::addStep(const Eigen::Vector2d& u, double dt)
+{
+    Eigen::Matrix<double, 3, 2> Ju;
+    const Eigen::Vector3d d = hymm::core::uteIncrement(u, dt, ute_, &Ju);
+    const double c = std::cos(mean_[2]), s = std::sin(mean_[2]);
+
+    Eigen::Matrix3d JD = Eigen::Matrix3d::Identity();  // d(D (+) d)/dD
+    JD(0, 2) = -s * d[0] - c * d[1];
+    JD(1, 2) = c * d[0] - s * d[1];
+    Eigen::Matrix3d Jd = Eigen::Matrix3d::Identity();  // d(D (+) d)/dd
+    Jd.block<2, 2>(0, 0) << c, -s, s, c;
+
+    cov_ = JD * cov_ * JD.transpose() + Jd * (Ju * Q_ * Ju.transpose()) * Jd.transpose();
+    mean_ = Eigen::Vector3d(mean_[0] + c * d[0] - s * d[1], mean_[1] + s * d[0] + c * d[1],
+                            mrpt::math::wrapToPi(mean_[2] + d[2]));
+    ++steps_;
+}
+
+Eigen::Matrix3d OdometryAccumulator::covariance() const
+{
+    const Eigen::Vector3d floor(kFloorStdXy * kFloorStdXy, kFloorStdXy * kFloorStdXy,
+                                kFloorStdPhi * kFloorStdPhi);
+    return cov_ + Eigen::Matrix3d(floor.asDiagonal());
+}
+
+}  // namespace hymm::sim

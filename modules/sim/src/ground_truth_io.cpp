@@ -1,0 +1,90 @@
+#include "hymm/sim/ground_truth_io.h"
+
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include "config_text.h"
+
+namespace hymm::sim
+{
+namespace
+{
+void writeRecord(std::ostream& f, const ObjectOutlineRecord& r)
+{
+    f << r.id << ' ' << detail::formatNumber(r.t_from) << ' ' << detail::formatNumber(r.t_to);
+    for (const auto& p : r.outline)
+        f << ' ' << detail::formatNumber(p.x()) << ' ' << detail::formatNumber(p.y());
+    f << '\n';
+}
+}  // namespace
+
+void writeObjectOutlines(const std::string& path, const World& world,
+                         const std::vector<double>& frame_t,
+                         const std::vector<double>& frame_stamps)
+{
+    if (frame_t.size() != frame_stamps.size())
+        throw std::invalid_argument("writeObjectOutlines: frame times and stamps differ in size");
+    std::ofstream f(path);
+    if (!f) throw std::runtime_error("cannot write object file '" + path + "'");
+    f << "# HYMM simulator: true object outlines\n"
+         "# id t_from t_to x1 y1 ... xn yn  (closed polygon, global frame [m], counter-clockwise;\n"
+         "# the outline holds for the frames stamped t_from..t_to [s], inclusive)\n";
+    for (const auto& obj : world.objects())
+        f << "# object " << obj.id << ' ' << obj.name << ' ' << obj.kind << '\n';
+    for (const auto& obj : world.objects())
+    {
+        // Runs of consecutive frames with the object present and unchanged.
+        bool open = false;
+        ObjectOutlineRecord rec;
+        for (size_t i = 0; i < frame_t.size(); ++i)
+        {
+            if (!obj.presentAt(frame_t[i]))
+            {
+                if (open) writeRecord(f, rec);
+                open = false;
+                continue;
+            }
+            Polygon outline = obj.outlineAt(frame_t[i]);
+            if (open && outline == rec.outline)
+            {
+                rec.t_to = frame_stamps[i];
+                continue;
+            }
+            if (open) writeRecord(f, rec);
+            rec = ObjectOutlineRecord{obj.id, frame_stamps[i], frame_stamps[i], std::move(outline)};
+            open = true;
+        }
+        if (open) writeRecord(f, rec);
+    }
+    if (!f) throw std::runtime_error("error writing object file '" + path + "'");
+}
+
+std::vector<ObjectOutlineRecord> readObjectOutlines(const std::string& path)
+{
+    std::ifstream f(path);
+    if (!f) throw std::runtime_error("cannot open object file '" + path + "'");
+    std::vector<ObjectOutlineRecord> out;
+    std::string line;
+    for (size_t lineno = 1; std::getline(f, line); ++lineno)
+    {
+        const auto first = line.find_first_not_of(" \t\r");
+        if (first == std::string::npos || line[first] == '#') continue;
+        std::istringstream is(line);
+        ObjectOutlineRecord r;
+        std::vector<double> xy;
+        double v = 0;
+        if (!(is >> r.id >> r.t_from >> r.t_to))
+            throw std::runtime_error(path + ":" + std::to_string(lineno) +
+                                     ": expected 'id t_from t_to x1 y1 ...'");
+        while (is >> v) xy.push_back(v);
+        if (!is.eof() || xy.size() < 6 || xy.size() % 2 != 0)
+            throw std::runtime_error(path + ":" + std::to_string(lineno) +
+                                     ": expected at least 3 vertices as x y pairs of numbers");
+        for (size_t i = 0; i < xy.size(); i += 2) r.outline.emplace_back(xy[i], xy[i + 1]);
+        out.push_back(std::move(r));
+    }
+    return out;
+}
+
+}  // namespace hymm::sim

@@ -1,0 +1,121 @@
+#include "hymm/sim/run_scenario.h"
+
+#include <hymm/core/trajectory_io.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include "hymm/sim/RawlogWriter.h"
+#include "hymm/sim/Simulator.h"
+#include "hymm/sim/WorldPlot.h"
+#include "hymm/sim/ground_truth_io.h"
+
+namespace hymm::sim
+{
+namespace
+{
+hymm::core::StampedPose2D stamped(double t, const Eigen::Vector3d& p)
+{
+    return {t, p[0], p[1], p[2]};
+}
+
+void writeLandmarks(const std::string& path, const World& world)
+{
+    std::vector<hymm::core::LandmarkRecord> recs;
+    for (const auto& lm : world.landmarks())
+        recs.push_back({lm.id, lm.position.x(), lm.position.y(), {lm.radius}});
+    hymm::core::writeLandmarksCsv(path, recs, "id,x,y,radius");
+}
+
+void writeText(const std::string& path, const std::string& text)
+{
+    std::ofstream f(path);
+    f << text;
+    if (!f) throw std::runtime_error("cannot write '" + path + "'");
+}
+}  // namespace
+
+std::string RunSummary::toString() const
+{
+    std::ostringstream ss;
+    ss << "scenario " << name << ": " << frames << " frames over " << duration_s << " s, "
+       << path_length_m << " m driven, " << scans << " scans, " << detections
+       << " landmark readings; world: " << landmarks << " landmarks, " << objects << " objects\n";
+    for (const auto& f : files) ss << "  wrote " << f << "\n";
+    return ss.str();
+}
+
+RunSummary runScenario(const Scenario& scenario, const std::string& out_dir, bool png)
+{
+    std::error_code ec;
+    std::filesystem::create_directories(out_dir, ec);
+    if (ec || !std::filesystem::is_directory(out_dir))
+        throw std::runtime_error("cannot create output folder '" + out_dir + "': " + ec.message());
+    const std::string base = out_dir + "/" + scenario.run.name;
+
+    Simulator sim(scenario);
+    RunSummary sum;
+    sum.name = scenario.run.name;
+    sum.landmarks = sim.world().landmarks().size();
+    sum.objects = sim.world().objects().size();
+    sum.files = {base + ".rawlog",           base + "_gt_path.tum",    base + "_dr_path.tum",
+                 base + "_gt_landmarks.csv", base + "_gt_objects.txt", base + "_config.ini"};
+
+    RawlogWriter rawlog(sum.files[0]);
+    WorldPlot plot(scenario.plot);
+    std::vector<hymm::core::StampedPose2D> gt, dr;
+    std::vector<double> frame_t, frame_stamps;
+    SimFrame f;
+    while (sim.next(f))
+    {
+        rawlog.write(f);
+        const double stamp = mrpt::Clock::toDouble(f.stamp);
+        if (!gt.empty())
+            sum.path_length_m +=
+                std::hypot(f.true_pose[0] - gt.back().x, f.true_pose[1] - gt.back().y);
+        gt.push_back(stamped(stamp, f.true_pose));
+        dr.push_back(stamped(stamp, f.dr_pose));
+        frame_t.push_back(f.t);
+        frame_stamps.push_back(stamp);
+        sum.scans += f.scan ? 1 : 0;
+        sum.detections += f.detections ? f.detections->sensedData.size() : 0;
+        if (png) plot.add(f.true_pose, f.scan.get());
+    }
+    rawlog.close();
+    sum.frames = rawlog.frames();
+    sum.duration_s = frame_t.empty() ? 0 : frame_t.back();
+
+    hymm::core::writeTum(sum.files[1], gt);
+    hymm::core::writeTum(sum.files[2], dr);
+    writeLandmarks(sum.files[3], sim.world());
+    writeObjectOutlines(sum.files[4], sim.world(), frame_t, frame_stamps);
+    writeText(sum.files[5], "; Effective configuration of the HYMM simulator run '" +
+                                scenario.run.name + "' (hymm-simul --config this file)\n" +
+                                scenario.toIniText());
+    if (png)
+    {
+        sum.files.push_back(base + ".png");
+        plot.save(sum.files.back(), sim.world(),
+                  "HYMM simulator: " + scenario.run.name + " (seed " +
+                      std::to_string(scenario.run.seed) + ")");
+    }
+    return sum;
+}
+
+RunSummary runScenarioFile(const std::string& config_path, const std::string& out_dir,
+                           std::optional<long> seed, bool png)
+{
+    Scenario scenario = Scenario::fromFile(config_path);
+    if (seed)
+    {
+        if (*seed < 0 || *seed > 0xFFFFFFFFL)
+            throw std::invalid_argument("--seed " + std::to_string(*seed) +
+                                        ": must be in [0, 2^32)");
+        scenario.run.seed = *seed;
+    }
+    return runScenario(scenario, out_dir, png);
+}
+
+}  // namespace hymm::sim

@@ -1,0 +1,167 @@
+#include <gtest/gtest.h>
+#include <hymm/core/UteVehicleModel.h>
+#include <hymm/sim/Simulator.h>
+#include <mrpt/math/wrap2pi.h>
+#include <mrpt/poses/CPose2D.h>
+
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
+#include <cmath>
+#include <vector>
+
+#include "test_scenarios.h"
+
+namespace
+{
+using hymm::sim::SimFrame;
+using hymm::sim::testing::loadScenario;
+
+std::vector<SimFrame> runAll(const hymm::sim::Scenario& s)
+{
+    hymm::sim::Simulator sim(s);
+    std::vector<SimFrame> frames;
+    SimFrame f;
+    while (sim.next(f)) frames.push_back(f);
+    return frames;
+}
+
+mrpt::poses::CPose2D pose(const Eigen::Vector3d& v) { return {v[0], v[1], v[2]}; }
+
+/** Sample standard deviation. */
+double stdDev(const std::vector<double>& v)
+{
+    double m = 0, s = 0;
+    for (double x : v) m += x;
+    m /= v.size();
+    for (double x : v) s += (x - m) * (x - m);
+    return std::sqrt(s / (v.size() - 1));
+}
+
+TEST(SimulatorTest, TruePoseFollowsTheUteModelStepByStep)
+{
+    // A frame at every dead-reckoning step: consecutive true poses are one uteStep apart.
+    const auto s = loadScenario({{"LaserSimulator", "enabled", "false"},
+                                 {"LandmarkDetector", "period_s", "0.025"},
+                                 {"Scenario", "duration_s", "20"}});
+    const auto frames = runAll(s);
+    ASSERT_EQ(frames.size(), 801u);  // t = 0, 0.025, ..., 20
+    const auto ute = s.vehicle.ute();
+    double max_steer = 0;
+    for (size_t k = 1; k < frames.size(); ++k)
+    {
+        ASSERT_EQ(frames[k].true_controls.size(), 1u);
+        const Eigen::Vector2d& u = frames[k].true_controls[0];
+        EXPECT_DOUBLE_EQ(u[0], s.vehicle.speed_mps);
+        max_steer = std::max(max_steer, std::abs(u[1]));
+        const Eigen::Vector3d expected =
+            hymm::core::uteStep(frames[k - 1].true_pose, u, s.run.dt_s, ute);
+        EXPECT_TRUE(frames[k].true_pose.isApprox(expected, 1e-12)) << "step " << k;
+        EXPECT_NEAR(frames[k].t, k * s.run.dt_s, 1e-12);
+    }
+    EXPECT_GT(max_steer, 0.1);  // it did turn a corner
+    EXPECT_LE(max_steer, s.vehicle.max_steering + 1e-12);
+}
+
+TEST(SimulatorTest, VehicleStaysOnTheLoopAndClosesIt)
+{
+    const auto s = loadScenario({{"Scenario", "laps", "2"}});
+    hymm::sim::Simulator sim(s);
+    const auto& path = *sim.follower().path();
+    SimFrame f, first;
+    size_t n = 0;
+    double max_off = 0;
+    while (sim.next(f))
+    {
+        if (n++ == 0) first = f;
+        max_off = std::max(max_off, path.distanceTo({f.true_pose[0], f.true_pose[1]}));
+    }
+    EXPECT_LT(max_off, 1.5);  // pure pursuit cuts the tight (6 m) corners a little
+    // Two laps: back at the start, at most one frame's travel (0.2 s at 5 m/s) short.
+    const double gap = (f.true_pose.head<2>() - first.true_pose.head<2>()).norm();
+    EXPECT_LT(gap, 1.1);
+    EXPECT_LT(std::abs(mrpt::math::wrapToPi(f.true_pose[2] - first.true_pose[2])), 0.1);
+    // The tracked point, ahead of the axle, is faster than the encoder in the corners.
+    const double lap_time = path.length() / s.vehicle.speed_mps;
+    EXPECT_GT(f.t, 2 * 0.85 * lap_time);
+    EXPECT_LT(f.t, 2 * lap_time);
+}
+
+TEST(SimulatorTest, ControlReadingsCarryTheConfiguredNoise)
+{
+    const auto s = loadScenario({{"Scenario", "laps", "6"}});
+    std::vector<double> dv, da;
+    for (const auto& f : runAll(s))
+        for (size_t i = 0; i < f.true_controls.size(); ++i)
+        {
+            dv.push_back(f.measured_controls[i][0] - f.true_controls[i][0]);
+            da.push_back(f.measured_controls[i][1] - f.true_controls[i][1]);
+        }
+    ASSERT_GT(dv.size(), 5000u);
+    EXPECT_NEAR(stdDev(dv) / s.vehicle.std_speed_mps, 1.0, 0.05);
+    EXPECT_NEAR(stdDev(da) / s.vehicle.std_steering, 1.0, 0.05);
+}
+
+TEST(SimulatorTest, OdometryIncrementsAreConsistentWithTheirCovariance)
+{
+    // NEES of the odometry increment error against the true relative motion: on average
+    // chi-square with 3 degrees of freedom.
+    const auto s = loadScenario({{"Scenario", "laps", "3"}});
+    const auto frames = runAll(s);
+    double nees_sum = 0;
+    size_t n = 0;
+    for (size_t k = 1; k < frames.size(); ++k)
+    {
+        const auto truth = pose(frames[k].true_pose) - pose(frames[k - 1].true_pose);
+        Eigen::Vector3d e =
+            frames[k].odometry_mean - Eigen::Vector3d(truth.x(), truth.y(), truth.phi());
+        e[2] = mrpt::math::wrapToPi(e[2]);
+        nees_sum += e.dot(frames[k].odometry_cov.ldlt().solve(e));
+        ++n;
+    }
+    ASSERT_GT(n, 300u);
+    const double mean = nees_sum / n;
+    // 99.9 % bounds of the mean of n chi2(3) samples (normal approximation).
+    const double half = 3.29 * std::sqrt(2.0 * 3 / n);
+    EXPECT_GT(mean, 3 - half);
+    EXPECT_LT(mean, 3 + half);
+}
+
+TEST(SimulatorTest, OdometryComposesToTheDeadReckoningPath)
+{
+    const auto frames = runAll(loadScenario());
+    ASSERT_GT(frames.size(), 100u);
+    EXPECT_TRUE(frames[0].odometry_mean.isZero());
+    EXPECT_TRUE(frames[0].dr_pose.isApprox(frames[0].true_pose));
+    mrpt::poses::CPose2D dr = pose(frames[0].dr_pose);
+    for (size_t k = 1; k < frames.size(); ++k)
+    {
+        dr = dr + pose(frames[k].odometry_mean);
+        EXPECT_NEAR(dr.x(), frames[k].dr_pose[0], 1e-9);
+        EXPECT_NEAR(dr.y(), frames[k].dr_pose[1], 1e-9);
+        EXPECT_NEAR(mrpt::math::wrapToPi(dr.phi() - frames[k].dr_pose[2]), 0.0, 1e-9);
+        EXPECT_GT(frames[k].odometry_cov.determinant(), 0.0);
+    }
+    // The noise makes dead reckoning drift away from the truth.
+    EXPECT_GT((frames.back().dr_pose - frames.back().true_pose).head<2>().norm(), 0.05);
+}
+
+TEST(SimulatorTest, ParkedVehicleObservesFromOnePlace)
+{
+    const auto s = loadScenario({{"PathFollower", "waypoints", "2 3"},
+                                 {"Vehicle", "speed_mps", "0"},
+                                 {"Vehicle", "std_speed_mps", "0"},
+                                 {"Vehicle", "std_steering_deg", "0"},
+                                 {"World", "landmarks", "10 3 0.3"},
+                                 {"Scenario", "duration_s", "2"}});
+    const auto frames = runAll(s);
+    ASSERT_EQ(frames.size(), 11u);
+    for (const auto& f : frames)
+    {
+        EXPECT_TRUE(f.true_pose.isApprox(Eigen::Vector3d(2, 3, 0)));
+        EXPECT_TRUE(f.odometry_mean.isZero());
+        EXPECT_GT(f.odometry_cov.determinant(), 0.0);  // the floor
+        ASSERT_EQ(f.detections->sensedData.size(), 1u);
+    }
+}
+
+}  // namespace
