@@ -68,16 +68,16 @@ bool Simulator::next(SimFrame& frame)
 {
     while (!done_)
     {
-        const bool due =
-            (laser_ && k_ % laser_every_ == 0) || (detector_ && k_ % detector_every_ == 0);
-        if (due) fillFrame(frame);
+        const bool laser_due = laser_ && k_ % laser_every_ == 0;
+        const bool detector_due = detector_ && k_ % detector_every_ == 0;
+        if (laser_due || detector_due) fillFrame(frame, laser_due, detector_due);
         advance();
-        if (due) return true;
+        if (laser_due || detector_due) return true;
     }
     return false;
 }
 
-void Simulator::fillFrame(SimFrame& f)
+void Simulator::fillFrame(SimFrame& f, bool laser_due, bool detector_due)
 {
     f.index = frames_++;
     f.t = k_ * scenario_.run.dt_s;
@@ -91,11 +91,8 @@ void Simulator::fillFrame(SimFrame& f)
     f.measured_controls = std::move(measured_controls_);
     true_controls_.clear();
     measured_controls_.clear();
-    f.scan = laser_ && k_ % laser_every_ == 0 ? laser_->observe(world_, f.true_pose, f.t, f.stamp)
-                                              : nullptr;
-    f.detections = detector_ && k_ % detector_every_ == 0
-                       ? detector_->observe(world_, f.true_pose, f.t, f.stamp)
-                       : nullptr;
+    f.scan = laser_due ? laser_->observe(world_, f.true_pose, f.t, f.stamp) : nullptr;
+    f.detections = detector_due ? detector_->observe(world_, f.true_pose, f.t, f.stamp) : nullptr;
 }
 
 void Simulator::advance()

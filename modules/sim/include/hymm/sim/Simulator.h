@@ -74,7 +74,7 @@ public:
     mrpt::Clock::time_point stampAt(long k) const;
 
 private:
-    void fillFrame(SimFrame& frame);
+    void fillFrame(SimFrame& frame, bool laser_due, bool detector_due);
     void advance();
 
     const Scenario scenario_;
