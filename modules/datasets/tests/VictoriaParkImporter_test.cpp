@@ -98,7 +98,7 @@ TEST(VictoriaParkImporterTest, BearingFromTheLaserRightBecomesMrptYaw)
     o.track_laser = false;  // odometry of the rear axle: the laser sits at (a, b)
     const auto obs2 = VictoriaParkImporter(o).readDetections(dir.file("m.dat"), sum, diam);
     const auto& br2 = dynamic_cast<const mrpt::obs::CObservationBearingRange&>(*obs2[0]);
-    EXPECT_NEAR(br2.sensorLocationOnRobot.x(), 0.95, 1e-12);
+    EXPECT_NEAR(br2.sensorLocationOnRobot.x(), 3.78, 1e-12);
     EXPECT_NEAR(br2.sensorLocationOnRobot.y(), 0.5, 1e-12);
 }
 

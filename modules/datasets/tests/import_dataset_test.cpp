@@ -19,7 +19,7 @@ TEST(ImportDatasetTest, ShippedConfigsLoadWithTheirDefaults)
     hymm::datasets::VictoriaParkImporter::Options vp;
     vp.loadFromConfigFile(*hymm::core::openConfigFile(kConfigs + "victoria_park.ini"),
                           "VictoriaParkImporter");
-    EXPECT_DOUBLE_EQ(vp.vehicle.a, 0.95);
+    EXPECT_DOUBLE_EQ(vp.vehicle.a, 3.78);
     EXPECT_DOUBLE_EQ(vp.detections_time_offset_s, 20.967);
     hymm::datasets::CarParkImporter::Options cp;
     cp.loadFromConfigFile(*hymm::core::openConfigFile(kConfigs + "carpark.ini"),

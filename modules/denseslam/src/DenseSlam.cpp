@@ -19,8 +19,9 @@ DenseSlam::LandmarkSource parseSource(const std::string& s, const std::string& s
     if (s == "bearing_range") return DenseSlam::LandmarkSource::BearingRange;
     if (s == "laser_trees") return DenseSlam::LandmarkSource::LaserTrees;
     if (s == "both") return DenseSlam::LandmarkSource::Both;
+    if (s == "laser_reflectors") return DenseSlam::LandmarkSource::LaserReflectors;
     core::throwConfigError(section, "landmark_source", s,
-                           "must be one of bearing_range, laser_trees, both");
+                           "must be one of bearing_range, laser_trees, both, laser_reflectors");
 }
 
 const char* sourceName(DenseSlam::LandmarkSource s)
@@ -29,6 +30,7 @@ const char* sourceName(DenseSlam::LandmarkSource s)
     {
         case DenseSlam::LandmarkSource::BearingRange: return "bearing_range";
         case DenseSlam::LandmarkSource::LaserTrees: return "laser_trees";
+        case DenseSlam::LandmarkSource::LaserReflectors: return "laser_reflectors";
         default: return "both";
     }
 }
@@ -78,12 +80,15 @@ DenseSlam DenseSlam::fromConfig(const mrpt::config::CConfigFileBase& cfg)
     e.loadFromConfigFile(cfg, "EkfSlam");
     extract::TreeExtractor::Options t;
     t.loadFromConfigFile(cfg, "TreeExtractor");
-    return DenseSlam(o, e, t);
+    extract::ReflectorExtractor::Options r;
+    r.loadFromConfigFile(cfg, "ReflectorExtractor");
+    return DenseSlam(o, e, t, r);
 }
 
 DenseSlam::DenseSlam(const Options& opts, const ekf::EkfSlam::Options& ekf_opts,
-                     const extract::TreeExtractor::Options& tree_opts)
-    : options_(opts), ekf_(ekf_opts), trees_(tree_opts)
+                     const extract::TreeExtractor::Options& tree_opts,
+                     const extract::ReflectorExtractor::Options& reflector_opts)
+    : options_(opts), ekf_(ekf_opts), trees_(tree_opts), reflectors_(reflector_opts)
 {
     profiler_.enable(options_.enable_profiler);
 }
@@ -152,7 +157,9 @@ void DenseSlam::processFrame(const mrpt::obs::CSensoryFrame& frame)
             t = mrpt::Clock::toDouble(o->timestamp);
         if (auto br = std::dynamic_pointer_cast<mrpt::obs::CObservationBearingRange>(o))
         {
-            if (options_.landmark_source != LandmarkSource::LaserTrees) processBearingRange(*br);
+            if (options_.landmark_source == LandmarkSource::BearingRange ||
+                options_.landmark_source == LandmarkSource::Both)
+                processBearingRange(*br);
         }
         else if (auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(o))
         {
@@ -211,10 +218,25 @@ void DenseSlam::processScan(const mrpt::obs::CObservation2DRangeScan& scan)
     std::vector<ekf::RangeBearingObs> z;
     {
         mrpt::system::CTimeLoggerEntry tle(profiler_, "denseslam.2_extract");
-        const auto res = trees_.extract(scan);
-        stats_.skipped_invalid += res.skipped_invalid;
-        const Eigen::Matrix2d R = sensorNoise(trees_.options().std_range, trees_.options().std_bearing);
-        for (const auto& tr : res.trees)
+        std::vector<extract::ScanFeature> features;
+        Eigen::Matrix2d R;
+        if (options_.landmark_source == LandmarkSource::LaserReflectors)
+        {
+            // Scans without intensities carry no beacons (the extractor would throw).
+            if (!scan.hasIntensity()) return;
+            auto res = reflectors_.extract(scan);
+            stats_.skipped_invalid += res.skipped_invalid;
+            features = std::move(res.reflectors);
+            R = sensorNoise(reflectors_.options().std_range, reflectors_.options().std_bearing);
+        }
+        else
+        {
+            auto res = trees_.extract(scan);
+            stats_.skipped_invalid += res.skipped_invalid;
+            features = std::move(res.trees);
+            R = sensorNoise(trees_.options().std_range, trees_.options().std_bearing);
+        }
+        for (const auto& tr : features)
         {
             if (tr.range < options_.min_range || tr.range > options_.max_range) continue;
             ekf::RangeBearingObs o;

@@ -101,7 +101,7 @@ void TrajectoryEvaluator::Options::loadFromConfigFile(
     const mrpt::config::CConfigFileBase& cfg, const std::string& s)
 {
     using namespace hymm::core;
-    checkKnownKeys(cfg, s, {"association", "time_tolerance", "align"});
+    checkKnownKeys(cfg, s, {"association", "time_tolerance", "align", "align_fit_distance"});
     const std::string a = readString(cfg, s, "association", associationName(association));
     try
     {
@@ -113,6 +113,7 @@ void TrajectoryEvaluator::Options::loadFromConfigFile(
     }
     time_tolerance = readDouble(cfg, s, "time_tolerance", time_tolerance);
     align = readBool(cfg, s, "align", align);
+    align_fit_distance = readDouble(cfg, s, "align_fit_distance", align_fit_distance);
     validate(s);
 }
 
@@ -122,12 +123,16 @@ void TrajectoryEvaluator::Options::saveToConfigFile(
     cfg.write(s, "association", associationName(association));
     cfg.write(s, "time_tolerance", time_tolerance);
     cfg.write(s, "align", align);
+    cfg.write(s, "align_fit_distance", align_fit_distance);
 }
 
 void TrajectoryEvaluator::Options::validate(const std::string& s) const
 {
     if (!(time_tolerance > 0))
         core::throwConfigError(s, "time_tolerance", std::to_string(time_tolerance), "must be > 0");
+    if (!(align_fit_distance >= 0))
+        core::throwConfigError(s, "align_fit_distance", std::to_string(align_fit_distance),
+                               "must be >= 0");
 }
 
 TrajectoryEvaluator::TrajectoryEvaluator(const Options& options) : options_(options)
@@ -147,8 +152,15 @@ TrajectoryEvaluator::Result TrajectoryEvaluator::evaluate(
     if (options_.align)
     {
         std::vector<Eigen::Vector2d> src, dst;
-        for (const auto& p : pairs)
+        double travelled = 0;
+        for (size_t i = 0; i < pairs.size(); ++i)
         {
+            const auto& p = pairs[i];
+            if (i > 0)
+                travelled += std::hypot(p.truth.x - pairs[i - 1].truth.x,
+                                        p.truth.y - pairs[i - 1].truth.y);
+            if (options_.align_fit_distance > 0 && travelled > options_.align_fit_distance)
+                break;
             src.emplace_back(p.est.x, p.est.y);
             dst.emplace_back(p.truth.x, p.truth.y);
         }

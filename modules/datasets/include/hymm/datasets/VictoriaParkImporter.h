@@ -50,8 +50,10 @@ class VictoriaParkImporter
     struct Options : public mrpt::config::CLoadableOptions
     {
         std::string name = "victoria_park";  //!< prefix of the output files
-        /** Vehicle geometry of info.txt [m]: laser at a = 0.95, b = 0.5. */
-        hymm::core::UteParams vehicle{2.83, 0.76, 0.95, 0.5};
+        /** Vehicle geometry [m]. The laser sits at a = 3.78, b = 0.5 (thesis App. A, the
+         *  UTE that recorded the data); info.txt's a = 0.95 makes trunk detections smear
+         *  in every turn (docs/results.md). */
+        hymm::core::UteParams vehicle{2.83, 0.76, 3.78, 0.5};
         bool track_laser = true;  //!< odometry of the laser (true) or of the rear axle
         double detections_time_offset_s = 20.967;  //!< rawlog t = detections t + this [s]
         double min_range_m = 0.5;    //!< detections closer are dropped [m]

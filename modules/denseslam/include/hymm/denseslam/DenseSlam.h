@@ -12,6 +12,7 @@
 
 #include <hymm/denseslam/RawlogReader.h>
 #include <hymm/ekf/EkfSlam.h>
+#include <hymm/extract/ReflectorExtractor.h>
 #include <hymm/extract/TreeExtractor.h>
 #include <mrpt/config/CLoadableOptions.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
@@ -33,7 +34,8 @@ public:
     {
         BearingRange,  //!< CObservationBearingRange in the rawlog (e.g. MRPT simul-landmarks)
         LaserTrees,    //!< trunks extracted from CObservation2DRangeScan (e.g. Victoria Park)
-        Both
+        Both,
+        LaserReflectors  //!< retro-reflective beacons from the scans' intensities (car park)
     };
 
     struct Options : public mrpt::config::CLoadableOptions
@@ -73,11 +75,13 @@ public:
         size_t scans = 0, extracted = 0;
     };
 
-    /** Builds the pipeline from an .ini: sections [DenseSlam], [EkfSlam], [TreeExtractor]. */
+    /** Builds the pipeline from an .ini: sections [DenseSlam], [EkfSlam], [TreeExtractor],
+     *  [ReflectorExtractor]. */
     static DenseSlam fromConfig(const mrpt::config::CConfigFileBase& cfg);
 
     DenseSlam(const Options& opts, const ekf::EkfSlam::Options& ekf_opts,
-              const extract::TreeExtractor::Options& tree_opts);
+              const extract::TreeExtractor::Options& tree_opts,
+              const extract::ReflectorExtractor::Options& reflector_opts = {});
 
     /** Processes one rawlog entry (actions, sensory frame or single observation). */
     void processEntry(const RawlogEntry& entry);
@@ -104,6 +108,7 @@ private:
     Options options_;
     ekf::EkfSlam ekf_;
     extract::TreeExtractor trees_;
+    extract::ReflectorExtractor reflectors_;
     std::vector<PathSample> path_;
     Stats stats_;
     std::optional<mrpt::poses::CPose2D> last_odometry_;  //!< for observation-only rawlogs

@@ -13,7 +13,8 @@
  * Estimates without a partner are counted as unmatched and left out of the errors.
  *
  * With `align` on, the estimate is first moved by the rigid transform that best fits its
- * matched positions onto the ground truth (se2_alignment.h). This is the usual ATE for an
+ * matched positions onto the ground truth (se2_alignment.h), over the whole run or only
+ * over its first `align_fit_distance` metres. The whole-run fit is the usual ATE for an
  * estimator whose frame is arbitrary; for SLAM started at the true initial pose (the
  * thesis' simulations) leave it off, so a global drift is not hidden.
  */
@@ -44,6 +45,11 @@ public:
         Association association = Association::Interpolate;  //!< ini: nearest|interpolate|index
         double time_tolerance = 0.05;  //!< [s] see the file comment (> 0)
         bool align = false;            //!< fit an SE(2) transform before computing errors
+        /** [m] with `align`: 0 fits the transform on every matched pose (least squares
+         *  over the whole run, which also absorbs drift); > 0 fits it only on the matched
+         *  poses whose ground truth lies within the first `align_fit_distance` metres
+         *  travelled, so the start frame is tied to the truth and later drift shows. */
+        double align_fit_distance = 0.0;
 
         void loadFromConfigFile(
             const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;

@@ -1,0 +1,91 @@
+/**
+ * @file OccupancyLayer.h
+ * @brief Occupancy grid of one region (thesis Sec. 4.1, OG-DenseSLAM).
+ *
+ * The grid is a uniform log-odds grid in the region's reference frame covering the
+ * bounding box of the reference triangle; only cells whose square meets the triangle
+ * are ever updated (neighbouring regions own the rest), so each region describes
+ * exactly its own area. Cells along a shared edge exist in both neighbours; rendering
+ * reads whichever region contains the sample point.
+ *
+ * Inverse sensor model (range-bearing, simplified from Eq. 4.4): cells a beam crosses
+ * before its return get P(C|r) = prob_hit's counterpart prob_miss, the cell holding
+ * the return gets prob_hit, cells beyond the return are untouched. The update is the
+ * corrected Eq. 4.7 (see LogOddsGrid.h), clamped to [prob_clamp_min, prob_clamp_max]
+ * so that cells stay revisable.
+ *
+ * Why an own grid rather than mrpt::maps::COccupancyGridMap2D for storage: MRPT's
+ * insertObservation() traces whole beams from a sensor pose with its own likelihood
+ * model and cannot be restricted to a triangle, and its cells hold 8/16-bit quantised
+ * log-odds, so configured increments and clamps would not be represented exactly.
+ * COccupancyGridMap2D is used for the global rendering instead.
+ */
+#pragma once
+
+#include "hymm/dense/DenseLayer.h"
+#include "hymm/dense/LogOddsGrid.h"
+
+#include <mrpt/config/CLoadableOptions.h>
+
+namespace hymm::dense
+{
+class OccupancyLayer : public DenseLayer
+{
+public:
+    /** Ini section [OccupancyLayer]; unknown keys are errors. Probabilities are
+     *  P(occupied) in (0, 1). */
+    struct Options : public mrpt::config::CLoadableOptions
+    {
+        double cell_size_m = 0.1;      //!< [m] local grid cell (per region; may differ later)
+        double prob_hit = 0.7;         //!< inverse sensor model at the cell of a return
+        double prob_miss = 0.4;        //!< inverse sensor model along the beam before it
+        double prob_prior = 0.5;       //!< P(C_i) before any observation
+        double prob_clamp_min = 0.03;  //!< lower clamp of the posterior
+        double prob_clamp_max = 0.97;  //!< upper clamp of the posterior
+
+        void loadFromConfigFile(
+            const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
+        void saveToConfigFile(
+            mrpt::config::CConfigFileBase& cfg, const std::string& section) const override;
+        void validate(const std::string& section = "OccupancyLayer") const;
+
+        /** Log-odds increments of Eq. 4.7 (corrected): logit(P(C|r)) - logit(P(C)). */
+        float hitIncrement() const;
+        float missIncrement() const;
+        float priorLogOdds() const;
+        float clampMinLogOdds() const;
+        float clampMaxLogOdds() const;
+    };
+
+    static constexpr const char* kKind = "occupancy";
+
+    /** Grid over the bounding box of `reference`, cells outside it frozen. */
+    OccupancyLayer(const Options& options, const hymm::ltr::TriangleFrame::Vertices& reference);
+
+    std::string kind() const override { return kKind; }
+    void insert(const RegionScan& scan) override;
+    /** Cells that were ever updated. */
+    size_t size() const override { return grid_.changedCells(); }
+    size_t memoryBytes() const override;
+    /** Into a mrpt::maps::COccupancyGridMap2D: every global cell whose centre lies in
+     *  the current triangle takes the probability of the local cell under it. */
+    void renderInto(
+        const hymm::ltr::AffineRegionMap& reference_to_current,
+        mrpt::maps::CMetricMap& out) const override;
+    void save(std::ostream& out) const override;
+    void load(std::istream& in) override;
+
+    /** P(occupied) at a reference-frame point (the prior outside the grid). */
+    double probabilityAt(const Eigen::Vector2d& p_ref) const;
+    const LogOddsGrid& grid() const { return grid_; }
+    const hymm::ltr::TriangleFrame::Vertices& reference() const { return reference_; }
+
+private:
+    void restrictToTriangle();
+
+    const Options options_;
+    const hymm::ltr::TriangleFrame::Vertices reference_;
+    LogOddsGrid grid_;
+};
+
+}  // namespace hymm::dense

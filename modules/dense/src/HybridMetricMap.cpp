@@ -1,0 +1,270 @@
+#include "hymm/dense/HybridMetricMap.h"
+
+#include "hymm/dense/geometry.h"
+
+#include <algorithm>
+#include <istream>
+#include <limits>
+#include <ostream>
+#include <stdexcept>
+#include <unordered_map>
+
+namespace hymm::dense
+{
+namespace
+{
+using hymm::ltr::AffineRegionMap;
+using hymm::ltr::RegionPartition;
+using Vertices = hymm::ltr::TriangleFrame::Vertices;
+
+// A clipped beam whose far end is within this fraction of the whole beam from the
+// return still ends at the return (rounding in the clip parameter).
+constexpr double kEndParamTol = 1e-9;
+
+/** A region the scan may touch, with its current frame. */
+struct Candidate
+{
+    long id;
+    const hymm::ltr::Region* region;
+    AffineRegionMap to_current;
+    Eigen::Vector2d lo, hi;  // current bounding box
+};
+
+bool boxesOverlap(
+    const Eigen::Vector2d& alo, const Eigen::Vector2d& ahi, const Eigen::Vector2d& blo,
+    const Eigen::Vector2d& bhi)
+{
+    return alo.x() <= bhi.x() && blo.x() <= ahi.x() && alo.y() <= bhi.y() && blo.y() <= ahi.y();
+}
+
+/** Beam pieces of `w` inside candidate `c`, in its reference frame. */
+void clipBeams(const WorldScan& w, const Candidate& c, RegionScan& rs)
+{
+    const Vertices& ref = c.region->reference;
+    rs.sensor = c.to_current.inverseMapPoint(w.sensor);
+    for (const WorldBeam& b : w.beams)
+    {
+        if (!boxesOverlap(w.sensor.cwiseMin(b.end), w.sensor.cwiseMax(b.end), c.lo, c.hi)) continue;
+        const Eigen::Vector2d e_ref = c.to_current.inverseMapPoint(b.end);
+        const auto iv = clipSegmentToTriangle(rs.sensor, e_ref, ref);
+        if (!iv) continue;
+        const Eigen::Vector2d d = e_ref - rs.sensor;
+        const bool to_end = iv->t1 >= 1.0 - kEndParamTol;
+        rs.rays.push_back({rs.sensor + iv->t0 * d, to_end ? e_ref : Eigen::Vector2d(rs.sensor + iv->t1 * d),
+                           b.hit && to_end});
+    }
+}
+}  // namespace
+
+HybridMetricMap::HybridMetricMap(const Options& options)
+    : options_(options), profiler_(options.enable_profiler, "hymm::HybridMetricMap")
+{
+    options_.validate();
+}
+
+std::unique_ptr<DenseLayer> HybridMetricMap::makeLayer(
+    const std::string& kind, const Vertices& reference) const
+{
+    if (kind == PointsLayer::kKind && options_.enable_points)
+        return std::make_unique<PointsLayer>(options_.points);
+    if (kind == OccupancyLayer::kKind && options_.enable_occupancy)
+        return std::make_unique<OccupancyLayer>(options_.occupancy, reference);
+    return nullptr;
+}
+
+LocalDenseMap& HybridMetricMap::localMapFor(long region_id, const Vertices& reference)
+{
+    auto& slot = maps_[region_id];
+    if (!slot)
+    {
+        slot = std::make_unique<LocalDenseMap>(region_id, reference);
+        for (const char* kind : {PointsLayer::kKind, OccupancyLayer::kKind})
+            if (auto layer = makeLayer(kind, reference)) slot->addLayer(std::move(layer));
+    }
+    return *slot;
+}
+
+HybridMetricMap::InsertStats HybridMetricMap::insertScan(
+    const ScanPoints& scan, const mrpt::math::TPose2D& vehicle_pose, const RegionPartition& partition)
+{
+    mrpt::system::CTimeLoggerEntry tle(profiler_, "dense.insertScan");
+    InsertStats st;
+    const WorldScan w = scan.toWorld(vehicle_pose, options_.max_range_m);
+    st.beams = w.beams.size();
+    st.beyond_range = w.beyond_range;
+
+    // 1. Regions near the scan, with their reference -> current maps.
+    std::vector<Candidate> cands;
+    std::unordered_map<long, size_t> index_of;
+    {
+        mrpt::system::CTimeLoggerEntry t1(profiler_, "dense.insertScan.1_regions");
+        for (const long id : partition.regionsInBox(w.lo, w.hi))
+        {
+            const auto& r = partition.region(id);
+            try
+            {
+                Candidate c{id, &r, partition.referenceToCurrent(id), {}, {}};
+                c.lo = r.current[0].cwiseMin(r.current[1]).cwiseMin(r.current[2]);
+                c.hi = r.current[0].cwiseMax(r.current[1]).cwiseMax(r.current[2]);
+                index_of[id] = cands.size();
+                cands.push_back(std::move(c));
+            }
+            catch (const std::invalid_argument&)
+            {
+                ++st.regions_degenerate;  // the filter folded this triangle: no frame
+            }
+        }
+        st.regions_visited = cands.size() + st.regions_degenerate;
+    }
+
+    // 2. Owner of each return: one region (lowest id on shared borders).
+    std::vector<RegionScan> per_region(cands.size());
+    {
+        mrpt::system::CTimeLoggerEntry t2(profiler_, "dense.insertScan.2_assign");
+        for (const WorldBeam& b : w.beams)
+        {
+            if (!b.hit) continue;
+            const auto owner = partition.findRegion(b.end);
+            const auto it = owner ? index_of.find(*owner) : index_of.end();
+            if (it == index_of.end())
+            {
+                ++st.returns_outside;
+                st.unassigned.push_back(b.end);
+                continue;
+            }
+            per_region[it->second].hits.push_back(cands[it->second].to_current.inverseMapPoint(b.end));
+            ++st.returns_stored;
+        }
+    }
+
+    // 3. Split the beams among the regions and fuse into every layer (Sec. 4.5).
+    {
+        mrpt::system::CTimeLoggerEntry t3(profiler_, "dense.insertScan.3_clip_fuse");
+        for (size_t k = 0; k < cands.size(); ++k)
+        {
+            RegionScan& rs = per_region[k];
+            clipBeams(w, cands[k], rs);
+            if (rs.empty()) continue;
+            localMapFor(cands[k].id, cands[k].region->reference).insert(rs);
+            ++st.regions_updated;
+        }
+    }
+    return st;
+}
+
+std::vector<long> HybridMetricMap::removeStaleRegions(const RegionPartition& partition)
+{
+    std::vector<long> removed;
+    for (auto it = maps_.begin(); it != maps_.end();)
+    {
+        if (partition.has(it->first))
+        {
+            ++it;
+            continue;
+        }
+        removed.push_back(it->first);
+        it = maps_.erase(it);
+    }
+    return removed;
+}
+
+void HybridMetricMap::renderLayer(
+    const std::string& kind, const RegionPartition& partition, mrpt::maps::CMetricMap& out) const
+{
+    mrpt::system::CTimeLoggerEntry tle(profiler_, "dense.render." + kind);
+    for (const auto& [id, map] : maps_)
+    {
+        if (!partition.has(id)) continue;
+        const DenseLayer* layer = map->layer(kind);
+        if (!layer) continue;
+        AffineRegionMap to_current;
+        try
+        {
+            to_current = partition.referenceToCurrent(id);
+        }
+        catch (const std::invalid_argument&)
+        {
+            continue;  // degenerate current triangle: no valid position for its content
+        }
+        layer->renderInto(to_current, out);
+    }
+}
+
+void HybridMetricMap::renderPoints(
+    const RegionPartition& partition, mrpt::maps::CSimplePointsMap& out) const
+{
+    out.clear();
+    renderLayer(PointsLayer::kKind, partition, out);
+}
+
+void HybridMetricMap::renderOccupancy(
+    const RegionPartition& partition, double resolution_m, mrpt::maps::COccupancyGridMap2D& out) const
+{
+    if (!(resolution_m > 0))
+        throw std::invalid_argument("HybridMetricMap::renderOccupancy: resolution must be > 0");
+    Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
+    Eigen::Vector2d hi = -lo;
+    for (const auto& [id, map] : maps_)
+    {
+        if (!partition.has(id) || !map->layer(OccupancyLayer::kKind)) continue;
+        for (const auto& v : partition.region(id).current)
+        {
+            lo = lo.cwiseMin(v);
+            hi = hi.cwiseMax(v);
+        }
+    }
+    if (!(lo.x() <= hi.x())) lo = hi = Eigen::Vector2d::Zero();  // nothing to draw
+    out.setSize(
+        static_cast<float>(lo.x() - resolution_m), static_cast<float>(hi.x() + resolution_m),
+        static_cast<float>(lo.y() - resolution_m), static_cast<float>(hi.y() + resolution_m),
+        static_cast<float>(resolution_m), 0.5f);
+    renderLayer(OccupancyLayer::kKind, partition, out);
+}
+
+const LocalDenseMap* HybridMetricMap::localMap(long region_id) const
+{
+    const auto it = maps_.find(region_id);
+    return it == maps_.end() ? nullptr : it->second.get();
+}
+
+std::vector<long> HybridMetricMap::regionIds() const
+{
+    std::vector<long> out;
+    for (const auto& kv : maps_) out.push_back(kv.first);
+    return out;
+}
+
+size_t HybridMetricMap::memoryBytes() const
+{
+    size_t n = sizeof(*this);
+    for (const auto& kv : maps_) n += kv.second->memoryBytes() + 4 * sizeof(void*);
+    return n;
+}
+
+void HybridMetricMap::save(std::ostream& out) const
+{
+    out << "hybrid_metric_map " << maps_.size() << '\n';
+    for (const auto& kv : maps_) kv.second->save(out);
+}
+
+void HybridMetricMap::load(std::istream& in)
+{
+    std::string tag;
+    size_t n = 0;
+    if (!(in >> tag >> n) || tag != "hybrid_metric_map")
+        throw std::runtime_error("HybridMetricMap::load: expected 'hybrid_metric_map <count>'");
+    const LocalDenseMap::LayerFactory factory = [this](const std::string& kind, const Vertices& ref) {
+        return makeLayer(kind, ref);
+    };
+    std::map<long, std::unique_ptr<LocalDenseMap>> maps;
+    for (size_t i = 0; i < n; ++i)
+    {
+        auto m = LocalDenseMap::load(in, factory);
+        const long id = m->regionId();
+        if (!maps.emplace(id, std::move(m)).second)
+            throw std::runtime_error("HybridMetricMap::load: region " + std::to_string(id) + " twice");
+    }
+    maps_ = std::move(maps);
+}
+
+}  // namespace hymm::dense

@@ -1,0 +1,170 @@
+#include "hymm/dense/OccupancyLayer.h"
+
+#include "hymm/dense/geometry.h"
+
+#include <hymm/core/config_utils.h>
+#include <mrpt/maps/COccupancyGridMap2D.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace hymm::dense
+{
+namespace
+{
+// Tolerance [m] for "cell centre inside the current triangle" when rendering: keeps
+// centres that fall exactly on a shared edge from being dropped by rounding.
+constexpr double kRenderEdgeTol = 1e-9;
+
+Eigen::Vector2d boxLo(const hymm::ltr::TriangleFrame::Vertices& v)
+{
+    return v[0].cwiseMin(v[1]).cwiseMin(v[2]);
+}
+Eigen::Vector2d boxHi(const hymm::ltr::TriangleFrame::Vertices& v)
+{
+    return v[0].cwiseMax(v[1]).cwiseMax(v[2]);
+}
+}  // namespace
+
+void OccupancyLayer::Options::loadFromConfigFile(
+    const mrpt::config::CConfigFileBase& cfg, const std::string& s)
+{
+    using namespace hymm::core;
+    checkKnownKeys(
+        cfg, s,
+        {"cell_size_m", "prob_hit", "prob_miss", "prob_prior", "prob_clamp_min", "prob_clamp_max"});
+    cell_size_m = readDoubleMin(cfg, s, "cell_size_m", cell_size_m, 0.0, true);
+    prob_hit = readDouble(cfg, s, "prob_hit", prob_hit);
+    prob_miss = readDouble(cfg, s, "prob_miss", prob_miss);
+    prob_prior = readDouble(cfg, s, "prob_prior", prob_prior);
+    prob_clamp_min = readDouble(cfg, s, "prob_clamp_min", prob_clamp_min);
+    prob_clamp_max = readDouble(cfg, s, "prob_clamp_max", prob_clamp_max);
+    validate(s);
+}
+
+void OccupancyLayer::Options::saveToConfigFile(
+    mrpt::config::CConfigFileBase& cfg, const std::string& s) const
+{
+    cfg.write(s, "cell_size_m", cell_size_m);
+    cfg.write(s, "prob_hit", prob_hit);
+    cfg.write(s, "prob_miss", prob_miss);
+    cfg.write(s, "prob_prior", prob_prior);
+    cfg.write(s, "prob_clamp_min", prob_clamp_min);
+    cfg.write(s, "prob_clamp_max", prob_clamp_max);
+}
+
+void OccupancyLayer::Options::validate(const std::string& s) const
+{
+    using hymm::core::throwConfigError;
+    if (!(cell_size_m > 0)) throwConfigError(s, "cell_size_m", std::to_string(cell_size_m), "must be > 0");
+    const auto open01 = [&](const char* key, double v) {
+        if (!(v > 0 && v < 1)) throwConfigError(s, key, std::to_string(v), "must be in (0, 1)");
+    };
+    open01("prob_hit", prob_hit);
+    open01("prob_miss", prob_miss);
+    open01("prob_prior", prob_prior);
+    open01("prob_clamp_min", prob_clamp_min);
+    open01("prob_clamp_max", prob_clamp_max);
+    // A return must raise occupancy and a traversal lower it, else the grid cannot learn.
+    if (!(prob_hit > prob_prior))
+        throwConfigError(s, "prob_hit", std::to_string(prob_hit), "must be > prob_prior");
+    if (!(prob_miss < prob_prior))
+        throwConfigError(s, "prob_miss", std::to_string(prob_miss), "must be < prob_prior");
+    if (!(prob_clamp_min <= prob_prior && prob_prior <= prob_clamp_max))
+        throwConfigError(
+            s, "prob_clamp_min", std::to_string(prob_clamp_min),
+            "need prob_clamp_min <= prob_prior <= prob_clamp_max");
+}
+
+float OccupancyLayer::Options::hitIncrement() const
+{
+    return static_cast<float>(logit(prob_hit) - logit(prob_prior));
+}
+float OccupancyLayer::Options::missIncrement() const
+{
+    return static_cast<float>(logit(prob_miss) - logit(prob_prior));
+}
+float OccupancyLayer::Options::priorLogOdds() const { return static_cast<float>(logit(prob_prior)); }
+float OccupancyLayer::Options::clampMinLogOdds() const
+{
+    return static_cast<float>(logit(prob_clamp_min));
+}
+float OccupancyLayer::Options::clampMaxLogOdds() const
+{
+    return static_cast<float>(logit(prob_clamp_max));
+}
+
+OccupancyLayer::OccupancyLayer(
+    const Options& options, const hymm::ltr::TriangleFrame::Vertices& reference)
+    : options_(options),
+      reference_(reference),
+      grid_(LogOddsGrid::covering(
+          boxLo(reference), boxHi(reference), options.cell_size_m, options.priorLogOdds()))
+{
+    options_.validate();
+    restrictToTriangle();
+}
+
+void OccupancyLayer::restrictToTriangle()
+{
+    for (int iy = 0; iy < grid_.sizeY(); ++iy)
+        for (int ix = 0; ix < grid_.sizeX(); ++ix)
+        {
+            const Eigen::Vector2d lo = grid_.cellMin(ix, iy);
+            const Eigen::Vector2d hi = lo + Eigen::Vector2d::Constant(grid_.cellSize());
+            grid_.setUpdatable(ix, iy, boxIntersectsTriangle(lo, hi, reference_));
+        }
+}
+
+void OccupancyLayer::insert(const RegionScan& scan)
+{
+    for (const FreeRay& ray : scan.rays)
+    {
+        grid_.markFree(ray.from, ray.to, ray.ends_at_hit);
+        if (ray.ends_at_hit) grid_.markOccupied(ray.to);
+    }
+    grid_.applyMarks(
+        options_.missIncrement(), options_.hitIncrement(), options_.clampMinLogOdds(),
+        options_.clampMaxLogOdds());
+}
+
+size_t OccupancyLayer::memoryBytes() const { return sizeof(*this) - sizeof(grid_) + grid_.memoryBytes(); }
+
+double OccupancyLayer::probabilityAt(const Eigen::Vector2d& p_ref) const
+{
+    int ix, iy;
+    if (!grid_.cellOf(p_ref, ix, iy)) return logistic(grid_.initialLogOdds());
+    return logistic(grid_.logOdds(ix, iy));
+}
+
+void OccupancyLayer::renderInto(
+    const hymm::ltr::AffineRegionMap& reference_to_current, mrpt::maps::CMetricMap& out) const
+{
+    auto* og = dynamic_cast<mrpt::maps::COccupancyGridMap2D*>(&out);
+    if (!og)
+        throw std::invalid_argument(
+            std::string("OccupancyLayer::renderInto: cannot draw a grid into a ") +
+            out.GetRuntimeClass()->className);
+    hymm::ltr::TriangleFrame::Vertices cur;
+    for (size_t k = 0; k < 3; ++k) cur[k] = reference_to_current.mapPoint(reference_[k]);
+    const Eigen::Vector2d lo = boxLo(cur), hi = boxHi(cur);
+    const int x0 = std::max(0, og->x2idx(lo.x())), y0 = std::max(0, og->y2idx(lo.y()));
+    const int x1 = std::min(static_cast<int>(og->getSizeX()) - 1, og->x2idx(hi.x()));
+    const int y1 = std::min(static_cast<int>(og->getSizeY()) - 1, og->y2idx(hi.y()));
+    for (int cy = y0; cy <= y1; ++cy)
+        for (int cx = x0; cx <= x1; ++cx)
+        {
+            const Eigen::Vector2d c(og->idx2x(static_cast<size_t>(cx)), og->idx2y(static_cast<size_t>(cy)));
+            if (!triangleContains(cur, c, kRenderEdgeTol)) continue;
+            int ix, iy;
+            if (!grid_.cellOf(reference_to_current.inverseMapPoint(c), ix, iy)) continue;
+            og->setCell(cx, cy, static_cast<float>(logistic(grid_.logOdds(ix, iy))));
+        }
+}
+
+void OccupancyLayer::save(std::ostream& out) const { grid_.save(out); }
+
+void OccupancyLayer::load(std::istream& in) { grid_ = LogOddsGrid::load(in); }
+
+}  // namespace hymm::dense

@@ -1,0 +1,104 @@
+#include "hymm/dense/PointsLayer.h"
+
+#include <hymm/core/config_utils.h>
+
+#include <cmath>
+#include <istream>
+#include <limits>
+#include <ostream>
+#include <stdexcept>
+
+namespace hymm::dense
+{
+void PointsLayer::Options::loadFromConfigFile(
+    const mrpt::config::CConfigFileBase& cfg, const std::string& s)
+{
+    using namespace hymm::core;
+    checkKnownKeys(cfg, s, {"voxel_size_m"});
+    voxel_size_m = readDoubleMin(cfg, s, "voxel_size_m", voxel_size_m, 0.0, false);
+    validate(s);
+}
+
+void PointsLayer::Options::saveToConfigFile(
+    mrpt::config::CConfigFileBase& cfg, const std::string& s) const
+{
+    cfg.write(s, "voxel_size_m", voxel_size_m);
+}
+
+void PointsLayer::Options::validate(const std::string& s) const
+{
+    if (!(voxel_size_m >= 0))
+        hymm::core::throwConfigError(s, "voxel_size_m", std::to_string(voxel_size_m), "must be >= 0");
+}
+
+PointsLayer::PointsLayer(const Options& options) : options_(options) { options_.validate(); }
+
+bool PointsLayer::acceptVoxel(const Eigen::Vector2d& p)
+{
+    if (options_.voxel_size_m <= 0) return true;
+    // 32-bit cell indices packed into one key; +-2^31 voxels covers any region.
+    const auto ix = static_cast<std::int64_t>(std::floor(p.x() / options_.voxel_size_m));
+    const auto iy = static_cast<std::int64_t>(std::floor(p.y() / options_.voxel_size_m));
+    return voxels_.insert((ix << 32) ^ (iy & 0xffffffffLL)).second;
+}
+
+void PointsLayer::insertPoints(const std::vector<Eigen::Vector2d>& points_ref)
+{
+    for (const auto& p : points_ref)
+        if (acceptVoxel(p)) points_.insertPoint(static_cast<float>(p.x()), static_cast<float>(p.y()));
+}
+
+void PointsLayer::insert(const RegionScan& scan) { insertPoints(scan.hits); }
+
+size_t PointsLayer::memoryBytes() const
+{
+    return sizeof(*this) + points_.size() * 3 * sizeof(float) +
+           voxels_.size() * (sizeof(std::int64_t) + 2 * sizeof(void*));
+}
+
+void PointsLayer::renderInto(
+    const hymm::ltr::AffineRegionMap& reference_to_current, mrpt::maps::CMetricMap& out) const
+{
+    auto* pts = dynamic_cast<mrpt::maps::CPointsMap*>(&out);
+    if (!pts)
+        throw std::invalid_argument(
+            std::string("PointsLayer::renderInto: cannot draw points into a ") +
+            out.GetRuntimeClass()->className);
+    const auto& xs = points_.getPointsBufferRef_x();
+    const auto& ys = points_.getPointsBufferRef_y();
+    for (size_t i = 0; i < xs.size(); ++i)
+    {
+        const Eigen::Vector2d p = reference_to_current.mapPoint(Eigen::Vector2d(xs[i], ys[i]));
+        pts->insertPoint(static_cast<float>(p.x()), static_cast<float>(p.y()));
+    }
+}
+
+void PointsLayer::save(std::ostream& out) const
+{
+    const auto& xs = points_.getPointsBufferRef_x();
+    const auto& ys = points_.getPointsBufferRef_y();
+    out << "points " << xs.size() << '\n';
+    const auto old = out.precision(std::numeric_limits<float>::max_digits10);
+    for (size_t i = 0; i < xs.size(); ++i) out << xs[i] << ' ' << ys[i] << '\n';
+    out.precision(old);
+}
+
+void PointsLayer::load(std::istream& in)
+{
+    std::string tag;
+    size_t n = 0;
+    if (!(in >> tag >> n) || tag != "points")
+        throw std::runtime_error("PointsLayer::load: expected 'points <count>'");
+    points_.clear();
+    voxels_.clear();
+    for (size_t i = 0; i < n; ++i)
+    {
+        float x = 0, y = 0;
+        if (!(in >> x >> y))
+            throw std::runtime_error("PointsLayer::load: bad point " + std::to_string(i) + " of " + std::to_string(n));
+        points_.insertPoint(x, y);
+        acceptVoxel(Eigen::Vector2d(x, y));
+    }
+}
+
+}  // namespace hymm::dense

@@ -1,0 +1,117 @@
+#include "hymm/dense/map_images.h"
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace hymm::dense
+{
+namespace
+{
+// Guard against a wrong resolution producing a multi-gigabyte image.
+constexpr long kMaxPixels = 100'000'000;
+
+/** Metric -> pixel transform of an image whose row 0 holds y = y_max. */
+struct PixelFrame
+{
+    double x_min, y_max, res;
+    cv::Point px(const Eigen::Vector2d& p) const
+    {
+        return {static_cast<int>(std::floor((p.x() - x_min) / res)),
+                static_cast<int>(std::floor((y_max - p.y()) / res))};
+    }
+};
+
+void drawTriangles(cv::Mat& img, const PixelFrame& f, const hymm::ltr::RegionPartition& part)
+{
+    const cv::Scalar red(0, 0, 255);
+    for (const long id : part.regionIds())
+    {
+        const auto& v = part.region(id).current;
+        for (size_t k = 0; k < 3; ++k) cv::line(img, f.px(v[k]), f.px(v[(k + 1) % 3]), red, 1, cv::LINE_AA);
+    }
+}
+
+void write(const std::string& path, const cv::Mat& img)
+{
+    bool ok = false;
+    try
+    {
+        ok = cv::imwrite(path, img);
+    }
+    catch (const cv::Exception& e)
+    {
+        throw std::runtime_error("cannot write PNG '" + path + "': " + e.what());
+    }
+    if (!ok) throw std::runtime_error("cannot write PNG '" + path + "'");
+}
+
+void checkSize(long w, long h, const std::string& path)
+{
+    if (w <= 0 || h <= 0 || w * h > kMaxPixels)
+        throw std::invalid_argument(
+            "PNG '" + path + "' would be " + std::to_string(w) + "x" + std::to_string(h) + " pixels");
+}
+}  // namespace
+
+void saveOccupancyPng(
+    const mrpt::maps::COccupancyGridMap2D& grid, const std::string& path,
+    const hymm::ltr::RegionPartition* triangles)
+{
+    const int w = static_cast<int>(grid.getSizeX()), h = static_cast<int>(grid.getSizeY());
+    checkSize(w, h, path);
+    cv::Mat img(h, w, CV_8UC3);
+    for (int cy = 0; cy < h; ++cy)
+        for (int cx = 0; cx < w; ++cx)
+        {
+            const auto g = static_cast<unsigned char>(std::lround(255.0 * (1.0 - grid.getCell(cx, cy))));
+            img.at<cv::Vec3b>(h - 1 - cy, cx) = cv::Vec3b(g, g, g);
+        }
+    if (triangles)
+    {
+        const PixelFrame f{grid.getXMin(), grid.getYMax(), grid.getResolution()};
+        drawTriangles(img, f, *triangles);
+    }
+    write(path, img);
+}
+
+void savePointsPng(
+    const mrpt::maps::CPointsMap& points, const std::string& path, double resolution_m,
+    const hymm::ltr::RegionPartition* triangles, double margin_m)
+{
+    if (!(resolution_m > 0)) throw std::invalid_argument("savePointsPng: resolution must be > 0");
+    Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+    const auto& xs = points.getPointsBufferRef_x();
+    const auto& ys = points.getPointsBufferRef_y();
+    for (size_t i = 0; i < xs.size(); ++i)
+    {
+        lo = lo.cwiseMin(Eigen::Vector2d(xs[i], ys[i]));
+        hi = hi.cwiseMax(Eigen::Vector2d(xs[i], ys[i]));
+    }
+    if (triangles)
+        for (const long id : triangles->regionIds())
+            for (const auto& v : triangles->region(id).current)
+            {
+                lo = lo.cwiseMin(v);
+                hi = hi.cwiseMax(v);
+            }
+    if (!(lo.x() <= hi.x())) lo = hi = Eigen::Vector2d::Zero();
+    lo -= Eigen::Vector2d::Constant(margin_m);
+    hi += Eigen::Vector2d::Constant(margin_m);
+    const long w = static_cast<long>(std::ceil((hi.x() - lo.x()) / resolution_m));
+    const long h = static_cast<long>(std::ceil((hi.y() - lo.y()) / resolution_m));
+    checkSize(w, h, path);
+    cv::Mat img(static_cast<int>(h), static_cast<int>(w), CV_8UC3, cv::Scalar(255, 255, 255));
+    const PixelFrame f{lo.x(), hi.y(), resolution_m};
+    if (triangles) drawTriangles(img, f, *triangles);
+    for (size_t i = 0; i < xs.size(); ++i)
+        cv::circle(img, f.px(Eigen::Vector2d(xs[i], ys[i])), 1, cv::Scalar(0, 0, 0), cv::FILLED);
+    write(path, img);
+}
+
+}  // namespace hymm::dense

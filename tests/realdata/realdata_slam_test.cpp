@@ -1,0 +1,350 @@
+// SLAM on the real datasets (folder from $HYMM_DATASETS; every test skips when it is
+// unset): each dataset is converted into a scratch folder with the converter configs of
+// configs/datasets/, hymm-slam's library class runs on it with the config of configs/,
+// and the errors against the ground truth are printed and checked (docs/results.md
+// reports the printed numbers). With $HYMM_REALDATA_FIGURES set to a folder, the map
+// figures of docs/figures/ are written there.
+#include <gtest/gtest.h>
+#include <hymm/core/trajectory_io.h>
+#include <hymm/datasets/import_dataset.h>
+#include <hymm/denseslam/MapPlot.h>
+#include <hymm/denseslam/SlamApp.h>
+#include <hymm/eval/LandmarkEvaluator.h>
+#include <hymm/eval/TrajectoryEvaluator.h>
+#include <hymm/eval/nees.h>
+#include <mrpt/math/wrap2pi.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <unistd.h>
+
+namespace
+{
+namespace fs = std::filesystem;
+using hymm::core::StampedPose2D;
+using hymm::denseslam::DenseSlam;
+using hymm::denseslam::SlamApp;
+using hymm::eval::LandmarkEvaluator;
+using hymm::eval::Se2Transform;
+using hymm::eval::TrajectoryEvaluator;
+
+#ifdef HYMM_REALDATA_SANITIZER_BUILD
+constexpr bool kSanitizerBuild = true;
+#elif defined(__SANITIZE_ADDRESS__)
+constexpr bool kSanitizerBuild = true;
+#else
+constexpr bool kSanitizerBuild = false;
+#endif
+
+std::string env(const char* name)
+{
+    const char* v = std::getenv(name);
+    return v ? v : "";
+}
+
+std::string datasets() { return env("HYMM_DATASETS"); }
+
+std::string sourceFile(const std::string& rel) { return std::string(HYMM_SOURCE_DIR) + "/" + rel; }
+
+/** A fresh folder under the system temp dir, removed with its contents at the end. */
+class ScratchDir
+{
+public:
+    explicit ScratchDir(const std::string& name)
+        : path_(fs::temp_directory_path() /
+                ("hymm_realdata_" + name + "_" + std::to_string(::getpid())))
+    {
+        fs::remove_all(path_);
+        fs::create_directories(path_);
+    }
+    ~ScratchDir()
+    {
+        std::error_code ec;
+        fs::remove_all(path_, ec);
+    }
+    ScratchDir(const ScratchDir&) = delete;
+    ScratchDir& operator=(const ScratchDir&) = delete;
+    std::string file(const std::string& name) const { return (path_ / name).string(); }
+
+private:
+    fs::path path_;
+};
+
+/** Runs the SLAM app (no figure, no progress) and times the whole run. */
+struct SlamRun
+{
+    std::unique_ptr<SlamApp> app;
+    double seconds = 0;
+    const DenseSlam& slam() const { return app->slam(); }
+};
+
+SlamRun runSlam(const std::string& config, const std::string& rawlog, const std::string& out)
+{
+    SlamApp::Args a;
+    a.config = sourceFile(config);
+    a.rawlog = rawlog;
+    a.out_dir = out;
+    a.quiet = true;
+    a.png = false;
+    SlamRun r;
+    r.app = std::make_unique<SlamApp>(a);
+    std::ostringstream log;
+    const auto t0 = std::chrono::steady_clock::now();
+    r.app->run(log);
+    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return r;
+}
+
+std::vector<StampedPose2D> estimatedPath(const DenseSlam& slam)
+{
+    std::vector<StampedPose2D> out;
+    for (const auto& s : slam.path()) out.push_back({s.t, s.pose[0], s.pose[1], s.pose[2]});
+    return out;
+}
+
+std::vector<hymm::eval::LandmarkEstimate> estimatedLandmarks(const DenseSlam& slam)
+{
+    std::vector<hymm::eval::LandmarkEstimate> out;
+    for (long id : slam.ekf().landmarkIds())
+    {
+        if (slam.ekf().landmarkBlock(id).dim != 2) continue;
+        hymm::eval::LandmarkEstimate e;
+        e.id = id;
+        e.position = slam.ekf().landmarkMean(id);
+        e.cov = slam.ekf().landmarkCov(id);
+        e.has_cov = true;
+        out.push_back(e);
+    }
+    return out;
+}
+
+/** Path against GPS fixes (positions only): interpolated at the estimate's times across
+ *  gaps of at most 0.5 s, with the SE(2) transform fitted on the first `fit_distance`
+ *  metres of the run (0: on the whole run). */
+TrajectoryEvaluator::Result againstGps(const std::vector<StampedPose2D>& path,
+                                       const std::vector<StampedPose2D>& gps, double fit_distance)
+{
+    TrajectoryEvaluator::Options o;
+    o.association = TrajectoryEvaluator::Association::Interpolate;
+    o.time_tolerance = 0.5;
+    o.align = true;
+    o.align_fit_distance = fit_distance;
+    return TrajectoryEvaluator(o).evaluate(path, gps);
+}
+
+void printSummary(const std::string& name, const SlamRun& run)
+{
+    const auto& s = run.slam().stats();
+    const auto& p = run.slam().path();
+    const double span = p.empty() ? 0.0 : p.back().t - p.front().t;
+    std::cout << std::fixed << std::setprecision(3) << "[" << name << "] frames " << s.frames
+              << ", observations " << s.observations << " (associated " << s.associated
+              << ", created " << s.created << ", gate rejects " << s.rejected_gate
+              << ", ambiguous " << s.ambiguous << "), landmarks " << run.slam().ekf().numLandmarks()
+              << "\n[" << name << "] run " << run.seconds << " s for " << span
+              << " s of data: " << span / run.seconds << "x real time\n";
+}
+
+/** Figure in the ground-truth frame: the estimate moved by `T`, over the truth. */
+void writeFigure(const std::string& file, const DenseSlam& slam, const Se2Transform& T,
+                 const std::vector<StampedPose2D>& true_path,
+                 const std::vector<hymm::core::LandmarkRecord>& true_landmarks)
+{
+    hymm::denseslam::MapPlot plot;
+    for (const auto& s : slam.path()) plot.estimated_path.push_back(T.apply(s.pose.head<2>()));
+    const Eigen::Matrix2d R = T.rotation();
+    for (const auto& e : estimatedLandmarks(slam))
+        plot.estimated_landmarks.push_back({T.apply(e.position), R * e.cov * R.transpose()});
+    for (const auto& g : true_path) plot.true_path.emplace_back(g.x, g.y);
+    for (const auto& l : true_landmarks) plot.true_landmarks.emplace_back(l.x, l.y);
+    plot.max_side = 1000;
+    hymm::denseslam::writeMapPng(plot, file);
+    std::cout << "wrote " << file << "\n";
+}
+
+void maybeWriteFigure(const std::string& name, const DenseSlam& slam, const Se2Transform& T,
+                      const std::vector<StampedPose2D>& true_path,
+                      const std::vector<hymm::core::LandmarkRecord>& true_landmarks)
+{
+    const std::string dir = env("HYMM_REALDATA_FIGURES");
+    if (dir.empty()) return;
+    fs::create_directories(dir);
+    writeFigure(dir + "/" + name + ".png", slam, T, true_path, true_landmarks);
+}
+
+/** Pose `g` expressed in the frame whose origin is the pose `o`. */
+StampedPose2D relativeTo(const StampedPose2D& o, const StampedPose2D& g)
+{
+    const double c = std::cos(o.phi), s = std::sin(o.phi);
+    const double dx = g.x - o.x, dy = g.y - o.y;
+    return {g.t, c * dx + s * dy, -s * dx + c * dy, mrpt::math::wrapToPi(g.phi - o.phi)};
+}
+
+TEST(RealDataSlamTest, VictoriaParkTreesWithDataAssociation)
+{
+    if (datasets().empty()) GTEST_SKIP() << "HYMM_DATASETS not set";
+    ScratchDir dir("vp");
+    hymm::datasets::importDataset(
+        "victoria", {datasets() + "/victoria_park", datasets() + "/victoria_park_txt_rfsslam"},
+        dir.file("data"), sourceFile("configs/datasets/victoria_park.ini"));
+    const auto run = runSlam("configs/victoria_park.ini", dir.file("data/victoria_park.rawlog"),
+                             dir.file("slam"));
+    printSummary("victoria_park", run);
+    const auto path = estimatedPath(run.slam());
+    const auto gps = hymm::core::readTum(dir.file("data/victoria_park_gps.tum"));
+
+    // Start frame tied to the GPS frame on the first 100 m; drift afterwards shows.
+    const auto start = againstGps(path, gps, 100.0);
+    // Least squares over the whole run, for reference only (it absorbs drift).
+    const auto full = againstGps(path, gps, 0.0);
+    std::cout << "[victoria_park] vs GPS, aligned on the first 100 m: mean " << start.position_mean
+              << " m, RMSE " << start.position_rmse << " m, max " << start.position_max << " m ("
+              << start.matched << " poses)\n[victoria_park] vs GPS, whole-run LSQ alignment: mean "
+              << full.position_mean << " m, RMSE " << full.position_rmse << " m, max "
+              << full.position_max << " m\n";
+    maybeWriteFigure("victoria_park_map", run.slam(), start.alignment, gps, {});
+
+    EXPECT_EQ(run.slam().stats().frames, 7230u);
+    EXPECT_GT(start.matched, 3500u);
+    EXPECT_LT(start.position_mean, 5.0);  // target; dead reckoning is ~130 m
+    EXPECT_LT(full.position_mean, 3.0);
+    EXPECT_GT(run.slam().ekf().numLandmarks(), 150u);
+    EXPECT_LT(run.slam().ekf().numLandmarks(), 300u);
+    if (!kSanitizerBuild)
+    {
+        const double span = path.back().t - path.front().t;
+        EXPECT_GT(span / run.seconds, 50.0);  // at least 50x faster than real time
+    }
+}
+
+TEST(RealDataSlamTest, MrclamDataset1Robot1KnownIds)
+{
+    if (datasets().empty()) GTEST_SKIP() << "HYMM_DATASETS not set";
+    ScratchDir dir("mrclam");
+    hymm::datasets::importDataset("mrclam", {datasets() + "/utias_mrclam/MRCLAM_Dataset1"},
+                                  dir.file("data"), sourceFile("configs/datasets/mrclam.ini"));
+    const auto run = runSlam("configs/mrclam.ini", dir.file("data/mrclam_robot1.rawlog"),
+                             dir.file("slam"));
+    printSummary("mrclam", run);
+    const auto path = estimatedPath(run.slam());
+
+    // The filter starts at the origin with zero covariance: its frame is the robot's
+    // first pose, so the Vicon path is expressed in that frame (exact, no fitting).
+    const auto vicon = hymm::core::readTum(dir.file("data/mrclam_robot1_groundtruth.tum"));
+    ASSERT_FALSE(vicon.empty());
+    const StampedPose2D origin = vicon.front();
+    std::vector<StampedPose2D> truth;
+    for (const auto& g : vicon) truth.push_back(relativeTo(origin, g));
+
+    TrajectoryEvaluator::Options o;
+    o.association = TrajectoryEvaluator::Association::Interpolate;
+    o.time_tolerance = 0.1;
+    const auto traj = TrajectoryEvaluator(o).evaluate(path, truth);
+
+    // Vehicle NEES (3 DOF) at every matched step, against the single-run 95% band.
+    std::vector<double> nees;
+    size_t i = 0;
+    for (const auto& e : traj.errors)
+    {
+        while (i < run.slam().path().size() && run.slam().path()[i].t != e.t) ++i;
+        if (i == run.slam().path().size()) break;
+        const auto v = hymm::eval::nees(Eigen::Vector3d(e.dx, e.dy, e.dphi), run.slam().path()[i].cov);
+        nees.push_back(v.ok() ? v.value : std::nan(""));
+    }
+    const auto band = hymm::eval::averageNeesBounds(3, 1, 0.95);
+    double sum = 0;
+    size_t n = 0, above = 0;
+    for (double v : nees)
+        if (std::isfinite(v)) sum += v, ++n, above += v > band.upper ? 1 : 0;
+    const double inside = hymm::eval::fractionInsideBounds(nees, band);
+    std::cout << "[mrclam] vs Vicon: RMSE " << traj.position_rmse << " m, mean "
+              << traj.position_mean << " m, max " << traj.position_max << " m, heading RMSE "
+              << traj.heading_rmse * 180 / M_PI << " deg (" << traj.matched << " poses)\n"
+              << "[mrclam] vehicle NEES: mean " << sum / n << " over " << n << " steps, "
+              << 100 * inside << " % inside [" << band.lower << ", " << band.upper << "], "
+              << 100.0 * above / n << " % above\n";
+    // NEES over time: the mean of each tenth of the run.
+    std::cout << "[mrclam] vehicle NEES by tenth of the run:";
+    for (size_t k = 0; k < 10; ++k)
+    {
+        double s = 0;
+        size_t m = 0;
+        for (size_t j = k * nees.size() / 10; j < (k + 1) * nees.size() / 10; ++j)
+            if (std::isfinite(nees[j])) s += nees[j], ++m;
+        std::cout << " " << (m ? s / m : std::nan(""));
+    }
+    std::cout << "\n";
+
+    // Landmarks in the Vicon frame, matched by id (the barcode subject number).
+    const auto true_lm = hymm::core::readLandmarksCsv(dir.file("data/mrclam_robot1_landmarks.csv"));
+    const Se2Transform to_world{origin.x, origin.y, origin.phi};
+    LandmarkEvaluator::Options lo;
+    lo.association = LandmarkEvaluator::Association::Id;
+    const auto lm = LandmarkEvaluator(lo).evaluate(estimatedLandmarks(run.slam()), true_lm, &to_world);
+    std::cout << "[mrclam] landmarks vs Landmark_Groundtruth: " << lm.matches.size() << " matched, mean "
+              << lm.mean_error << " m, RMSE " << lm.rmse << " m, max " << lm.max_error
+              << " m, mean NEES " << lm.mean_nees << "\n";
+    maybeWriteFigure("mrclam_map", run.slam(), to_world, vicon, true_lm);
+
+    EXPECT_EQ(run.slam().ekf().numLandmarks(), 15u);
+    EXPECT_GT(traj.matched, 3000u);
+    EXPECT_LT(traj.position_rmse, 0.7);
+    EXPECT_EQ(lm.matches.size(), 15u);
+    EXPECT_LT(lm.mean_error, 1.5);
+    // With the converter's a-priori odometry noise the filter is over-confident
+    // (docs/results.md): these bounds only catch a regression, not consistency.
+    EXPECT_LT(sum / n, 60.0);
+    EXPECT_GT(inside, 0.05);
+}
+
+TEST(RealDataSlamTest, CarParkBeaconsAgainstSurvey)
+{
+    if (datasets().empty()) GTEST_SKIP() << "HYMM_DATASETS not set";
+    ScratchDir dir("carpark");
+    hymm::datasets::importDataset("carpark", {datasets() + "/acfr_carpark"}, dir.file("data"),
+                                  sourceFile("configs/datasets/carpark.ini"));
+    const auto run = runSlam("configs/carpark.ini", dir.file("data/carpark.rawlog"),
+                             dir.file("slam"));
+    printSummary("carpark", run);
+    const auto path = estimatedPath(run.slam());
+    const auto gps = hymm::core::readTum(dir.file("data/carpark_gps.tum"));
+    const auto start = againstGps(path, gps, 30.0);
+    const auto full = againstGps(path, gps, 0.0);
+    std::cout << "[carpark] vs GPS, aligned on the first 30 m: mean " << start.position_mean
+              << " m, RMSE " << start.position_rmse << " m, max " << start.position_max << " m ("
+              << start.matched << " poses)\n[carpark] vs GPS, whole-run LSQ alignment: mean "
+              << full.position_mean << " m, RMSE " << full.position_rmse << " m\n";
+
+    // Beacons against the kinematic-GPS survey, in the GPS frame of the start alignment.
+    const auto beacons = hymm::core::readLandmarksCsv(dir.file("data/carpark_beacons.csv"));
+    LandmarkEvaluator::Options lo;
+    lo.association = LandmarkEvaluator::Association::Nearest;
+    lo.gate = 3.0;
+    const auto lm = LandmarkEvaluator(lo).evaluate(estimatedLandmarks(run.slam()), beacons,
+                                                   &start.alignment);
+    const auto lm_full = LandmarkEvaluator(lo).evaluate(estimatedLandmarks(run.slam()), beacons,
+                                                        &full.alignment);
+    std::cout << "[carpark] beacons vs survey (start alignment): " << lm.matches.size() << " of "
+              << beacons.size() << " matched within " << lo.gate << " m, mean " << lm.mean_error
+              << " m, RMSE " << lm.rmse << " m, max " << lm.max_error << " m, "
+              << lm.unmatched_estimates << " estimates unmatched\n"
+              << "[carpark] beacons vs survey (whole-run alignment): " << lm_full.matches.size()
+              << " matched, mean " << lm_full.mean_error << " m, max " << lm_full.max_error << " m\n";
+    maybeWriteFigure("carpark_map", run.slam(), start.alignment, gps, beacons);
+
+    EXPECT_EQ(run.slam().stats().frames, 586u);
+    EXPECT_GE(lm.matches.size(), 8u);
+    EXPECT_LT(lm.mean_error, 2.0);
+    EXPECT_LT(start.position_mean, 5.0);
+}
+
+}  // namespace
