@@ -208,6 +208,7 @@ void DenseSlam::processBearingRange(const mrpt::obs::CObservationBearingRange& o
             o.R << m.covariance(0, 0), m.covariance(0, 1), m.covariance(1, 0), m.covariance(1, 1);
         }
         o.id = options_.use_landmark_ids ? m.landmarkID : -1;
+        if (o.id >= 0) ++stats_.observations_with_id;
         z.push_back(o);
     }
     update(z, obs.sensorLocationOnRobot);

@@ -28,6 +28,8 @@ std::vector<core::StampedPose2D> estimatedPath(const DenseSlam& slam)
     return out;
 }
 
+}  // namespace
+
 std::vector<eval::LandmarkEstimate> estimatedLandmarks(const ekf::EkfSlam& ekf)
 {
     std::vector<eval::LandmarkEstimate> out;
@@ -43,7 +45,35 @@ std::vector<eval::LandmarkEstimate> estimatedLandmarks(const ekf::EkfSlam& ekf)
     }
     return out;
 }
-}  // namespace
+eval::LandmarkEvaluator::Association landmarkAssociationFor(const DenseSlam& slam)
+{
+    return slam.stats().observations_with_id > 0 ? eval::LandmarkEvaluator::Association::Id
+                                                  : eval::LandmarkEvaluator::Association::Nearest;
+}
+
+std::vector<double> vehicleNeesSeries(const DenseSlam& slam, const GroundTruth& gt,
+                                      double time_tolerance)
+{
+    const auto& path = slam.path();
+    std::vector<double> out(path.size(), std::nan(""));
+    if (gt.path.empty()) return out;
+    eval::TrajectoryEvaluator::Options to;
+    to.association = gt.path_has_timestamps ? eval::TrajectoryEvaluator::Association::Nearest
+                                            : eval::TrajectoryEvaluator::Association::Index;
+    to.time_tolerance = time_tolerance;
+    const auto traj = eval::TrajectoryEvaluator(to).evaluate(estimatedPath(slam), gt.path);
+    // Errors come in the order of the estimates; walk both sequences together.
+    size_t i = 0;
+    for (const auto& e : traj.errors)
+    {
+        while (i < path.size() && path[i].t != e.t) ++i;
+        if (i == path.size()) break;
+        const auto v = eval::nees(Eigen::Vector3d(e.dx, e.dy, e.dphi), path[i].cov);
+        if (v.ok()) out[i] = v.value;
+        ++i;
+    }
+    return out;
+}
 
 GroundTruth loadGroundTruth(const std::string& path_file, const std::string& landmarks_file)
 {
@@ -115,17 +145,7 @@ eval::MetricsJson computeMetrics(const DenseSlam& slam, const GroundTruth& gt, d
         eval::writeTrajectoryMetrics(j.object("path"), traj);
 
         // Vehicle NEES per matched step (3 DOF), against the single-run 95% band.
-        const auto& path = slam.path();
-        std::vector<double> nees_series;
-        size_t i = 0;
-        for (const auto& e : traj.errors)
-        {
-            while (i < path.size() && path[i].t != e.t) ++i;
-            if (i == path.size()) break;
-            const auto v = eval::nees(Eigen::Vector3d(e.dx, e.dy, e.dphi), path[i].cov);
-            nees_series.push_back(v.ok() ? v.value : std::nan(""));
-            ++i;
-        }
+        const std::vector<double> nees_series = vehicleNeesSeries(slam, gt);
         const auto band = eval::averageNeesBounds(3, 1, 0.95);
         double sum = 0;
         size_t n = 0;
@@ -140,8 +160,9 @@ eval::MetricsJson computeMetrics(const DenseSlam& slam, const GroundTruth& gt, d
     }
     if (!gt.landmarks.empty())
     {
-        const auto lr = eval::LandmarkEvaluator(eval::LandmarkEvaluator::Options{})
-                            .evaluate(estimatedLandmarks(slam.ekf()), gt.landmarks);
+        eval::LandmarkEvaluator::Options lo;
+        lo.association = landmarkAssociationFor(slam);
+        const auto lr = eval::LandmarkEvaluator(lo).evaluate(estimatedLandmarks(slam.ekf()), gt.landmarks);
         eval::writeLandmarkMetrics(j.object("landmarks"), lr);
         std::vector<double> lm_nees;
         for (const auto& m : lr.matches)

@@ -73,6 +73,7 @@ public:
                rejected_numeric = 0;
         size_t skipped_invalid = 0;   //!< NaN / non-finite / out-of-range readings
         size_t scans = 0, extracted = 0;
+        size_t observations_with_id = 0;  //!< used with the landmark ID the rawlog carried
     };
 
     /** Builds the pipeline from an .ini: sections [DenseSlam], [EkfSlam], [TreeExtractor],

@@ -8,6 +8,7 @@
 
 #include <hymm/denseslam/DenseSlam.h>
 #include <hymm/denseslam/MapPlot.h>
+#include <hymm/eval/LandmarkEvaluator.h>
 #include <hymm/eval/ground_truth_io.h>
 #include <hymm/eval/MetricsJson.h>
 
@@ -25,6 +26,21 @@ using eval::GroundTruth;
  * Either file may be empty (not given). Throws on unreadable or malformed files.
  */
 GroundTruth loadGroundTruth(const std::string& path_file, const std::string& landmarks_file);
+
+/**
+ * NEES of every path sample against the ground-truth path (3 DOF: x, y, phi), NaN where
+ * no true pose matches (timestamps within `time_tolerance`, or by index when the truth
+ * has none) or the covariance is singular. One entry per slam.path() sample.
+ */
+std::vector<double> vehicleNeesSeries(const DenseSlam& slam, const GroundTruth& gt,
+                                      double time_tolerance = 1e-3);
+
+/** Landmark matching for metrics: by ID when the run used the rawlog's landmark IDs
+ *  (then estimate and truth share them), otherwise nearest neighbour. */
+eval::LandmarkEvaluator::Association landmarkAssociationFor(const DenseSlam& slam);
+
+/** The estimated 2-DOF landmarks with their covariances. */
+std::vector<eval::LandmarkEstimate> estimatedLandmarks(const ekf::EkfSlam& ekf);
 
 /** TUM file of the path samples. */
 void writeEstimatedPath(const DenseSlam& slam, const std::string& file);
