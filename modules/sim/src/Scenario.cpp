@@ -23,12 +23,25 @@ const char* const kLaser = "LaserSimulator";
 const char* const kDetector = "LandmarkDetector";
 const char* const kPlot = "WorldPlot";
 
+/** Calls f(section, options) for each options struct of `s`, in file order. */
+template <class S, class F>
+void forEachSection(S& s, F&& f)
+{
+    f(kScenario, s.run);
+    f(kVehicle, s.vehicle);
+    f(kPath, s.path);
+    f(kWorld, s.world);
+    f(kLaser, s.laser);
+    f(kDetector, s.detector);
+    f(kPlot, s.plot);
+}
+
 void checkSections(const mrpt::config::CConfigFileBase& cfg)
 {
-    std::vector<std::string> sections;
+    std::vector<std::string> sections, known;
     cfg.getAllSections(sections);
-    const std::vector<std::string> known = {kScenario, kVehicle,  kPath, kWorld,
-                                            kLaser,    kDetector, kPlot};
+    Scenario probe;
+    forEachSection(probe, [&](const char* name, const auto&) { known.push_back(name); });
     for (const auto& s : sections)
     {
         if (s.empty() || std::find(known.begin(), known.end(), s) != known.end()) continue;
@@ -83,13 +96,7 @@ void Scenario::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg)
     if (!cfg.sectionExists(kPath))
         throw std::invalid_argument(std::string("missing section [") + kPath +
                                     "] (the vehicle's waypoints)");
-    run.loadFromConfigFile(cfg, kScenario);
-    vehicle.loadFromConfigFile(cfg, kVehicle);
-    path.loadFromConfigFile(cfg, kPath);
-    world.loadFromConfigFile(cfg, kWorld);
-    laser.loadFromConfigFile(cfg, kLaser);
-    detector.loadFromConfigFile(cfg, kDetector);
-    plot.loadFromConfigFile(cfg, kPlot);
+    forEachSection(*this, [&](const char* name, auto& o) { o.loadFromConfigFile(cfg, name); });
 
     // Combinations.
     if (!laser.enabled && !detector.enabled)
@@ -114,13 +121,7 @@ void Scenario::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg)
 
 void Scenario::saveToConfigFile(mrpt::config::CConfigFileBase& cfg) const
 {
-    run.saveToConfigFile(cfg, kScenario);
-    vehicle.saveToConfigFile(cfg, kVehicle);
-    path.saveToConfigFile(cfg, kPath);
-    world.saveToConfigFile(cfg, kWorld);
-    laser.saveToConfigFile(cfg, kLaser);
-    detector.saveToConfigFile(cfg, kDetector);
-    plot.saveToConfigFile(cfg, kPlot);
+    forEachSection(*this, [&](const char* name, const auto& o) { o.saveToConfigFile(cfg, name); });
 }
 
 std::string Scenario::toIniText() const

@@ -15,6 +15,7 @@ namespace
 {
 using hymm::sim::SimFrame;
 using hymm::sim::testing::loadScenario;
+using hymm::sim::testing::stdDev;
 
 std::vector<SimFrame> runAll(const hymm::sim::Scenario& s)
 {
@@ -26,16 +27,6 @@ std::vector<SimFrame> runAll(const hymm::sim::Scenario& s)
 }
 
 mrpt::poses::CPose2D pose(const Eigen::Vector3d& v) { return {v[0], v[1], v[2]}; }
-
-/** Sample standard deviation. */
-double stdDev(const std::vector<double>& v)
-{
-    double m = 0, s = 0;
-    for (double x : v) m += x;
-    m /= v.size();
-    for (double x : v) s += (x - m) * (x - m);
-    return std::sqrt(s / (v.size() - 1));
-}
 
 TEST(SimulatorTest, TruePoseFollowsTheUteModelStepByStep)
 {

@@ -14,16 +14,7 @@ namespace
 {
 using hymm::sim::SimFrame;
 using hymm::sim::testing::loadScenario;
-
-double stdDev(const std::vector<double>& v, double* mean = nullptr)
-{
-    double m = 0, s = 0;
-    for (double x : v) m += x;
-    m /= v.size();
-    for (double x : v) s += (x - m) * (x - m);
-    if (mean) *mean = m;
-    return std::sqrt(s / (v.size() - 1));
-}
+using hymm::sim::testing::stdDev;
 
 TEST(LandmarkDetectorTest, ResidualsMatchTheConfiguredSigmas)
 {

@@ -4,6 +4,7 @@
 #include <hymm/sim/Scenario.h>
 #include <mrpt/config/CConfigFileMemory.h>
 
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -69,6 +70,17 @@ inline Scenario loadScenario(const std::vector<Override>& overrides = {},
     Scenario s;
     s.loadFromConfigFile(cfg);
     return s;
+}
+
+/** Sample standard deviation of `v`, and its mean in `mean` if given. */
+inline double stdDev(const std::vector<double>& v, double* mean = nullptr)
+{
+    double m = 0, s = 0;
+    for (double x : v) m += x;
+    m /= static_cast<double>(v.size());
+    for (double x : v) s += (x - m) * (x - m);
+    if (mean) *mean = m;
+    return std::sqrt(s / static_cast<double>(v.size() - 1));
 }
 
 }  // namespace hymm::sim::testing
