@@ -1,6 +1,7 @@
 // hymm-eval: scores a SLAM result (path in TUM format, landmark CSV) against ground
 // truth with the metrics hymm-slam reports, so any program's output can be compared.
 #include <hymm/denseslam/slam_outputs.h>
+#include <hymm/core/command_line.h>
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <mrpt/core/exceptions.h>
 
@@ -20,12 +21,7 @@ int main(int argc, char** argv)
                                          false, "", "FILE", cmd);
         TCLAP::ValueArg<std::string> out("o", "out", "write the JSON here instead of stdout", false,
                                          "", "FILE", cmd);
-        if (!cmd.parse(argc, argv))
-        {
-            for (int i = 1; i < argc; ++i)
-                if (std::string(argv[i]) == "--help" || std::string(argv[i]) == "--version") return 0;
-            return 1;
-        }
+        if (const auto code = hymm::core::parseCommandLine(cmd, argc, argv)) return *code;
         const auto gt = hymm::denseslam::loadGroundTruth(gtp.getValue(), gtl.getValue());
         const auto j = hymm::denseslam::evaluateResultFiles(path.getValue(), lms.getValue(), gt);
         if (out.getValue().empty())

@@ -4,6 +4,7 @@
  *        ground-truth files. All logic lives in hymm::datasets::importDataset.
  */
 #include <hymm/datasets/import_dataset.h>
+#include <hymm/core/command_line.h>
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <mrpt/core/exceptions.h>
 
@@ -22,7 +23,7 @@ int main(int argc, char** argv)
         TCLAP::ValueArg<std::string> out("o", "out", "output folder", true, "", "DIR", cmd);
         TCLAP::ValueArg<std::string> config(
             "c", "config", "ini with the importer's section", false, "", "FILE.ini", cmd);
-        cmd.parse(argc, argv);
+        if (const auto code = hymm::core::parseCommandLine(cmd, argc, argv)) return *code;
 
         const auto summary = hymm::datasets::importDataset(
             format.getValue(), input.getValue(), out.getValue(), config.getValue());

@@ -3,11 +3,11 @@
  * @brief hymm-simul: simulates a scenario (.ini) into an MRPT rawlog plus ground truth.
  *        All logic lives in hymm::sim::runScenarioFile.
  */
+#include <hymm/core/command_line.h>
 #include <hymm/sim/run_scenario.h>
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <mrpt/core/exceptions.h>
 
-#include <cstring>
 #include <iostream>
 
 int main(int argc, char** argv)
@@ -23,13 +23,7 @@ int main(int argc, char** argv)
                                    "N", cmd);
         TCLAP::SwitchArg png("p", "png", "also write DIR/<name>.png", cmd);
         // MRPT's TCLAP returns false after printing the help, the version or a usage error.
-        if (!cmd.parse(argc, argv))
-        {
-            for (int i = 1; i < argc; ++i)
-                for (const char* done : {"-h", "--help", "--version"})
-                    if (std::strcmp(argv[i], done) == 0) return 0;
-            return 1;
-        }
+        if (const auto code = hymm::core::parseCommandLine(cmd, argc, argv)) return *code;
 
         const auto summary = hymm::sim::runScenarioFile(
             config.getValue(), out.getValue(),

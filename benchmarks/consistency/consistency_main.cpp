@@ -3,6 +3,7 @@
 //                    --runs 20 --work /tmp/consistency [--laps 1] [--out result.json]
 #include <hymm/denseslam/ConsistencyStudy.h>
 #include <hymm/eval/MetricsJson.h>
+#include <hymm/core/command_line.h>
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <mrpt/core/exceptions.h>
 
@@ -21,12 +22,7 @@ int main(int argc, char** argv)
         TCLAP::ValueArg<int> laps("", "laps", "override the scenario's laps", false, 0, "N", cmd);
         TCLAP::ValueArg<std::string> work("", "work", "folder for the runs", true, "", "DIR", cmd);
         TCLAP::ValueArg<std::string> out("", "out", "JSON result file", false, "", "FILE", cmd);
-        if (!cmd.parse(argc, argv))
-        {
-            for (int i = 1; i < argc; ++i)
-                if (std::string(argv[i]) == "--help" || std::string(argv[i]) == "--version") return 0;
-            return 1;
-        }
+        if (const auto code = hymm::core::parseCommandLine(cmd, argc, argv)) return *code;
         hymm::denseslam::ConsistencyStudy study;
         study.scenario_ini = sc.getValue();
         study.slam_ini = sl.getValue();

@@ -41,10 +41,15 @@ void writeTum(const std::string& path, const std::vector<StampedPose2D>& poses)
 {
     std::ofstream f(path);
     if (!f) throw std::runtime_error("cannot write trajectory file '" + path + "'");
-    f << "# timestamp x y z qx qy qz qw\n" << std::setprecision(12);
+    f << "# timestamp x y z qx qy qz qw\n";
     for (const auto& p : poses)
-        f << p.t << ' ' << p.x << ' ' << p.y << " 0 0 0 " << std::sin(p.phi / 2) << ' '
-          << std::cos(p.phi / 2) << '\n';
+    {
+        // Fixed microsecond time stamps: epoch times need 16 digits, which the
+        // significant-digit format would round to 0.01 s.
+        f << std::fixed << std::setprecision(6) << p.t << ' ' << std::defaultfloat
+          << std::setprecision(12) << p.x << ' ' << p.y << " 0 0 0 " << std::sin(p.phi / 2)
+          << ' ' << std::cos(p.phi / 2) << '\n';
+    }
     if (!f) throw std::runtime_error("error writing trajectory file '" + path + "'");
 }
 

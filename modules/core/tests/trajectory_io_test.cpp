@@ -25,6 +25,16 @@ TEST(TrajectoryIoTest, TumRoundTrip)
     }
 }
 
+TEST(TrajectoryIoTest, EpochTimestampsKeepMicroseconds)
+{
+    const std::string path = mrpt::system::getTempFileName();
+    writeTum(path, {{1764000000.123456, 1, 2, 0}, {1764000000.123457, 1, 2, 0}});
+    const auto out = readTum(path);
+    ASSERT_EQ(out.size(), 2u);
+    EXPECT_NEAR(out[0].t, 1764000000.123456, 2e-7);
+    EXPECT_NEAR(out[1].t - out[0].t, 1e-6, 2e-7);
+}
+
 TEST(TrajectoryIoTest, MalformedTumLineIsAnError)
 {
     const std::string path = mrpt::system::getTempFileName();
