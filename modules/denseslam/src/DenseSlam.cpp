@@ -1,12 +1,15 @@
 #include "hymm/denseslam/DenseSlam.h"
 
 #include <hymm/core/config_utils.h>
+#include <hymm/dense/ScanPoints.h>
+#include <hymm/denseslam/EkfCovarianceView.h>
 #include <mrpt/math/wrap2pi.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
 #include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/system/datetime.h>
 
 #include <cmath>
+#include <sstream>
 
 namespace hymm::denseslam
 {
@@ -34,6 +37,41 @@ const char* sourceName(DenseSlam::LandmarkSource s)
         default: return "both";
     }
 }
+
+// dense_layers = none | points | occupancy | points,occupancy (any order, spaces allowed)
+void parseDenseLayers(const std::string& value, const std::string& section, bool& points,
+                      bool& occupancy)
+{
+    points = occupancy = false;
+    std::string v;
+    for (char c : value)
+        if (c != ' ' && c != '\t') v += c;
+    if (v == "none") return;
+    std::stringstream ss(v);
+    std::string item;
+    bool any = false;
+    while (std::getline(ss, item, ','))
+    {
+        if (item == "points" && !points) points = true;
+        else if (item == "occupancy" && !occupancy) occupancy = true;
+        else
+            core::throwConfigError(section, "dense_layers", value,
+                                   "must be none, or a comma-separated list of points, occupancy "
+                                   "(each at most once)");
+        any = true;
+    }
+    if (!any)
+        core::throwConfigError(section, "dense_layers", value,
+                               "must be none, or a comma-separated list of points, occupancy");
+}
+
+std::string denseLayersName(bool points, bool occupancy)
+{
+    if (points && occupancy) return "points,occupancy";
+    if (points) return "points";
+    if (occupancy) return "occupancy";
+    return "none";
+}
 }  // namespace
 
 void DenseSlam::Options::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
@@ -42,7 +80,8 @@ void DenseSlam::Options::loadFromConfigFile(const mrpt::config::CConfigFileBase&
     core::checkKnownKeys(cfg, s,
                          {"landmark_source", "use_landmark_ids", "odometry_cov_scale",
                           "odometry_std_xy", "odometry_std_phi_deg", "sensor_std_range",
-                          "sensor_std_bearing_deg", "min_range", "max_range", "enable_profiler"});
+                          "sensor_std_bearing_deg", "min_range", "max_range", "enable_profiler",
+                          "dense_layers", "classic_grid"});
     landmark_source = parseSource(core::readString(cfg, s, "landmark_source", sourceName(landmark_source)), s);
     use_landmark_ids = core::readBool(cfg, s, "use_landmark_ids", use_landmark_ids);
     odometry_cov_scale = core::readDoubleMin(cfg, s, "odometry_cov_scale", odometry_cov_scale, 0.0, true);
@@ -55,6 +94,9 @@ void DenseSlam::Options::loadFromConfigFile(const mrpt::config::CConfigFileBase&
     min_range = core::readDoubleMin(cfg, s, "min_range", min_range, 0.0, false);
     max_range = core::readDoubleMin(cfg, s, "max_range", max_range, min_range, true);
     enable_profiler = core::readBool(cfg, s, "enable_profiler", enable_profiler);
+    parseDenseLayers(core::readString(cfg, s, "dense_layers", denseLayersName(dense_points, dense_occupancy)),
+                     s, dense_points, dense_occupancy);
+    classic_grid = core::readBool(cfg, s, "classic_grid", classic_grid);
 }
 
 void DenseSlam::Options::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
@@ -70,6 +112,15 @@ void DenseSlam::Options::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
     cfg.write(s, "min_range", min_range);
     cfg.write(s, "max_range", max_range);
     cfg.write(s, "enable_profiler", enable_profiler);
+    cfg.write(s, "dense_layers", denseLayersName(dense_points, dense_occupancy));
+    cfg.write(s, "classic_grid", classic_grid);
+}
+
+void DenseSlam::DenseOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg)
+{
+    partition.loadFromConfigFile(cfg, "LtrPartition");
+    hybrid.loadAll(cfg);
+    classic.loadFromConfigFile(cfg, "ClassicOccupancyGrid");
 }
 
 DenseSlam DenseSlam::fromConfig(const mrpt::config::CConfigFileBase& cfg)
@@ -82,15 +133,29 @@ DenseSlam DenseSlam::fromConfig(const mrpt::config::CConfigFileBase& cfg)
     t.loadFromConfigFile(cfg, "TreeExtractor");
     extract::ReflectorExtractor::Options r;
     r.loadFromConfigFile(cfg, "ReflectorExtractor");
-    return DenseSlam(o, e, t, r);
+    DenseOptions d;
+    d.loadFromConfigFile(cfg);
+    return DenseSlam(o, e, t, r, d);
 }
 
 DenseSlam::DenseSlam(const Options& opts, const ekf::EkfSlam::Options& ekf_opts,
                      const extract::TreeExtractor::Options& tree_opts,
-                     const extract::ReflectorExtractor::Options& reflector_opts)
+                     const extract::ReflectorExtractor::Options& reflector_opts,
+                     const DenseOptions& dense_opts)
     : options_(opts), ekf_(ekf_opts), trees_(tree_opts), reflectors_(reflector_opts)
 {
     profiler_.enable(options_.enable_profiler);
+    if (options_.denseLayers())
+    {
+        partition_ = std::make_unique<ltr::RegionPartition>(dense_opts.partition);
+        auto h = dense_opts.hybrid;
+        h.enable_points = options_.dense_points;
+        h.enable_occupancy = options_.dense_occupancy;
+        hybrid_ = std::make_unique<dense::HybridMetricMap>(h);
+    }
+    if (options_.classic_grid)
+        classic_ = std::make_unique<dense::ClassicOccupancyGrid>(dense_opts.classic,
+                                                                 dense_opts.hybrid.occupancy);
 }
 
 void DenseSlam::processEntry(const RawlogEntry& entry)
@@ -149,6 +214,7 @@ void DenseSlam::processOdometryObservation(const mrpt::obs::CObservation& obs)
 
 void DenseSlam::processFrame(const mrpt::obs::CSensoryFrame& frame)
 {
+    const size_t updates_before = updates_;
     double t = std::nan("");
     for (const auto& o : frame)
     {
@@ -177,6 +243,49 @@ void DenseSlam::processFrame(const mrpt::obs::CSensoryFrame& frame)
     s.pose = ekf_.vehiclePose();
     s.cov = ekf_.vehicleCov();
     path_.push_back(s);
+    if (partition_ || classic_) processDense(frame, s.t, updates_ != updates_before);
+}
+
+void DenseSlam::processDense(const mrpt::obs::CSensoryFrame& frame, double t, bool map_changed)
+{
+    // Reads the filter only (UIF): nothing below writes to ekf_.
+    const EkfCovarianceView view(ekf_);
+    if (partition_ && map_changed)
+    {
+        mrpt::system::CTimeLoggerEntry tle(profiler_, "denseslam.4_regions");
+        // Regions anchored on landmarks that left the map go, with their dense content.
+        const auto stale = partition_->regionsWithMissingLandmarks(view);
+        for (long id : stale) partition_->removeRegion(id);
+        if (!stale.empty())
+        {
+            stats_.regions_removed += stale.size();
+            hybrid_->removeStaleRegions(*partition_);
+        }
+        // Refreshes the current vertices of every region, then grows (O(n) in landmarks).
+        stats_.regions_created += partition_->update(view, t).size();
+        ++stats_.partition_updates;
+    }
+
+    mrpt::system::CTimeLoggerEntry tle(profiler_, "denseslam.5_dense");
+    // Every observation of the frame was taken at the frame's pose; the estimate after
+    // the frame's update is the best estimate of that pose.
+    const Eigen::Vector3d v = ekf_.vehiclePose();
+    const mrpt::math::TPose2D vehicle(v[0], v[1], v[2]);
+    for (const auto& o : frame)
+    {
+        const auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(o);
+        if (!scan) continue;
+        // ScanPoints carries the scan's sensorPose: the layers compose it with `vehicle`.
+        const auto pts = dense::ScanPoints::fromRangeScan(*scan);
+        if (hybrid_)
+        {
+            const auto st = hybrid_->insertScan(pts, vehicle, *partition_);
+            stats_.returns_stored += st.returns_stored;
+            stats_.returns_outside += st.returns_outside;
+            ++stats_.dense_scans;
+        }
+        if (classic_) classic_->insertScan(pts, vehicle);
+    }
 }
 
 Eigen::Matrix2d DenseSlam::sensorNoise(double std_range, double std_bearing) const
@@ -256,6 +365,7 @@ void DenseSlam::update(const std::vector<ekf::RangeBearingObs>& obs, const mrpt:
     mrpt::system::CTimeLoggerEntry tle(profiler_, "denseslam.3_update");
     stats_.observations += obs.size();
     const auto r = ekf_.updateRangeBearing(obs, sensor);
+    ++updates_;
     stats_.associated += r.associated;
     stats_.created += r.created;
     stats_.rejected_gate += r.rejected_gate;

@@ -35,8 +35,10 @@ void SlamApp::run(std::ostream& log)
     slam_ = std::make_unique<DenseSlam>(DenseSlam::fromConfig(*cfg));
     RawlogReader reader(args_.rawlog);
     std::optional<GroundTruth> gt;
-    if (!args_.gt_path.empty() || !args_.gt_landmarks.empty())
+    if (!args_.gt_path.empty() || !args_.gt_landmarks.empty() || !args_.gt_objects.empty())
         gt = loadGroundTruth(args_.gt_path, args_.gt_landmarks);
+    std::vector<dense::Polygon> outlines;
+    if (!args_.gt_objects.empty()) outlines = loadObjectOutlines(args_.gt_objects);
 
     // Main loop: one rawlog entry at a time, throttled progress.
     const auto t0 = Clock::now();
@@ -74,7 +76,15 @@ void SlamApp::run(std::ostream& log)
     writeEstimatedPath(*slam_, out + "path.tum");
     writeEstimatedLandmarks(slam_->ekf(), out + "landmarks.csv");
     if (args_.png) writeMapPng(makeMapPlot(*slam_, gt ? &*gt : nullptr), out + "map.png");
-    if (gt) computeMetrics(*slam_, *gt, run_s).save(out + "metrics.json");
+    writeDenseOutputs(*slam_, out, args_.png);
+    if (gt)
+    {
+        auto metrics = computeMetrics(*slam_, *gt, run_s);
+        std::vector<Eigen::Vector2d> true_landmarks;
+        for (const auto& l : gt->landmarks) true_landmarks.emplace_back(l.x, l.y);
+        writeDenseMetrics(metrics, *slam_, outlines, true_landmarks);
+        metrics.save(out + "metrics.json");
+    }
     writeSummary(*slam_, run_s, reader.entriesRead(), out + "summary.txt");
     writeTiming(timing, out + "timing.csv");
 
@@ -95,8 +105,11 @@ bool parseSlamArgs(int argc, char** argv, SlamApp::Args& a, std::ostream& out)
         "true path: TUM file, or MRPT simul-landmarks *_ground_truth_robot_path.txt", false, "", "FILE", cmd);
     TCLAP::ValueArg<std::string> gtl("", "gt-landmarks",
         "true landmarks: id,x,y CSV, or MRPT simul-landmarks *_ground_truth.txt", false, "", "FILE", cmd);
+    TCLAP::ValueArg<std::string> gto("", "gt-objects",
+        "true object outlines (simulator's *_gt_objects.txt): outline metrics of the dense maps",
+        false, "", "FILE", cmd);
     TCLAP::SwitchArg quiet("q", "quiet", "no progress output", cmd);
-    TCLAP::SwitchArg nopng("", "no-png", "do not write map.png", cmd);
+    TCLAP::SwitchArg nopng("", "no-png", "do not write map.png and the dense-map images", cmd);
     // MRPT's TCLAP returns false both after --help and after a usage error (which it
     // has already described): tell them apart so a bad command line exits non-zero.
     if (!cmd.parse(argc, argv))
@@ -114,6 +127,7 @@ bool parseSlamArgs(int argc, char** argv, SlamApp::Args& a, std::ostream& out)
     a.out_dir = outd.getValue();
     a.gt_path = gtp.getValue();
     a.gt_landmarks = gtl.getValue();
+    a.gt_objects = gto.getValue();
     a.quiet = quiet.getValue();
     a.png = !nopng.getValue();
     return true;

@@ -1,10 +1,16 @@
 #include "hymm/denseslam/slam_outputs.h"
 
 #include <hymm/core/trajectory_io.h>
+#include <hymm/dense/map_images.h>
+#include <hymm/sim/ground_truth_io.h>
 #include <hymm/eval/LandmarkEvaluator.h>
 #include <hymm/eval/TrajectoryEvaluator.h>
 #include <hymm/eval/metrics_report.h>
 #include <hymm/eval/nees.h>
+#include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/maps/COccupancyGridMap2D.h>
+#include <mrpt/maps/CSimplePointsMap.h>
+#include <mrpt/serialization/CArchive.h>
 #include <mrpt/system/filesystem.h>
 
 #include <fstream>
@@ -28,7 +34,140 @@ std::vector<core::StampedPose2D> estimatedPath(const DenseSlam& slam)
     return out;
 }
 
+template <class T>
+void writeSerialized(const T& obj, const std::string& file)
+{
+    mrpt::io::CFileGZOutputStream f;
+    if (!f.open(file)) throw std::runtime_error("cannot write '" + file + "'");
+    mrpt::serialization::archiveFrom(f) << obj;
+}
+
+void setOutlineMetrics(eval::MetricsJson& j, const dense::OutlineMetrics& m)
+{
+    j.set("points", static_cast<unsigned long>(m.points));
+    j.set("mean_distance_m", m.mean_distance_m);
+    j.set("p95_distance_m", m.p95_distance_m);
+    j.set("coverage", m.coverage);
+    j.set("outline_samples", static_cast<unsigned long>(m.outline_samples));
+}
+
+// Outline metrics of `points`, and without the points near a true landmark.
+void setOutlineMetrics(eval::MetricsJson& j, const std::vector<Eigen::Vector2d>& points,
+                       const std::vector<dense::Polygon>& outlines,
+                       const std::vector<Eigen::Vector2d>& landmarks, double radius)
+{
+    setOutlineMetrics(j, dense::evaluateOutlines(points, outlines));
+    if (landmarks.empty()) return;
+    std::vector<Eigen::Vector2d> kept;
+    kept.reserve(points.size());
+    for (const auto& p : points)
+    {
+        bool near = false;
+        for (const auto& l : landmarks)
+            if ((p - l).squaredNorm() < radius * radius)
+            {
+                near = true;
+                break;
+            }
+        if (!near) kept.push_back(p);
+    }
+    setOutlineMetrics(j.object("objects_only"), dense::evaluateOutlines(kept, outlines));
+}
+
+// Occupancy layer rendered at its own cell size.
+void renderOccupancy(const DenseSlam& slam, mrpt::maps::COccupancyGridMap2D& grid)
+{
+    slam.hybridMap()->renderOccupancy(*slam.partition(),
+                                      slam.hybridMap()->options().occupancy.cell_size_m, grid);
+}
+
+constexpr double kPointsPngResolution = 0.1;  //!< [m/pixel]
+constexpr double kOccupiedProbability = 0.8;  //!< occupied cells for the outline metrics
 }  // namespace
+
+std::vector<dense::Polygon> loadObjectOutlines(const std::string& file)
+{
+    if (!mrpt::system::fileExists(file))
+        throw std::runtime_error("ground-truth object file not found: '" + file + "'");
+    std::vector<dense::Polygon> out;
+    for (const auto& r : sim::readObjectOutlines(file))
+        out.emplace_back(r.outline.begin(), r.outline.end());
+    if (out.empty()) throw std::runtime_error("ground-truth object file '" + file + "' holds no outline");
+    return out;
+}
+
+void writeDenseOutputs(const DenseSlam& slam, const std::string& dir, bool png)
+{
+    const std::string d = dir.empty() || dir.back() == '/' ? dir : dir + "/";
+    const auto* partition = slam.partition();
+    const auto* hybrid = slam.hybridMap();
+    if (partition) partition->saveToFile(d + "regions.txt");
+    if (hybrid && hybrid->options().enable_points)
+    {
+        mrpt::maps::CSimplePointsMap pts;
+        hybrid->renderPoints(*partition, pts);
+        writeSerialized(pts, d + "points.bin");
+        if (!pts.save2D_to_text_file(d + "points.txt"))
+            throw std::runtime_error("cannot write '" + d + "points.txt'");
+        if (png) dense::savePointsPng(pts, d + "points.png", kPointsPngResolution, partition);
+    }
+    if (hybrid && hybrid->options().enable_occupancy)
+    {
+        mrpt::maps::COccupancyGridMap2D grid;
+        renderOccupancy(slam, grid);
+        writeSerialized(grid, d + "occupancy.gridmap");
+        if (png) dense::saveOccupancyPng(grid, d + "occupancy.png", partition);
+    }
+    if (const auto* classic = slam.classicGrid())
+    {
+        mrpt::maps::COccupancyGridMap2D grid;
+        classic->toOccupancyGridMap(grid);
+        writeSerialized(grid, d + "classic_grid.gridmap");
+        if (png) dense::saveOccupancyPng(grid, d + "classic_grid.png");
+    }
+}
+
+void writeDenseMetrics(eval::MetricsJson& j, const DenseSlam& slam,
+                       const std::vector<dense::Polygon>& outlines,
+                       const std::vector<Eigen::Vector2d>& true_landmarks, double landmark_radius_m)
+{
+    if (!slam.partition() && !slam.classicGrid()) return;
+    auto& dj = j.object("dense");
+    const auto& st = slam.stats();
+    if (const auto* partition = slam.partition())
+    {
+        dj.set("regions", static_cast<unsigned long>(partition->size()));
+        dj.set("regions_created", static_cast<unsigned long>(st.regions_created));
+        dj.set("regions_removed", static_cast<unsigned long>(st.regions_removed));
+        dj.set("returns_stored", static_cast<unsigned long>(st.returns_stored));
+        dj.set("returns_outside", static_cast<unsigned long>(st.returns_outside));
+        dj.set("memory_bytes", static_cast<unsigned long>(slam.hybridMap()->memoryBytes()));
+    }
+    if (outlines.empty()) return;
+    const auto* hybrid = slam.hybridMap();
+    if (hybrid && hybrid->options().enable_points)
+    {
+        mrpt::maps::CSimplePointsMap pts;
+        hybrid->renderPoints(*slam.partition(), pts);
+        setOutlineMetrics(dj.object("points"), dense::pointsOf(pts), outlines, true_landmarks,
+                          landmark_radius_m);
+    }
+    if (hybrid && hybrid->options().enable_occupancy)
+    {
+        mrpt::maps::COccupancyGridMap2D grid;
+        renderOccupancy(slam, grid);
+        setOutlineMetrics(dj.object("occupancy"), dense::occupiedCellCentres(grid, kOccupiedProbability),
+                          outlines, true_landmarks, landmark_radius_m);
+    }
+    if (const auto* classic = slam.classicGrid())
+    {
+        mrpt::maps::COccupancyGridMap2D grid;
+        classic->toOccupancyGridMap(grid);
+        setOutlineMetrics(dj.object("classic_grid"),
+                          dense::occupiedCellCentres(grid, kOccupiedProbability), outlines,
+                          true_landmarks, landmark_radius_m);
+    }
+}
 
 std::vector<eval::LandmarkEstimate> estimatedLandmarks(const ekf::EkfSlam& ekf)
 {
@@ -226,6 +365,12 @@ void writeSummary(const DenseSlam& slam, double run_seconds, size_t entries, con
       << "landmarks in map     " << slam.ekf().numLandmarks() << "\n"
       << "final pose           " << pose[0] << " " << pose[1] << " " << pose[2] << "\n"
       << "run time [s]         " << run_seconds << "\n";
+    if (const auto* p = slam.partition())
+        f << "regions (LTR)        " << p->size() << " (created " << s.regions_created << ", removed "
+          << s.regions_removed << ", partition updates " << s.partition_updates << ")\n"
+          << "dense scans          " << s.dense_scans << " (returns stored " << s.returns_stored
+          << ", outside regions " << s.returns_outside << ")\n";
+    if (slam.classicGrid()) f << "classic grid         on\n";
     if (!f) throw std::runtime_error("error writing '" + file + "'");
 }
 

@@ -7,19 +7,38 @@
  * The pipeline owns the feature EKF and the landmark extractor; it knows nothing about
  * files or command lines (SlamApp does that), so a robot program can feed it rawlog
  * entries or live observations directly.
+ *
+ * Dense mapping (optional, [DenseSlam] dense_layers / classic_grid): after the EKF
+ * update of each sensory frame,
+ *  4. regions: LTRs whose vertex landmarks left the map are removed (with their dense
+ *     content), then RegionPartition::update() refreshes the current vertices and grows
+ *     new regions around the vehicle (Sec. 3.5). update() scans every landmark id once,
+ *     O(n) per call; it is called only in frames where the EKF state was updated (the
+ *     landmark estimates changed), other frames leave the partition as it is;
+ *  5. dense: every CObservation2DRangeScan of the frame is fused into the
+ *     HybridMetricMap (and the ClassicOccupancyGrid baseline) at the vehicle pose
+ *     estimate of observation time; the scan's own sensorPose places the sensor on the
+ *     vehicle (ScanPoints::fromRangeScan).
+ * Information flows one way (Sec. 3.2, UIF): the dense part reads the filter through
+ * EkfCovarianceView and never writes to it, so the feature map and the path are the
+ * same, bit for bit, with or without dense layers.
  */
 #pragma once
 
+#include <hymm/dense/ClassicOccupancyGrid.h>
+#include <hymm/dense/HybridMetricMap.h>
 #include <hymm/denseslam/RawlogReader.h>
 #include <hymm/ekf/EkfSlam.h>
 #include <hymm/extract/ReflectorExtractor.h>
 #include <hymm/extract/TreeExtractor.h>
+#include <hymm/ltr/RegionPartition.h>
 #include <mrpt/config/CLoadableOptions.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/obs/CObservationBearingRange.h>
 #include <mrpt/poses/CPose2D.h>
 #include <mrpt/system/CTimeLogger.h>
 
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -50,11 +69,33 @@ public:
         double min_range = 0.0;           //!< [m] observations closer than this are skipped
         double max_range = 1e9;           //!< [m] observations farther than this are skipped
         bool enable_profiler = false;
+        bool dense_points = false;     //!< raw-returns layer (ini: dense_layers)
+        bool dense_occupancy = false;  //!< occupancy layer (ini: dense_layers)
+        bool classic_grid = false;     //!< also build the classic occupancy-grid baseline
+
+        /** True if a layer of the HYMM is on (regions are grown only then; the classic
+         *  grid does not need them). */
+        bool denseLayers() const { return dense_points || dense_occupancy; }
 
         void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
                                 const std::string& section) override;
         void saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
                               const std::string& section) const override;
+    };
+
+    /** Settings of the dense part; read from [LtrPartition], [HybridMetricMap],
+     *  [OccupancyLayer], [PointsLayer] and [ClassicOccupancyGrid]. The layers switched on
+     *  come from Options::dense_points / dense_occupancy, which override
+     *  HybridMetricMap::Options::enable_points / enable_occupancy. */
+    struct DenseOptions
+    {
+        ltr::RegionPartition::Options partition;
+        dense::HybridMetricMap::Options hybrid;
+        dense::ClassicOccupancyGrid::Options classic;
+
+        /** Reads the five sections (absent sections keep the defaults; unknown keys are
+         *  errors). */
+        void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg);
     };
 
     /** One estimated vehicle pose, after the update of a sensory frame. */
@@ -74,15 +115,22 @@ public:
         size_t skipped_invalid = 0;   //!< NaN / non-finite / out-of-range readings
         size_t scans = 0, extracted = 0;
         size_t observations_with_id = 0;  //!< used with the landmark ID the rawlog carried
+        // dense part
+        size_t partition_updates = 0;   //!< calls of RegionPartition::update()
+        size_t regions_created = 0, regions_removed = 0;
+        size_t dense_scans = 0;         //!< scans fused into the dense layers
+        size_t returns_stored = 0;      //!< returns assigned to a region
+        size_t returns_outside = 0;     //!< returns in no region (not stored)
     };
 
     /** Builds the pipeline from an .ini: sections [DenseSlam], [EkfSlam], [TreeExtractor],
-     *  [ReflectorExtractor]. */
+     *  [ReflectorExtractor] and the DenseOptions sections. */
     static DenseSlam fromConfig(const mrpt::config::CConfigFileBase& cfg);
 
     DenseSlam(const Options& opts, const ekf::EkfSlam::Options& ekf_opts,
               const extract::TreeExtractor::Options& tree_opts,
-              const extract::ReflectorExtractor::Options& reflector_opts = {});
+              const extract::ReflectorExtractor::Options& reflector_opts = {},
+              const DenseOptions& dense_opts = {});
 
     /** Processes one rawlog entry (actions, sensory frame or single observation). */
     void processEntry(const RawlogEntry& entry);
@@ -99,12 +147,21 @@ public:
     const Options& options() const { return options_; }
     mrpt::system::CTimeLogger& profiler() { return profiler_; }
 
+    /** The LTRs; nullptr when no dense layer is on. */
+    const ltr::RegionPartition* partition() const { return partition_.get(); }
+    /** The dense layers; nullptr when no dense layer is on. */
+    const dense::HybridMetricMap* hybridMap() const { return hybrid_.get(); }
+    /** The classic grid baseline; nullptr unless classic_grid is on. */
+    const dense::ClassicOccupancyGrid* classicGrid() const { return classic_.get(); }
+
 private:
     void processBearingRange(const mrpt::obs::CObservationBearingRange& obs);
     void processScan(const mrpt::obs::CObservation2DRangeScan& scan);
     void processOdometryObservation(const mrpt::obs::CObservation& obs);
     void update(const std::vector<ekf::RangeBearingObs>& obs, const mrpt::poses::CPose3D& sensor);
     Eigen::Matrix2d sensorNoise(double std_range, double std_bearing) const;
+    /** Steps 4-5 of the class comment for one frame. */
+    void processDense(const mrpt::obs::CSensoryFrame& frame, double t, bool map_changed);
 
     Options options_;
     ekf::EkfSlam ekf_;
@@ -113,6 +170,10 @@ private:
     std::vector<PathSample> path_;
     Stats stats_;
     std::optional<mrpt::poses::CPose2D> last_odometry_;  //!< for observation-only rawlogs
+    size_t updates_ = 0;  //!< EKF updates applied so far
+    std::unique_ptr<ltr::RegionPartition> partition_;
+    std::unique_ptr<dense::HybridMetricMap> hybrid_;
+    std::unique_ptr<dense::ClassicOccupancyGrid> classic_;
     mrpt::system::CTimeLogger profiler_{false, "hymm::DenseSlam"};
 };
 

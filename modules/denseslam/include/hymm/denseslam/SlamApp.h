@@ -11,6 +11,11 @@
  *  - metrics.json    with ground truth: path RMSE, landmark errors, NEES statistics
  *  - summary.txt     counters (associations, rejections, skipped readings) and timing
  *  - timing.csv      processing time of every sensory frame against map size
+ * and with dense layers / the classic grid on ([DenseSlam] dense_layers, classic_grid):
+ *  - regions.txt, points.{png,bin,txt}, occupancy.{png,gridmap},
+ *    classic_grid.{png,gridmap} (see writeDenseOutputs);
+ *  - metrics.json gains "dense": outline accuracy and coverage of every dense map
+ *    against the true object outlines given with --gt-objects.
  */
 #pragma once
 
@@ -31,6 +36,7 @@ public:
         std::string out_dir;         //!< output folder, created if missing (required)
         std::string gt_path;         //!< true path: TUM, or MRPT's *_ground_truth_robot_path.txt
         std::string gt_landmarks;    //!< true landmarks: id,x,y CSV, or MRPT's *_ground_truth.txt
+        std::string gt_objects;      //!< true object outlines (simulator's *_gt_objects.txt)
         bool quiet = false;          //!< no progress lines
         bool png = true;             //!< write map.png
     };

@@ -6,6 +6,7 @@
  */
 #pragma once
 
+#include <hymm/dense/outline_metrics.h>
 #include <hymm/denseslam/DenseSlam.h>
 #include <hymm/denseslam/MapPlot.h>
 #include <hymm/eval/LandmarkEvaluator.h>
@@ -79,6 +80,38 @@ void writeTiming(const std::vector<FrameTiming>& timing, const std::string& file
  */
 eval::MetricsJson evaluateResultFiles(const std::string& path_tum, const std::string& landmarks_csv,
                                       const GroundTruth& gt);
+
+/** True object outlines from the simulator's `<name>_gt_objects.txt` (every record;
+ *  hymm::sim::readObjectOutlines). Throws if the file is missing or malformed. */
+std::vector<dense::Polygon> loadObjectOutlines(const std::string& file);
+
+/**
+ * Dense-map outputs (only what the run built), into the folder `dir`:
+ *  - points.png, points.bin (CSimplePointsMap, MRPT-serialised, gzip) and points.txt
+ *    (x y per line, CPointsMap::save2D_to_text_file): the points layer rendered at the
+ *    current landmark estimates;
+ *  - occupancy.png (with the triangle edges) and occupancy.gridmap (COccupancyGridMap2D,
+ *    MRPT-serialised, gzip, as MRPT's map tools read it): the occupancy layer rendered
+ *    at its cell size;
+ *  - classic_grid.png and classic_grid.gridmap: the classic baseline;
+ *  - regions.txt: RegionPartition::save.
+ * `png` = false skips the images. Throws if a file cannot be written.
+ */
+void writeDenseOutputs(const DenseSlam& slam, const std::string& dir, bool png = true);
+
+/**
+ * Outline accuracy and coverage of every dense map the run built (dense module's
+ * evaluateOutlines), into `j` under "dense": "points" (every rendered point),
+ * "occupancy" and "classic_grid" (centres of cells with P(occupied) > 0.8), each with
+ * points, mean_distance_m, p95_distance_m, coverage; plus region and return counters.
+ * Laser returns on the landmarks themselves (trunks) are far from every object outline;
+ * with `true_landmarks` given, each map also gets "objects_only": the same metrics
+ * without the map points closer than `landmark_radius_m` to a true landmark.
+ */
+void writeDenseMetrics(eval::MetricsJson& j, const DenseSlam& slam,
+                       const std::vector<dense::Polygon>& outlines,
+                       const std::vector<Eigen::Vector2d>& true_landmarks = {},
+                       double landmark_radius_m = 1.0);
 
 /** Human-readable counters and timing. */
 void writeSummary(const DenseSlam& slam, double run_seconds, size_t entries,

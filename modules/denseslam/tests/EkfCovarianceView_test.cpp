@@ -1,0 +1,90 @@
+// EkfCovarianceView against DenseCovarianceView over the same (mean, covariance): every
+// accessor must read the same blocks; 3-DOF blocks and tentative landmarks are hidden.
+#include <gtest/gtest.h>
+#include <hymm/denseslam/EkfCovarianceView.h>
+#include <hymm/ltr/DenseCovarianceView.h>
+
+#include <map>
+#include <random>
+
+namespace
+{
+using hymm::denseslam::EkfCovarianceView;
+
+// Random SPD covariance of size n with non-trivial correlations.
+Eigen::MatrixXd randomCov(int n, unsigned seed)
+{
+    std::mt19937 rng(seed);
+    std::normal_distribution<double> g;
+    Eigen::MatrixXd A(n, n);
+    for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) A(i, j) = g(rng);
+    Eigen::MatrixXd P = A * A.transpose() + 0.1 * Eigen::MatrixXd::Identity(n, n);
+    // Exactly symmetric, so the filter stores it unchanged.
+    for (int i = 0; i < n; ++i)
+        for (int j = 0; j < i; ++j) P(i, j) = P(j, i);
+    return P;
+}
+
+TEST(EkfCovarianceView, ReadsTheSameBlocksAsADenseView)
+{
+    // Vehicle, point 7, pose-like block 3 (3 DOF), point 12.
+    const int n = 3 + 2 + 3 + 2;
+    Eigen::VectorXd x(n);
+    for (int i = 0; i < n; ++i) x[i] = 0.5 * i - 1.0;
+    const Eigen::MatrixXd P = randomCov(n, 5);
+    hymm::ekf::EkfSlam ekf{hymm::ekf::EkfSlam::Options()};
+    ekf.setActiveState(x, P, {{7, 2}, {3, 3}, {12, 2}});
+    ASSERT_TRUE(ekf.cov() == P);
+
+    const EkfCovarianceView v(ekf);
+    const hymm::ltr::DenseCovarianceView d(x, P, std::map<long, int>{{7, 3}, {12, 8}}, 0);
+
+    EXPECT_EQ(v.ids(), (std::vector<long>{7, 12}));
+    EXPECT_TRUE(v.has(7));
+    EXPECT_TRUE(v.has(12));
+    EXPECT_FALSE(v.has(3));   // 3-DOF block
+    EXPECT_FALSE(v.has(99));  // unknown
+    EXPECT_THROW(v.mean(3), std::out_of_range);
+    EXPECT_THROW(v.cov(99), std::out_of_range);
+    EXPECT_EQ(v.vehiclePose(), d.vehiclePose());
+    EXPECT_EQ(v.vehicleCov(), d.vehicleCov());
+    for (long a : {7L, 12L})
+    {
+        EXPECT_EQ(v.mean(a), d.mean(a));
+        EXPECT_EQ(v.cov(a), d.cov(a));
+        EXPECT_EQ(v.crossVehicle(a), d.crossVehicle(a));
+        for (long b : {7L, 12L}) EXPECT_EQ(v.crossCov(a, b), d.crossCov(a, b));
+    }
+    // Direct check of one cross block against P (rows of 12, columns of 7).
+    EXPECT_EQ(v.crossCov(12, 7), Eigen::Matrix2d(P.block(8, 3, 2, 2)));
+}
+
+TEST(EkfCovarianceView, HidesTentativeLandmarksUnlessAsked)
+{
+    hymm::ekf::EkfSlam::Options o;
+    o.confirm_min_observations = 2;
+    hymm::ekf::EkfSlam ekf(o);
+    ekf.reset(Eigen::Vector3d::Zero(), 0.01 * Eigen::Matrix3d::Identity());
+    hymm::ekf::RangeBearingObs z;
+    z.z = Eigen::Vector2d(5.0, 0.3);
+    z.R = Eigen::Vector2d(0.01, 0.001).asDiagonal();
+    z.id = 4;
+    ekf.updateRangeBearing({z}, mrpt::poses::CPose3D());
+    ASSERT_TRUE(ekf.hasLandmark(4));
+    ASSERT_FALSE(ekf.landmarkBlock(4).confirmed);
+
+    EXPECT_FALSE(EkfCovarianceView(ekf).has(4));
+    EXPECT_TRUE(EkfCovarianceView(ekf).ids().empty());
+    const EkfCovarianceView all(ekf, false);
+    EXPECT_TRUE(all.has(4));
+    EXPECT_EQ(all.mean(4), ekf.landmarkMean(4));
+    EXPECT_EQ(all.cov(4), ekf.landmarkCov(4));
+
+    // The view is live: once confirmed, the default view shows it.
+    ekf.updateRangeBearing({z}, mrpt::poses::CPose3D());
+    ASSERT_TRUE(ekf.landmarkBlock(4).confirmed);
+    EXPECT_TRUE(EkfCovarianceView(ekf).has(4));
+}
+
+}  // namespace
