@@ -86,18 +86,36 @@ void EkfSlam::reset(const Eigen::Vector3d& pose, const Eigen::Matrix3d& cov)
     if (!pose.allFinite()) throw std::invalid_argument("EkfSlam::reset: non-finite pose");
     layout_.clear();
     passive_.clear();
+    first_estimates_.clear();
     x_ = pose;
     x_[2] = mrpt::math::wrapToPi(x_[2]);
     P_ = 0.5 * (cov + cov.transpose());
+    predicted_pose_ = x_;
+    last_F_.setIdentity();
     step_ = 0;
 }
 
 // ---------------------------------------------------------------- prediction
 void EkfSlam::applyVehicleMotion(
-    const Eigen::Vector3d& pose, const Eigen::Matrix3d& F, const Eigen::Matrix3d& Q)
+    const Eigen::Vector3d& pose, const Eigen::Matrix3d& F_current, const Eigen::Matrix3d& Q)
 {
     // Eq. 2.36: the map is static, so only P_vv and the vehicle rows/columns change: O(n).
     const Eigen::Index n = P_.rows(), nm = n - 3;
+    Eigen::Matrix3d F = F_current;
+    if (options_.jacobians == LinearisationPoint::FirstEstimates)
+    {
+        // Both motion models move the position by R(phi_k) g(u), so the standard block is
+        // d p_{k+1} / d phi_k = J (p_{k+1|k} - p_{k|k}), J = [0 -1; 1 0]. FEJ-EKF (Huang
+        // et al. 2008) takes p_{k|k-1} instead of p_{k|k}: the product of the
+        // Jacobians from step j to step k then has the block J (p_{k|k-1} - p_{j|j-1}), as
+        // for the true (noise-free) system, which keeps global heading unobservable.
+        // Without an update since the last prediction p_{k|k-1} = p_{k|k}: no change.
+        const Eigen::Vector2d dp = pose.head<2>() - predicted_pose_.head<2>();
+        F(0, 2) = -dp[1];
+        F(1, 2) = dp[0];
+    }
+    last_F_ = F;
+    predicted_pose_ = pose;
     x_.head<3>() = pose;
     const Eigen::Matrix3d Pvv = P_.topLeftCorner<3, 3>();
     P_.topLeftCorner<3, 3>() = F * Pvv * F.transpose() + Q;
@@ -153,9 +171,38 @@ EkfSlam::Pairing EkfSlam::makePairing(
     pr.obs = obs;
     pr.offset = b.offset;
     pr.id = b.id;
-    pr.h = hymm::core::observeRangeBearing(
-        x_.head<3>(), sensor, x_.segment<2>(static_cast<Eigen::Index>(b.offset)), &pr.Hv, &pr.Hl);
+    const auto o = static_cast<Eigen::Index>(b.offset);
+    if (options_.jacobians == LinearisationPoint::FirstEstimates)
+    {
+        // FEJ-EKF (Huang et al. 2008): the predicted observation (hence the
+        // innovation) at the current estimate, the Jacobians at x_{k|k-1} and at the
+        // landmark's first estimate.
+        pr.h = hymm::core::observeRangeBearing(x_.head<3>(), sensor, x_.segment<2>(o));
+        const Eigen::Vector2d first = first_estimates_.at(b.id);
+        hymm::core::observeRangeBearing(predicted_pose_, sensor, first, &pr.Hv, &pr.Hl);
+    }
+    else
+        pr.h = hymm::core::observeRangeBearing(
+            x_.head<3>(), sensor, x_.segment<2>(o), &pr.Hv, &pr.Hl);
     return pr;
+}
+
+void EkfSlam::observationJacobians(long id, const Eigen::Vector3d& sensor,
+                                   Eigen::Matrix<double, 2, 3>& H_v, Eigen::Matrix2d& H_l) const
+{
+    const LandmarkBlock& b = layout_.get(id);
+    if (b.dim != 2)
+        throw std::invalid_argument("EkfSlam::observationJacobians: landmark " +
+                                    std::to_string(id) + " is not a 2D point");
+    const Pairing pr = makePairing(0, b, sensor);
+    H_v = pr.Hv;
+    H_l = pr.Hl;
+}
+
+const Eigen::VectorXd& EkfSlam::landmarkFirstEstimate(long id) const
+{
+    layout_.get(id);  // throws if unknown
+    return first_estimates_.at(id);
 }
 
 bool EkfSlam::fuse(
@@ -252,6 +299,7 @@ void EkfSlam::augment(const std::vector<std::pair<long, Eigen::VectorXd>>& block
     {
         x_.segment(row, mean.size()) = mean;
         LandmarkBlock& b = layout_.get(layout_.add(id, static_cast<int>(mean.size()), step_).id);
+        first_estimates_[b.id] = mean;
         b.times_seen = 1;
         b.confirmed = confirmed;
         row += mean.size();
@@ -276,6 +324,7 @@ long EkfSlam::addLandmark(const Eigen::VectorXd& mean, const Eigen::MatrixXd& G_
 void EkfSlam::removeLandmark(long id)
 {
     const LandmarkBlock b = layout_.remove(id);  // throws if unknown
+    first_estimates_.erase(id);
     const auto o = static_cast<Eigen::Index>(b.offset), d = static_cast<Eigen::Index>(b.dim);
     eraseEntries(x_, o, d);
     eraseRowsCols(P_, o, d);
@@ -330,6 +379,11 @@ void EkfSlam::setActiveState(const Eigen::VectorXd& x, const Eigen::MatrixXd& P,
     x_[2] = mrpt::math::wrapToPi(x_[2]);
     P_ = 0.5 * (P + P.transpose());
     passive_.clear();
+    first_estimates_.clear();
+    for (const auto& b : layout_.blocks())
+        first_estimates_[b.id] = x_.segment(static_cast<Eigen::Index>(b.offset), b.dim);
+    predicted_pose_ = x_.head<3>();
+    last_F_.setIdentity();
 }
 
 // ---------------------------------------------------------------- passive states

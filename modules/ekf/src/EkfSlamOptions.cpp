@@ -12,6 +12,10 @@ std::string methodName(AssociationMethod m)
 {
     return m == AssociationMethod::JCBB ? "jcbb" : "nn";
 }
+std::string jacobiansName(LinearisationPoint j)
+{
+    return j == LinearisationPoint::FirstEstimates ? "first_estimates" : "current";
+}
 std::string str(double v)
 {
     std::ostringstream os;
@@ -28,7 +32,7 @@ void EkfSlam::Options::loadFromConfigFile(
         cfg, s,
         {"association_method", "association_gate_prob", "creation_gate_prob", "jcbb_max_nodes",
          "prune_tentative", "confirm_min_observations", "confirm_window_steps",
-         "stabilising_std_xy", "stabilising_std_phi_deg", "enable_profiler"});
+         "stabilising_std_xy", "stabilising_std_phi_deg", "enable_profiler", "jacobians"});
     const std::string m = readString(cfg, s, "association_method", methodName(association_method));
     if (m == "nn")
         association_method = AssociationMethod::NearestNeighbour;
@@ -50,6 +54,13 @@ void EkfSlam::Options::loadFromConfigFile(
     stabilising_std_phi = mrpt::DEG2RAD(readDoubleMin(
         cfg, s, "stabilising_std_phi_deg", mrpt::RAD2DEG(stabilising_std_phi), 0.0, false));
     enable_profiler = readBool(cfg, s, "enable_profiler", enable_profiler);
+    const std::string j = readString(cfg, s, "jacobians", jacobiansName(jacobians));
+    if (j == "current")
+        jacobians = LinearisationPoint::Current;
+    else if (j == "first_estimates")
+        jacobians = LinearisationPoint::FirstEstimates;
+    else
+        throwConfigError(s, "jacobians", j, "must be current or first_estimates");
     validate(s);
 }
 
@@ -66,6 +77,7 @@ void EkfSlam::Options::saveToConfigFile(
     cfg.write(s, "stabilising_std_xy", stabilising_std_xy);
     cfg.write(s, "stabilising_std_phi_deg", mrpt::RAD2DEG(stabilising_std_phi));
     cfg.write(s, "enable_profiler", enable_profiler);
+    cfg.write(s, "jacobians", jacobiansName(jacobians));
 }
 
 void EkfSlam::Options::validate(const std::string& s) const

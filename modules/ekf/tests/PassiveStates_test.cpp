@@ -44,7 +44,8 @@ std::vector<RangeBearingObs> sense(World& w, bool known_ids)
  *  filter holding the passive blocks as active landmarks (ids 1000+). */
 struct Trio
 {
-    EkfSlam plain{EkfSlam::Options{}}, uif{EkfSlam::Options{}}, joint{EkfSlam::Options{}};
+    explicit Trio(const EkfSlam::Options& o) : plain(o), uif(o), joint(o) {}
+    EkfSlam plain, uif, joint;
     std::map<long, long> joint_id;  // passive id -> id of the same block in `joint`
 
     void reset()
@@ -69,12 +70,14 @@ struct Trio
     }
 };
 
-TEST(PassiveStatesTest, ActiveFilterIsBitwiseIdenticalAndPassiveMatchesJointFilter)
+void checkPassiveStates(LinearisationPoint jacobians)
 {
     World w;
     for (int k = 0; k < 12; ++k)
         w.lms.emplace_back(5.0 + 3.0 * k, (k % 2 ? 6.0 : -6.0) + 0.3 * k);
-    Trio t;
+    EkfSlam::Options opts;
+    opts.jacobians = jacobians;
+    Trio t(opts);
     t.reset();
     const Eigen::Vector2d u(4.0, 0.02);
     for (int step = 0; step < 40; ++step)
@@ -136,6 +139,17 @@ TEST(PassiveStatesTest, ActiveFilterIsBitwiseIdenticalAndPassiveMatchesJointFilt
     // Only N_p x n_active cross terms plus the own blocks are stored (no passive-passive).
     const size_t n = static_cast<size_t>(t.uif.mean().size());
     EXPECT_EQ(t.uif.passive().storedCovarianceEntries(), (3 + 2) * n + 9 + 4);
+}
+
+TEST(PassiveStatesTest, ActiveFilterIsBitwiseIdenticalAndPassiveMatchesJointFilter)
+{
+    checkPassiveStates(LinearisationPoint::Current);
+}
+
+TEST(PassiveStatesTest, SameWithFirstEstimatesJacobians)
+{
+    // FEJ-EKF: the passive blocks see the same (first-estimates) H and motion Jacobians.
+    checkPassiveStates(LinearisationPoint::FirstEstimates);
 }
 
 TEST(PassiveStatesTest, RejectsBadBlocks)

@@ -4,6 +4,8 @@
  *        full correlations, UTE / odometry prediction, batched range-bearing updates,
  *        exact augmentation (Eq. 2.53), data association (known ids, NN or JCBB), pruning
  *        of tentative landmarks and passive states with Unidirectional Information Flow.
+ *        Jacobians at the current estimate (standard EKF) or at first estimates (FEJ-EKF,
+ *        Huang, Mourikis & Roumeliotis, ICRA 2008; see LinearisationPoint).
  *
  * Costs with n active states and m associated observations per step:
  *  - prediction O(n): only P_vv and the vehicle-map cross block P_vm change (Eq. 2.36);
@@ -26,6 +28,7 @@
 
 #include <Eigen/Core>
 #include <string>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -59,6 +62,25 @@ struct UpdateReport
     std::string rejection_reason;    //!< why an update was skipped (empty if none)
 };
 
+/**
+ * Where the filter evaluates its Jacobians.
+ *  - Current: the standard EKF, at the latest estimate.
+ *  - FirstEstimates: the First-Estimates Jacobian EKF (Huang, Mourikis & Roumeliotis,
+ *    "Analysis and improvement of the consistency of extended Kalman filter based SLAM",
+ *    ICRA 2008). Measurement Jacobians at the predicted vehicle pose x_{k|k-1} and at each
+ *    landmark's first estimate (its value when it was added); the position-heading block
+ *    of the motion Jacobian is J (p_{k+1|k} - p_{k|k-1}), J = [0 -1; 1 0], so that the
+ *    products of motion Jacobians telescope. The linearised system then keeps the
+ *    3-dimensional unobservable subspace (global translation and heading) of the
+ *    nonlinear one instead of the 2 of the standard EKF, which gains spurious heading
+ *    information at every re-observation. Means and innovations use the latest estimate.
+ */
+enum class LinearisationPoint
+{
+    Current,
+    FirstEstimates
+};
+
 class EkfSlam
 {
 public:
@@ -83,6 +105,9 @@ public:
         double stabilising_std_xy = 0.0;   //!< [m]
         double stabilising_std_phi = 0.0;  //!< [rad] (ini: stabilising_std_phi_deg)
         bool enable_profiler = false;      //!< CTimeLogger sections "ekf.*"
+        /** Linearisation points of the Jacobians. Ini: jacobians = current |
+         *  first_estimates. */
+        LinearisationPoint jacobians = LinearisationPoint::Current;
 
         void loadFromConfigFile(
             const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
@@ -146,6 +171,22 @@ public:
     const StateLayout& layout() const { return layout_; }
     long currentStep() const { return step_; }
 
+    // ---- Linearisation points (see LinearisationPoint) ----
+
+    /** The block's first estimate: its mean when it was added (augmentation, addLandmark or
+     *  setActiveState). Throws if unknown. */
+    const Eigen::VectorXd& landmarkFirstEstimate(long id) const;
+    /** The vehicle pose of the latest prediction before any update, x_{k|k-1} (the pose
+     *  of reset() or setActiveState() before the first prediction). */
+    const Eigen::Vector3d& predictedPose() const { return predicted_pose_; }
+    /** The vehicle Jacobian F of the latest prediction (identity before the first one). */
+    const Eigen::Matrix3d& lastMotionJacobian() const { return last_F_; }
+    /** The Jacobians of the range-bearing observation of point landmark `id` that the next
+     *  update would use (d h / d vehicle, d h / d landmark), for a sensor at (x, y, yaw) on
+     *  the vehicle. Throws if unknown or not a 2D point. */
+    void observationJacobians(long id, const Eigen::Vector3d& sensor,
+                              Eigen::Matrix<double, 2, 3>& H_v, Eigen::Matrix2d& H_l) const;
+
     /**
      * Adds an active landmark block by the augmentation of Eq. 2.53 for any block size:
      * mean `mean`, P_new = G_v P_vv G_v^T + noise_cov, P_new,* = G_v P_v*. `noise_cov`
@@ -197,7 +238,10 @@ private:
         long id;  //!< -1: fresh id
     };
 
-    void applyVehicleMotion(const Eigen::Vector3d& pose, const Eigen::Matrix3d& F,
+    /** Moves the vehicle to `pose` (predicted from the current estimate) with the motion
+     *  Jacobian F_current at the current estimate; with first-estimates Jacobians the
+     *  position-heading block of F is replaced (see LinearisationPoint). */
+    void applyVehicleMotion(const Eigen::Vector3d& pose, const Eigen::Matrix3d& F_current,
                             const Eigen::Matrix3d& Q);
     /** Data association of one batch; fills pairings, new landmarks and the report. */
     void associateBatch(const std::vector<RangeBearingObs>& obs, const std::vector<bool>& valid,
@@ -217,6 +261,10 @@ private:
     Eigen::VectorXd x_;
     Eigen::MatrixXd P_;
     PassiveStates passive_;
+    /** Mean of every active block when it was added (LinearisationPoint::FirstEstimates). */
+    std::unordered_map<long, Eigen::VectorXd> first_estimates_;
+    Eigen::Vector3d predicted_pose_ = Eigen::Vector3d::Zero();  //!< x_{k|k-1}
+    Eigen::Matrix3d last_F_ = Eigen::Matrix3d::Identity();
     long step_ = 0;
     mrpt::system::CTimeLogger profiler_;
 };

@@ -1,0 +1,405 @@
+// First-Estimates Jacobian EKF (Huang, Mourikis & Roumeliotis, ICRA 2008): the Jacobians
+// used are those of the stored first estimates and of the predicted pose, the update and
+// prediction equal a dense reference built with them, and the linearised system keeps the
+// 3-dimensional unobservable subspace that the standard EKF reduces to 2.
+#include <gtest/gtest.h>
+#include <hymm/core/RangeBearingModel.h>
+#include <hymm/core/UteVehicleModel.h>
+#include <hymm/ekf/EkfSlam.h>
+#include <hymm/ekf/pose_composition.h>
+#include <mrpt/config/CConfigFileMemory.h>
+#include <mrpt/math/wrap2pi.h>
+
+#include <Eigen/Cholesky>
+#include <Eigen/SVD>
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "test_helpers.h"
+
+namespace
+{
+using namespace hymm::ekf;
+using Mat23 = Eigen::Matrix<double, 2, 3>;
+
+constexpr double kDeg = M_PI / 180.0;
+const mrpt::poses::CPose3D kSensor(0.4, -0.1, 0.0, 5.0 * kDeg, 0.0, 0.0);
+const Eigen::Vector3d kSensorVec(0.4, -0.1, 5.0 * kDeg);
+const std::vector<Eigen::Vector2d> kLandmarks = {{8.0, 6.0}, {12.0, -5.0}, {3.0, 11.0}};
+const Eigen::Matrix2d kR = Eigen::Vector2d(0.2, 2.0 * kDeg).cwiseAbs2().asDiagonal();
+const Eigen::Matrix3d kOdoCov = Eigen::Vector3d(0.05, 0.02, 1.0 * kDeg).cwiseAbs2().asDiagonal();
+
+EkfSlam::Options fejOptions(LinearisationPoint j = LinearisationPoint::FirstEstimates)
+{
+    EkfSlam::Options o;
+    o.jacobians = j;
+    return o;
+}
+
+Eigen::Matrix2d skew() { return (Eigen::Matrix2d() << 0.0, -1.0, 1.0, 0.0).finished(); }
+
+/** Known-id observations of kLandmarks from `truth`, with seeded noise. */
+std::vector<RangeBearingObs> observe(const Eigen::Vector3d& truth, std::mt19937& rng)
+{
+    std::normal_distribution<double> g(0.0, 1.0);
+    std::vector<RangeBearingObs> obs;
+    for (size_t k = 0; k < kLandmarks.size(); ++k)
+    {
+        RangeBearingObs o;
+        o.z = hymm::core::observeRangeBearing(truth, kSensorVec, kLandmarks[k]);
+        o.z += Eigen::Vector2d(std::sqrt(kR(0, 0)) * g(rng), std::sqrt(kR(1, 1)) * g(rng));
+        o.z[1] = mrpt::math::wrapToPi(o.z[1]);
+        o.R = kR;
+        o.id = static_cast<long>(k);
+        obs.push_back(o);
+    }
+    return obs;
+}
+
+mrpt::poses::CPosePDFGaussian increment(const Eigen::Vector3d& d)
+{
+    mrpt::poses::CPosePDFGaussian inc;
+    inc.mean = mrpt::poses::CPose2D(d[0], d[1], d[2]);
+    inc.cov = mrpt::math::CMatrixDouble33(kOdoCov);
+    return inc;
+}
+
+/** A filter that has mapped kLandmarks from the origin and then moved and updated once,
+ *  so every estimate differs from its first estimate and from its prediction. */
+EkfSlam mappedFilter(LinearisationPoint j, std::mt19937& rng, Eigen::Vector3d& truth)
+{
+    EkfSlam f(fejOptions(j));
+    truth = Eigen::Vector3d(0.0, 0.0, 0.1);
+    f.reset(truth, Eigen::Vector3d(0.01, 0.01, 0.5 * kDeg).cwiseAbs2().asDiagonal());
+    f.updateRangeBearing(observe(truth, rng), kSensor);
+    const Eigen::Vector3d d(1.0, 0.1, 3.0 * kDeg);
+    truth = composePose(truth, d);
+    f.predictOdometry(increment(d + Eigen::Vector3d(0.05, -0.02, 1.0 * kDeg)));
+    f.updateRangeBearing(observe(truth, rng), kSensor);
+    return f;
+}
+
+TEST(EkfSlamFejTest, OptionLoadsFromIniAndRoundTrips)
+{
+    EXPECT_EQ(EkfSlam::Options{}.jacobians, LinearisationPoint::Current);
+    EkfSlam::Options o;
+    mrpt::config::CConfigFileMemory cfg(std::string("[EkfSlam]\njacobians = first_estimates\n"));
+    o.loadFromConfigFile(cfg, "EkfSlam");
+    EXPECT_EQ(o.jacobians, LinearisationPoint::FirstEstimates);
+    mrpt::config::CConfigFileMemory round;
+    o.saveToConfigFile(round, "EkfSlam");
+    EkfSlam::Options back;
+    back.loadFromConfigFile(round, "EkfSlam");
+    EXPECT_EQ(back.jacobians, LinearisationPoint::FirstEstimates);
+    mrpt::config::CConfigFileMemory cur(std::string("[EkfSlam]\njacobians = current\n"));
+    back.loadFromConfigFile(cur, "EkfSlam");
+    EXPECT_EQ(back.jacobians, LinearisationPoint::Current);
+    mrpt::config::CConfigFileMemory bad(std::string("[EkfSlam]\njacobians = first\n"));
+    EXPECT_THROW(o.loadFromConfigFile(bad, "EkfSlam"), std::invalid_argument);
+}
+
+TEST(EkfSlamFejTest, FirstEstimatesAreStoredAtCreationAndKeptByUpdates)
+{
+    std::mt19937 rng(3);
+    EkfSlam f(fejOptions());
+    const Eigen::Vector3d truth(0.0, 0.0, 0.1);
+    f.reset(truth, Eigen::Matrix3d::Identity() * 1e-4);
+    f.updateRangeBearing(observe(truth, rng), kSensor);
+    ASSERT_EQ(f.numLandmarks(), kLandmarks.size());
+    std::vector<Eigen::Vector2d> created;
+    for (long id = 0; id < 3; ++id)
+    {
+        EXPECT_EQ((f.landmarkFirstEstimate(id) - f.landmarkBlockMean(id)).norm(), 0.0);
+        created.push_back(f.landmarkMean(id));
+    }
+    for (int k = 0; k < 3; ++k)
+    {
+        f.predictOdometry(increment(Eigen::Vector3d(0.5, 0.0, 0.0)));
+        f.updateRangeBearing(observe(composePose(truth, Eigen::Vector3d(0.5 * (k + 1), 0, 0)), rng),
+                             kSensor);
+    }
+    for (long id = 0; id < 3; ++id)
+    {
+        EXPECT_GT((f.landmarkMean(id) - created[static_cast<size_t>(id)]).norm(), 1e-4);
+        EXPECT_EQ((f.landmarkFirstEstimate(id) - created[static_cast<size_t>(id)]).norm(), 0.0);
+    }
+    // addLandmark and setActiveState define first estimates too; removal forgets them.
+    const long added =
+        f.addLandmark(Eigen::Vector2d(1.0, 2.0), Mat23::Zero(), Eigen::Matrix2d::Identity());
+    EXPECT_EQ(f.landmarkFirstEstimate(added), Eigen::VectorXd(Eigen::Vector2d(1.0, 2.0)));
+    f.removeLandmark(added);
+    EXPECT_THROW(f.landmarkFirstEstimate(added), std::exception);
+    f.setActiveState(f.mean(), f.cov(), {{0, 2}, {1, 2}, {2, 2}});
+    EXPECT_EQ((f.landmarkFirstEstimate(1) - f.landmarkBlockMean(1)).norm(), 0.0);
+    EXPECT_EQ((f.predictedPose() - f.vehiclePose()).norm(), 0.0);
+}
+
+TEST(EkfSlamFejTest, ObservationJacobiansAreThoseOfFirstEstimatesAndPredictedPose)
+{
+    for (const auto j : {LinearisationPoint::Current, LinearisationPoint::FirstEstimates})
+    {
+        std::mt19937 rng(5);
+        Eigen::Vector3d truth;
+        EkfSlam f = mappedFilter(j, rng, truth);
+        f.predictOdometry(increment(Eigen::Vector3d(1.0, 0.0, 2.0 * kDeg)));
+        f.updateRangeBearing(observe(composePose(truth, Eigen::Vector3d(1, 0, 2 * kDeg)), rng),
+                             kSensor);
+        // After an update the pose differs from its prediction: predict once more and
+        // update once without a prediction, so both FEJ points differ from the estimate.
+        f.predictOdometry(increment(Eigen::Vector3d(1.0, 0.0, 0.0)));
+        f.updateRangeBearing(observe(truth, rng), kSensor);
+        ASSERT_GT((f.predictedPose() - f.vehiclePose()).norm(), 1e-4);
+        for (long id = 0; id < 3; ++id)
+        {
+            Mat23 Hv, Hv_first, Hv_cur;
+            Eigen::Matrix2d Hl, Hl_first, Hl_cur;
+            f.observationJacobians(id, kSensorVec, Hv, Hl);
+            hymm::core::observeRangeBearing(f.predictedPose(), kSensorVec,
+                                            f.landmarkFirstEstimate(id), &Hv_first, &Hl_first);
+            hymm::core::observeRangeBearing(f.vehiclePose(), kSensorVec, f.landmarkMean(id),
+                                            &Hv_cur, &Hl_cur);
+            const double d_first = (Hv - Hv_first).norm() + (Hl - Hl_first).norm();
+            const double d_cur = (Hv - Hv_cur).norm() + (Hl - Hl_cur).norm();
+            if (j == LinearisationPoint::FirstEstimates)
+            {
+                EXPECT_EQ(d_first, 0.0);
+                EXPECT_GT(d_cur, 1e-5);
+            }
+            else
+            {
+                EXPECT_EQ(d_cur, 0.0);
+                EXPECT_GT(d_first, 1e-5);
+            }
+        }
+    }
+}
+
+TEST(EkfSlamFejTest, UpdateMatchesDenseReferenceWithFirstEstimateJacobians)
+{
+    std::mt19937 rng(7);
+    Eigen::Vector3d truth;
+    EkfSlam f = mappedFilter(LinearisationPoint::FirstEstimates, rng, truth);
+    const Eigen::Vector3d d(1.0, -0.1, -4.0 * kDeg);
+    truth = composePose(truth, d);
+    f.predictOdometry(increment(d + Eigen::Vector3d(-0.04, 0.03, 0.8 * kDeg)));
+    const std::vector<RangeBearingObs> obs = observe(truth, rng);
+
+    // Dense textbook update: innovation at the current estimate, H at the first estimates
+    // and the predicted pose (Huang et al. 2008).
+    const Eigen::VectorXd x = f.mean();
+    const Eigen::MatrixXd P = f.cov();
+    const Eigen::Index n = x.size();
+    Eigen::MatrixXd H = Eigen::MatrixXd::Zero(6, n), H_cur = Eigen::MatrixXd::Zero(6, n);
+    Eigen::MatrixXd Rb = Eigen::MatrixXd::Zero(6, 6);
+    Eigen::VectorXd nu(6);
+    for (long id = 0; id < 3; ++id)
+    {
+        const auto o = static_cast<Eigen::Index>(f.landmarkBlock(id).offset);
+        const auto r = static_cast<Eigen::Index>(2 * id);
+        Mat23 Hv;
+        Eigen::Matrix2d Hl;
+        hymm::core::observeRangeBearing(f.predictedPose(), kSensorVec, f.landmarkFirstEstimate(id),
+                                        &Hv, &Hl);
+        H.block<2, 3>(r, 0) = Hv;
+        H.block<2, 2>(r, o) = Hl;
+        const Eigen::Vector2d h =
+            hymm::core::observeRangeBearing(x.head<3>(), kSensorVec, x.segment<2>(o), &Hv, &Hl);
+        H_cur.block<2, 3>(r, 0) = Hv;
+        H_cur.block<2, 2>(r, o) = Hl;
+        nu.segment<2>(r) = obs[static_cast<size_t>(id)].z - h;
+        nu[r + 1] = mrpt::math::wrapToPi(nu[r + 1]);
+        Rb.block<2, 2>(r, r) = kR;
+    }
+    auto reference = [&](const Eigen::MatrixXd& Hd, Eigen::VectorXd& xr, Eigen::MatrixXd& Pr)
+    {
+        const Eigen::MatrixXd S = Hd * P * Hd.transpose() + Rb;
+        const Eigen::MatrixXd K = P * Hd.transpose() * S.inverse();
+        xr = x + K * nu;
+        xr[2] = mrpt::math::wrapToPi(xr[2]);
+        Pr = P - K * S * K.transpose();
+    };
+    Eigen::VectorXd x_fej, x_std;
+    Eigen::MatrixXd P_fej, P_std;
+    reference(H, x_fej, P_fej);
+    reference(H_cur, x_std, P_std);
+    ASSERT_GT((P_fej - P_std).norm(), 1e-8);  // the two linearisations are distinguishable
+
+    const UpdateReport rep = f.updateRangeBearing(obs, kSensor);
+    ASSERT_EQ(rep.associated, 3u);
+    EXPECT_LT((f.mean() - x_fej).norm(), 1e-10);
+    EXPECT_LT((f.cov() - P_fej).norm(), 1e-10);
+    EXPECT_GT((f.cov() - P_std).norm(), 1e-8);
+}
+
+TEST(EkfSlamFejTest, OdometryMotionJacobianUsesThePreviousPrediction)
+{
+    for (const auto j : {LinearisationPoint::Current, LinearisationPoint::FirstEstimates})
+    {
+        std::mt19937 rng(11);
+        Eigen::Vector3d truth;
+        EkfSlam f = mappedFilter(j, rng, truth);
+        const Eigen::Vector3d x_upd = f.vehiclePose(), x_prev_pred = f.predictedPose();
+        ASSERT_GT((x_upd - x_prev_pred).head<2>().norm(), 1e-4);
+        const Eigen::MatrixXd P = f.cov();
+        const Eigen::Vector3d d(2.0, 0.3, 10.0 * kDeg);
+        f.predictOdometry(increment(d));
+        Eigen::Matrix3d Jx, Jd;
+        const Eigen::Vector3d pose = composePose(x_upd, d, &Jx, &Jd);
+        EXPECT_LT((f.vehiclePose() - pose).norm(), 1e-12);  // the mean is the standard one
+        EXPECT_LT((f.predictedPose() - pose).norm(), 1e-12);
+        Eigen::Matrix3d F = Jx;
+        if (j == LinearisationPoint::FirstEstimates)
+        {
+            F.block<2, 1>(0, 2) = skew() * (pose - x_prev_pred).head<2>();
+            EXPECT_GT((F - Jx).norm(), 1e-4);
+        }
+        EXPECT_LT((f.lastMotionJacobian() - F).norm(), 1e-12);
+        const Eigen::Index n = P.rows();
+        Eigen::MatrixXd Phi = Eigen::MatrixXd::Identity(n, n);
+        Phi.topLeftCorner<3, 3>() = F;
+        Eigen::MatrixXd Q = Eigen::MatrixXd::Zero(n, n);
+        Q.topLeftCorner<3, 3>() = Jd * kOdoCov * Jd.transpose();
+        EXPECT_LT((f.cov() - (Phi * P * Phi.transpose() + Q)).norm(), 1e-12);
+    }
+}
+
+TEST(EkfSlamFejTest, UteMotionJacobianHasTheTelescopingForm)
+{
+    // The generic FEJ replacement assumes p_{k+1} - p_k = R(phi_k) g(u) for the UTE model
+    // too: then its standard position-heading block is J (p_{k+1} - p_k).
+    const hymm::core::UteParams p;
+    const Eigen::Vector3d x(3.0, -1.0, 0.7);
+    const Eigen::Vector2d u(3.0, 10.0 * kDeg);
+    Eigen::Matrix3d F;
+    const Eigen::Vector3d y = hymm::core::uteStep(x, u, 0.2, p, &F, nullptr);
+    EXPECT_LT((F.block<2, 1>(0, 2) - skew() * (y - x).head<2>()).norm(), 1e-12);
+
+    std::mt19937 rng(13);
+    Eigen::Vector3d truth;
+    EkfSlam f = mappedFilter(LinearisationPoint::FirstEstimates, rng, truth);
+    const Eigen::Vector3d x_prev_pred = f.predictedPose();
+    const Eigen::Matrix2d Q = Eigen::Vector2d(0.1, 1.0 * kDeg).cwiseAbs2().asDiagonal();
+    f.predictUte(u, Q, 0.2, p);
+    EXPECT_LT((f.lastMotionJacobian().block<2, 1>(0, 2) -
+               skew() * (f.vehiclePose() - x_prev_pred).head<2>())
+                  .norm(),
+              1e-12);
+    // Two predictions without an update in between: the second is the standard Jacobian.
+    const Eigen::Vector3d x1 = f.vehiclePose();
+    f.predictUte(u, Q, 0.2, p);
+    hymm::core::uteStep(x1, u, 0.2, p, &F, nullptr);
+    EXPECT_LT((f.lastMotionJacobian() - F).norm(), 1e-12);
+}
+
+TEST(EkfSlamFejTest, SameAsStandardWhileNoUpdateMovesTheEstimates)
+{
+    EkfSlam a(fejOptions(LinearisationPoint::Current)), b(fejOptions());
+    const Eigen::Matrix3d P0 = Eigen::Vector3d(0.1, 0.1, 1.0 * kDeg).cwiseAbs2().asDiagonal();
+    a.reset(Eigen::Vector3d(1.0, 2.0, 0.3), P0);
+    b.reset(Eigen::Vector3d(1.0, 2.0, 0.3), P0);
+    for (int k = 0; k < 20; ++k)
+    {
+        a.predictOdometry(increment(Eigen::Vector3d(0.5, 0.01 * k, 2.0 * kDeg)));
+        b.predictOdometry(increment(Eigen::Vector3d(0.5, 0.01 * k, 2.0 * kDeg)));
+    }
+    EXPECT_EQ((a.mean() - b.mean()).norm(), 0.0);
+    EXPECT_LT((a.cov() - b.cov()).norm(), 1e-12 * a.cov().norm());
+}
+
+struct Observability
+{
+    Eigen::MatrixXd M;  //!< [H_1; H_2 Phi(2,1); ...; H_K Phi(K,1)]
+    Eigen::VectorXd s;  //!< singular values of M
+    /** Global rotation about the origin at the first linearisation points:
+     *  (J p_{1|0}, 1, J l_1, ..., J l_L) with the landmarks' first estimates. */
+    Eigen::VectorXd rotation;
+};
+
+/**
+ * Observability matrix of the linearised system the filter actually used (its motion
+ * Jacobians and the observation Jacobians of each update) over K steps of a noisy drive
+ * with known ids.
+ */
+Observability observability(LinearisationPoint j)
+{
+    std::mt19937 rng(17);
+    std::normal_distribution<double> g(0.0, 1.0);
+    EkfSlam f(fejOptions(j));
+    Eigen::Vector3d truth(0.0, 0.0, 0.1);
+    f.reset(truth, Eigen::Vector3d(0.01, 0.01, 0.5 * kDeg).cwiseAbs2().asDiagonal());
+    f.updateRangeBearing(observe(truth, rng), kSensor);
+    const Eigen::Index n = f.mean().size(), L = static_cast<Eigen::Index>(kLandmarks.size());
+    constexpr int kSteps = 6;
+    Observability res;
+    Eigen::MatrixXd& M = res.M;
+    M.resize(2 * L * kSteps, n);
+    Eigen::MatrixXd Phi = Eigen::MatrixXd::Identity(n, n);
+    for (int k = 0; k < kSteps; ++k)
+    {
+        const Eigen::Vector3d d(1.0, 0.0, 8.0 * kDeg);
+        truth = composePose(truth, d);
+        const Eigen::Vector3d noise(0.05 * g(rng), 0.02 * g(rng), 1.0 * kDeg * g(rng));
+        f.predictOdometry(increment(d + noise));
+        if (k == 0)
+        {
+            res.rotation.resize(n);
+            res.rotation.head<2>() = skew() * f.predictedPose().head<2>();
+            res.rotation[2] = 1.0;
+            for (long id = 0; id < L; ++id)
+                res.rotation.segment<2>(3 + 2 * id) = skew() * f.landmarkFirstEstimate(id);
+        }
+        else  // Phi(k, 1): transitions after the first measured step
+        {
+            Eigen::MatrixXd Fk = Eigen::MatrixXd::Identity(n, n);
+            Fk.topLeftCorner<3, 3>() = f.lastMotionJacobian();
+            Phi = (Fk * Phi).eval();
+        }
+        Eigen::MatrixXd H = Eigen::MatrixXd::Zero(2 * L, n);
+        for (long id = 0; id < L; ++id)
+        {
+            Mat23 Hv;
+            Eigen::Matrix2d Hl;
+            f.observationJacobians(id, kSensorVec, Hv, Hl);
+            const auto o = static_cast<Eigen::Index>(f.landmarkBlock(id).offset);
+            H.block<2, 3>(2 * id, 0) = Hv;
+            H.block<2, 2>(2 * id, o) = Hl;
+        }
+        M.middleRows(2 * L * k, 2 * L) = H * Phi;
+        f.updateRangeBearing(observe(truth, rng), kSensor);
+    }
+    res.s = Eigen::JacobiSVD<Eigen::MatrixXd>(M).singularValues();
+    return res;
+}
+
+TEST(EkfSlamFejTest, ObservabilityMatrixKeepsThreeUnobservableDirections)
+{
+    // Huang et al. 2008: the ideal system has a 3-dimensional null space
+    // (global x, y and heading); the standard EKF's linearisation keeps only the 2
+    // translations, the FEJ-EKF keeps all 3.
+    const Observability std_ekf = observability(LinearisationPoint::Current);
+    const Observability fej = observability(LinearisationPoint::FirstEstimates);
+    const Eigen::VectorXd& s_std = std_ekf.s;
+    const Eigen::VectorXd& s_fej = fej.s;
+    const Eigen::Index n = s_fej.size();  // 3 + 2 L columns, more rows
+    ASSERT_EQ(n, 9);
+    const auto rank = [](const Eigen::VectorXd& s)
+    {
+        Eigen::Index r = 0;
+        for (Eigen::Index i = 0; i < s.size(); ++i) r += s[i] > 1e-9 * s[0];
+        return r;
+    };
+    EXPECT_EQ(rank(s_std), n - 2) << s_std.transpose();
+    EXPECT_EQ(rank(s_fej), n - 3) << s_fej.transpose();
+    // The standard EKF's spurious direction is not a round-off artefact.
+    EXPECT_GT(s_std[n - 3], 1e-6 * s_std[0]);
+    EXPECT_GT(s_fej[n - 4], 1e-3 * s_fej[0]);
+    // The FEJ null space is the global rotation (plus the two translations); the
+    // standard EKF observes that rotation.
+    const auto residual = [](const Observability& o)
+    { return (o.M * o.rotation).norm() / (o.M.norm() * o.rotation.norm()); };
+    EXPECT_LT(residual(fej), 1e-12);
+    EXPECT_GT(residual(std_ekf), 1e-7);
+}
+
+}  // namespace
