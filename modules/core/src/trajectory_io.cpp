@@ -9,33 +9,39 @@
 
 namespace hymm::core
 {
-namespace
+std::string tableLocation(const std::string& path, size_t line)
 {
-std::vector<double> parseNumbers(const std::string& line, const std::string& path, size_t lineno)
-{
-    std::string s = line;
-    std::replace(s.begin(), s.end(), ',', ' ');
-    std::istringstream is(s);
-    std::vector<double> v;
-    std::string tok;
-    while (is >> tok)
-    {
-        char* end = nullptr;
-        const double d = std::strtod(tok.c_str(), &end);
-        if (end == tok.c_str() || *end != '\0' || !std::isfinite(d))
-            throw std::runtime_error(
-                path + ":" + std::to_string(lineno) + ": '" + tok + "' is not a finite number");
-        v.push_back(d);
-    }
-    return v;
+    return path + ":" + std::to_string(line) + ": ";
 }
 
-bool isCommentOrBlank(const std::string& line)
+void readNumberTable(const std::string& path, const std::string& what,
+                     const std::function<void(const std::vector<double>&, size_t)>& row)
 {
-    const auto p = line.find_first_not_of(" \t\r");
-    return p == std::string::npos || line[p] == '#' || line[p] == '%';
+    std::ifstream f(path);
+    if (!f) throw std::runtime_error("cannot open " + what + " '" + path + "'");
+    std::string line, tok;
+    std::vector<double> v;
+    size_t lineno = 0;
+    while (std::getline(f, line))
+    {
+        ++lineno;
+        const auto first = line.find_first_not_of(" \t\r");
+        if (first == std::string::npos || line[first] == '#' || line[first] == '%') continue;
+        std::replace(line.begin(), line.end(), ',', ' ');
+        std::istringstream is(line);
+        v.clear();
+        while (is >> tok)
+        {
+            char* end = nullptr;
+            const double d = std::strtod(tok.c_str(), &end);
+            if (end == tok.c_str() || *end != '\0' || !std::isfinite(d))
+                throw std::runtime_error(tableLocation(path, lineno) + "'" + tok +
+                                         "' is not a finite number");
+            v.push_back(d);
+        }
+        row(v, lineno);
+    }
 }
-}  // namespace
 
 void writeTum(const std::string& path, const std::vector<StampedPose2D>& poses)
 {
@@ -55,23 +61,15 @@ void writeTum(const std::string& path, const std::vector<StampedPose2D>& poses)
 
 std::vector<StampedPose2D> readTum(const std::string& path)
 {
-    std::ifstream f(path);
-    if (!f) throw std::runtime_error("cannot open trajectory file '" + path + "'");
     std::vector<StampedPose2D> out;
-    std::string line;
-    size_t lineno = 0;
-    while (std::getline(f, line))
-    {
-        ++lineno;
-        if (isCommentOrBlank(line)) continue;
-        const auto v = parseNumbers(line, path, lineno);
+    readNumberTable(path, "trajectory file", [&](const std::vector<double>& v, size_t line) {
         if (v.size() != 8)
-            throw std::runtime_error(path + ":" + std::to_string(lineno) +
-                                     ": expected 8 TUM columns, got " + std::to_string(v.size()));
+            throw std::runtime_error(tableLocation(path, line) + "expected 8 TUM columns, got " +
+                                     std::to_string(v.size()));
         // Heading about z from the quaternion (planar poses).
         const double phi = 2.0 * std::atan2(v[6], v[7]);
         out.push_back(StampedPose2D{v[0], v[1], v[2], std::atan2(std::sin(phi), std::cos(phi))});
-    }
+    });
     return out;
 }
 
@@ -92,26 +90,18 @@ void writeLandmarksCsv(
 
 std::vector<LandmarkRecord> readLandmarksCsv(const std::string& path)
 {
-    std::ifstream f(path);
-    if (!f) throw std::runtime_error("cannot open landmark file '" + path + "'");
     std::vector<LandmarkRecord> out;
-    std::string line;
-    size_t lineno = 0;
-    while (std::getline(f, line))
-    {
-        ++lineno;
-        if (isCommentOrBlank(line)) continue;
-        const auto v = parseNumbers(line, path, lineno);
+    readNumberTable(path, "landmark file", [&](const std::vector<double>& v, size_t line) {
         if (v.size() < 3)
-            throw std::runtime_error(path + ":" + std::to_string(lineno) +
-                                     ": expected at least 3 columns (id,x,y)");
+            throw std::runtime_error(tableLocation(path, line) +
+                                     "expected at least 3 columns (id,x,y)");
         LandmarkRecord r;
         r.id = static_cast<long>(v[0]);
         r.x = v[1];
         r.y = v[2];
         r.extra.assign(v.begin() + 3, v.end());
         out.push_back(std::move(r));
-    }
+    });
     return out;
 }
 

@@ -8,63 +8,21 @@
 
 namespace hymm::eval
 {
-namespace
-{
-std::string where(const std::string& path, size_t lineno)
-{
-    return path + ":" + std::to_string(lineno) + ": ";
-}
-
-bool isCommentOrBlank(const std::string& line)
-{
-    const auto p = line.find_first_not_of(" \t\r");
-    return p == std::string::npos || line[p] == '%' || line[p] == '#';
-}
-
-std::vector<double> parseRow(const std::string& line, const std::string& path, size_t lineno)
-{
-    std::istringstream is(line);
-    std::vector<double> v;
-    std::string tok;
-    while (is >> tok)
-    {
-        char* end = nullptr;
-        const double d = std::strtod(tok.c_str(), &end);
-        if (end == tok.c_str() || *end != '\0' || !std::isfinite(d))
-            throw std::runtime_error(where(path, lineno) + "'" + tok + "' is not a finite number");
-        v.push_back(d);
-    }
-    return v;
-}
-
-std::ifstream openOrThrow(const std::string& path, const char* what)
-{
-    std::ifstream f(path);
-    if (!f) throw std::runtime_error(std::string("cannot open ") + what + " '" + path + "'");
-    return f;
-}
-}  // namespace
 
 std::vector<core::LandmarkRecord> readSimulLandmarksLandmarks(const std::string& path)
 {
     // x y z type seenTimesCount timestampLastSeen ID
     constexpr size_t kColumns = 7;
-    auto f = openOrThrow(path, "simul-landmarks landmark file");
     std::vector<core::LandmarkRecord> out;
-    std::string line;
-    size_t lineno = 0;
-    while (std::getline(f, line))
-    {
-        ++lineno;
-        if (isCommentOrBlank(line)) continue;
-        const auto v = parseRow(line, path, lineno);
+    core::readNumberTable(path, "simul-landmarks landmark file",
+                          [&](const std::vector<double>& v, size_t lineno) {
         if (v.size() < kColumns)
-            throw std::runtime_error(where(path, lineno) + "expected " + std::to_string(kColumns) +
+            throw std::runtime_error(core::tableLocation(path, lineno) + "expected " + std::to_string(kColumns) +
                                      " columns (x y z type seen time ID), got " +
                                      std::to_string(v.size()));
         const double id = v.back();
         if (id != std::floor(id))
-            throw std::runtime_error(where(path, lineno) + "landmark ID " + std::to_string(id) +
+            throw std::runtime_error(core::tableLocation(path, lineno) + "landmark ID " + std::to_string(id) +
                                      " is not an integer");
         core::LandmarkRecord r;
         r.id = static_cast<long>(id);
@@ -72,7 +30,7 @@ std::vector<core::LandmarkRecord> readSimulLandmarksLandmarks(const std::string&
         r.y = v[1];
         r.extra = {v[2]};
         out.push_back(r);
-    }
+    });
     return out;
 }
 
@@ -80,20 +38,14 @@ std::vector<core::StampedPose2D> readSimulLandmarksPath(const std::string& path,
 {
     // x y z yaw pitch roll
     constexpr size_t kColumns = 6;
-    auto f = openOrThrow(path, "simul-landmarks robot path file");
     std::vector<core::StampedPose2D> out;
-    std::string line;
-    size_t lineno = 0;
-    while (std::getline(f, line))
-    {
-        ++lineno;
-        if (isCommentOrBlank(line)) continue;
-        const auto v = parseRow(line, path, lineno);
+    core::readNumberTable(path, "simul-landmarks robot path file",
+                          [&](const std::vector<double>& v, size_t lineno) {
         if (v.size() != kColumns)
-            throw std::runtime_error(where(path, lineno) + "expected 6 columns (x y z yaw pitch "
+            throw std::runtime_error(core::tableLocation(path, lineno) + "expected 6 columns (x y z yaw pitch "
                                      "roll), got " + std::to_string(v.size()));
         out.push_back(core::StampedPose2D{t0 + dt * static_cast<double>(out.size()), v[0], v[1], v[3]});
-    }
+    });
     return out;
 }
 

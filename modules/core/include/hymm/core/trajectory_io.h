@@ -9,11 +9,25 @@
  */
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
 namespace hymm::core
 {
+/**
+ * Reads a text table of numbers: one row per line, columns separated by spaces, tabs or
+ * commas, blank lines and lines starting with '#' or '%' skipped. Calls `row(values,
+ * line_number)` for each row; throws std::runtime_error "path:line: ..." on a token that
+ * is not a finite number, and "cannot open <what> 'path'" if the file cannot be read.
+ * `row` may throw its own errors; prefix them with tableLocation(path, line).
+ */
+void readNumberTable(const std::string& path, const std::string& what,
+                     const std::function<void(const std::vector<double>&, size_t)>& row);
+
+/** "path:line: ", the prefix of table parsing errors. */
+std::string tableLocation(const std::string& path, size_t line);
+
 struct StampedPose2D
 {
     double t = 0;    //!< timestamp [s] (rawlog time base)
