@@ -1,6 +1,7 @@
 #include "hymm/dense/PointsLayer.h"
 
 #include <hymm/core/config_utils.h>
+#include <hymm/dense/geometry.h>
 
 #include <cmath>
 #include <istream>
@@ -39,7 +40,7 @@ bool PointsLayer::acceptVoxel(const Eigen::Vector2d& p)
     // 32-bit cell indices packed into one key; +-2^31 voxels covers any region.
     const auto ix = static_cast<std::int64_t>(std::floor(p.x() / options_.voxel_size_m));
     const auto iy = static_cast<std::int64_t>(std::floor(p.y() / options_.voxel_size_m));
-    return voxels_.insert((ix << 32) ^ (iy & 0xffffffffLL)).second;
+    return voxels_.insert(packCellKey(ix, iy)).second;
 }
 
 void PointsLayer::insertPoints(const std::vector<Eigen::Vector2d>& points_ref)

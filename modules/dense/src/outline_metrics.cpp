@@ -45,7 +45,7 @@ public:
         for (std::int64_t dx = -1; dx <= 1; ++dx)
             for (std::int64_t dy = -1; dy <= 1; ++dy)
             {
-                const auto it = cells_.find(pack(cx + dx, cy + dy));
+                const auto it = cells_.find(packCellKey(cx + dx, cy + dy));
                 if (it == cells_.end()) continue;
                 for (const size_t i : it->second)
                     if ((pts_[i] - q).squaredNorm() <= r * r) return true;
@@ -55,8 +55,7 @@ public:
 
 private:
     std::int64_t coord(double v) const { return static_cast<std::int64_t>(std::floor(v / cell_)); }
-    static std::int64_t pack(std::int64_t x, std::int64_t y) { return (x << 32) ^ (y & 0xffffffffLL); }
-    std::int64_t key(const Eigen::Vector2d& p) const { return pack(coord(p.x()), coord(p.y())); }
+    std::int64_t key(const Eigen::Vector2d& p) const { return packCellKey(coord(p.x()), coord(p.y())); }
 
     const std::vector<Eigen::Vector2d>& pts_;
     double cell_;

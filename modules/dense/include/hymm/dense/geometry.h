@@ -12,6 +12,7 @@
 #include <Eigen/Core>
 
 #include <array>
+#include <cstdint>
 #include <optional>
 
 namespace hymm::dense
@@ -47,5 +48,13 @@ bool triangleContains(
 
 /** Distance from `p` to segment [a, b]. */
 double distanceToSegment(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b);
+
+/** One hash key for a pair of signed 32-bit cell indices. The shift is done on unsigned
+ *  values: shifting a negative signed integer is undefined behaviour. */
+inline std::int64_t packCellKey(std::int64_t ix, std::int64_t iy)
+{
+    return static_cast<std::int64_t>((static_cast<std::uint64_t>(ix) << 32) ^
+                                     (static_cast<std::uint64_t>(iy) & 0xffffffffULL));
+}
 
 }  // namespace hymm::dense
