@@ -1,5 +1,6 @@
 #include "hymm/sim/run_scenario.h"
 
+#include <hymm/core/OdometryRawlogWriter.h>
 #include <hymm/core/trajectory_io.h>
 
 #include <filesystem>
@@ -7,7 +8,6 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "hymm/sim/RawlogWriter.h"
 #include "hymm/sim/Simulator.h"
 #include "hymm/sim/WorldPlot.h"
 #include "hymm/sim/ground_truth_io.h"
@@ -63,14 +63,17 @@ RunSummary runScenario(const Scenario& scenario, const std::string& out_dir, boo
     sum.files = {base + ".rawlog",           base + "_gt_path.tum",    base + "_dr_path.tum",
                  base + "_gt_landmarks.csv", base + "_gt_objects.txt", base + "_config.ini"};
 
-    RawlogWriter rawlog(sum.files[0]);
+    // Best gzip compression: the samples are committed to the repository.
+    hymm::core::OdometryRawlogWriter rawlog(sum.files[0], 9);
     WorldPlot plot(scenario.plot);
     std::vector<hymm::core::StampedPose2D> gt, dr;
     std::vector<double> frame_t, frame_stamps;
     SimFrame f;
     while (sim.next(f))
     {
-        rawlog.write(f);
+        rawlog.writeFrame(f.stamp, mrpt::poses::CPose2D(f.odometry_mean[0], f.odometry_mean[1],
+                                                        f.odometry_mean[2]),
+                          f.odometry_cov, {f.scan, f.detections});
         const double stamp = mrpt::Clock::toDouble(f.stamp);
         if (!gt.empty())
             sum.path_length_m +=

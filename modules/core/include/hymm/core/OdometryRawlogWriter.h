@@ -1,0 +1,55 @@
+/**
+ * @file OdometryRawlogWriter.h
+ * @brief Writes MRPT rawlogs in the actions/sensory-frames format (what RawlogViewer,
+ *        MRPT's kf-slam and mrpt::obs::CRawlog read): per frame one CActionCollection
+ *        holding a CActionRobotMovement2D (estimationMethod = emOdometry, poseChange a
+ *        CPosePDFGaussian), then one CSensoryFrame, gzip-compressed. Shared by the
+ *        simulator and the dataset converters.
+ */
+#pragma once
+
+#include <mrpt/obs/CObservation.h>
+#include <mrpt/poses/CPose2D.h>
+
+#include <Eigen/Core>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace mrpt::io
+{
+class CFileGZOutputStream;
+}
+
+namespace hymm::core
+{
+class OdometryRawlogWriter
+{
+public:
+    /** Creates (truncates) `path` with the given gzip level (1 fast .. 9 small); throws
+     *  std::runtime_error naming the path on failure. */
+    explicit OdometryRawlogWriter(const std::string& path, int compression_level = 1);
+    ~OdometryRawlogWriter();
+    OdometryRawlogWriter(const OdometryRawlogWriter&) = delete;
+    OdometryRawlogWriter& operator=(const OdometryRawlogWriter&) = delete;
+
+    /** Appends one frame: the odometry increment N(`increment`, `cov`) since the previous
+     *  frame, stamped `stamp`, then a sensory frame holding `observations` in order (null
+     *  pointers are skipped). Throws if the writer is closed or the stream fails. */
+    void writeFrame(mrpt::Clock::time_point stamp, const mrpt::poses::CPose2D& increment,
+                    const Eigen::Matrix3d& cov,
+                    const std::vector<mrpt::obs::CObservation::Ptr>& observations);
+
+    size_t frames() const { return frames_; }
+
+    /** Flushes and closes; throws if the stream reported an error. */
+    void close();
+
+private:
+    std::string path_;
+    std::unique_ptr<mrpt::io::CFileGZOutputStream> out_;
+    size_t frames_ = 0;
+};
+
+}  // namespace hymm::core
