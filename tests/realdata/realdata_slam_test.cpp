@@ -9,6 +9,7 @@
 #include <hymm/datasets/import_dataset.h>
 #include <hymm/denseslam/MapPlot.h>
 #include <hymm/denseslam/SlamApp.h>
+#include <hymm/denseslam/slam_outputs.h>
 #include <hymm/eval/LandmarkEvaluator.h>
 #include <hymm/eval/TrajectoryEvaluator.h>
 #include <hymm/eval/nees.h>
@@ -166,6 +167,8 @@ void writeFigure(const std::string& file, const DenseSlam& slam, const Se2Transf
         plot.estimated_landmarks.push_back({T.apply(e.position), R * e.cov * R.transpose()});
     for (const auto& g : true_path) plot.true_path.emplace_back(g.x, g.y);
     for (const auto& l : true_landmarks) plot.true_landmarks.emplace_back(l.x, l.y);
+    for (const auto& p : hymm::denseslam::makeMapPlot(slam, nullptr).dense_points)
+        plot.dense_points.push_back(T.apply(p));
     plot.max_side = 1000;
     hymm::denseslam::writeMapPng(plot, file);
     std::cout << "wrote " << file << "\n";

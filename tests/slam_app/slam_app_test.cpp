@@ -118,7 +118,7 @@ TEST(SlamApp, Ch3ObjectsWritesAccurateFeatureAndDenseMaps)
     std::ifstream mj(out + "/metrics.json");
     const std::string metrics((std::istreambuf_iterator<char>(mj)), std::istreambuf_iterator<char>());
     for (const char* key : {"\"dense\"", "\"points\"", "\"occupancy\"", "\"classic_grid\"",
-                            "\"coverage\"", "\"objects_only\""})
+                            "\"coverage\"", "\"p95_distance_m\""})
         EXPECT_NE(metrics.find(key), std::string::npos) << key;
 
     // Path from the written file against the truth.

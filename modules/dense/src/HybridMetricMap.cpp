@@ -50,8 +50,11 @@ void clipBeams(const WorldScan& w, const Candidate& c, RegionScan& rs)
         if (!iv) continue;
         const Eigen::Vector2d d = e_ref - rs.sensor;
         const bool to_end = iv->t1 >= 1.0 - kEndParamTol;
-        rs.rays.push_back({rs.sensor + iv->t0 * d, to_end ? e_ref : Eigen::Vector2d(rs.sensor + iv->t1 * d),
-                           b.hit && to_end});
+        FreeRay ray{rs.sensor + iv->t0 * d, to_end ? e_ref : Eigen::Vector2d(rs.sensor + iv->t1 * d),
+                    b.hit && to_end};
+        ray.beam_end = e_ref;  // the layers' beam model needs the whole beam's range
+        ray.beam_hit = b.hit;
+        rs.rays.push_back(ray);
     }
 }
 }  // namespace
@@ -69,7 +72,24 @@ std::unique_ptr<DenseLayer> HybridMetricMap::makeLayer(
         return std::make_unique<PointsLayer>(options_.points);
     if (kind == OccupancyLayer::kKind && options_.enable_occupancy)
         return std::make_unique<OccupancyLayer>(options_.occupancy, reference);
+    if (kind == ParticlesLayer::kKind && options_.enable_particles)
+        return std::make_unique<ParticlesLayer>(options_.particles, reference);
+    if (kind == SogLayer::kKind && options_.enable_sog) return std::make_unique<SogLayer>(options_.sog);
+    if (kind == PropertyLayer::kKind && options_.enable_property)
+        return std::make_unique<PropertyLayer>(options_.property, reference);
     return nullptr;
+}
+
+std::vector<std::string> HybridMetricMap::enabledKinds() const
+{
+    std::vector<std::string> out;
+    const std::pair<const char*, bool> all[] = {
+        {PointsLayer::kKind, options_.enable_points},       {OccupancyLayer::kKind, options_.enable_occupancy},
+        {ParticlesLayer::kKind, options_.enable_particles}, {SogLayer::kKind, options_.enable_sog},
+        {PropertyLayer::kKind, options_.enable_property}};
+    for (const auto& [kind, on] : all)
+        if (on) out.emplace_back(kind);
+    return out;
 }
 
 LocalDenseMap& HybridMetricMap::localMapFor(long region_id, const Vertices& reference)
@@ -78,7 +98,7 @@ LocalDenseMap& HybridMetricMap::localMapFor(long region_id, const Vertices& refe
     if (!slot)
     {
         slot = std::make_unique<LocalDenseMap>(region_id, reference);
-        for (const char* kind : {PointsLayer::kKind, OccupancyLayer::kKind})
+        for (const std::string& kind : enabledKinds())
             if (auto layer = makeLayer(kind, reference)) slot->addLayer(std::move(layer));
     }
     return *slot;
@@ -88,6 +108,7 @@ HybridMetricMap::InsertStats HybridMetricMap::insertScan(
     const ScanPoints& scan, const mrpt::math::TPose2D& vehicle_pose, const RegionPartition& partition)
 {
     mrpt::system::CTimeLoggerEntry tle(profiler_, "dense.insertScan");
+    scan.validate();  // values / noise: bad input is rejected before anything changes
     InsertStats st;
     const WorldScan w = scan.toWorld(vehicle_pose, options_.max_range_m);
     st.beams = w.beams.size();
@@ -132,7 +153,10 @@ HybridMetricMap::InsertStats HybridMetricMap::insertScan(
                 st.unassigned.push_back(b.end);
                 continue;
             }
-            per_region[it->second].hits.push_back(cands[it->second].to_current.inverseMapPoint(b.end));
+            RegionScan& rs = per_region[it->second];
+            rs.hits.push_back(cands[it->second].to_current.inverseMapPoint(b.end));
+            if (!scan.values.empty()) rs.hit_values.push_back(scan.values[b.source]);
+            if (!scan.value_stds.empty()) rs.hit_value_stds.push_back(scan.value_stds[b.source]);
             ++st.returns_stored;
         }
     }
@@ -140,16 +164,65 @@ HybridMetricMap::InsertStats HybridMetricMap::insertScan(
     // 3. Split the beams among the regions and fuse into every layer (Sec. 4.5).
     {
         mrpt::system::CTimeLoggerEntry t3(profiler_, "dense.insertScan.3_clip_fuse");
+        last_scan_regions_.clear();
         for (size_t k = 0; k < cands.size(); ++k)
         {
             RegionScan& rs = per_region[k];
             clipBeams(w, cands[k], rs);
             if (rs.empty()) continue;
+            rs.range_std_m = scan.range_std_m;
+            rs.bearing_std_rad = scan.bearing_std_rad;
+            rs.to_reference_linear = cands[k].to_current.inverse().linear();
             localMapFor(cands[k].id, cands[k].region->reference).insert(rs);
+            last_scan_regions_.insert(cands[k].id);
             ++st.regions_updated;
         }
     }
+
+    // 4. Background coarsening of idle, almost-empty regions (Sec. 4.1.3), if due.
+    ++scans_;
+    if (options_.coarsen_every_n_scans > 0 && scans_ % static_cast<size_t>(options_.coarsen_every_n_scans) == 0)
+    {
+        mrpt::system::CTimeLoggerEntry t4(profiler_, "dense.insertScan.4_coarsen");
+        st.regions_coarsened = coarsenIdleRegions().coarsened.size();
+    }
     return st;
+}
+
+HybridMetricMap::CoarsenReport HybridMetricMap::coarsenIdleRegions()
+{
+    CoarsenReport rep;
+    for (auto& [id, map] : maps_)
+    {
+        if (last_scan_regions_.count(id)) continue;
+        auto* occ = dynamic_cast<OccupancyLayer*>(map->layer(OccupancyLayer::kKind));
+        if (!occ || occ->isCoarse()) continue;
+        ++rep.regions_checked;
+        const size_t before = occ->memoryBytes();
+        if (occ->coarsen()) rep.coarsened.push_back({id, before, occ->memoryBytes()});
+    }
+    return rep;
+}
+
+size_t HybridMetricMap::CoarsenReport::bytesBefore() const
+{
+    size_t n = 0;
+    for (const auto& r : coarsened) n += r.bytes_before;
+    return n;
+}
+
+size_t HybridMetricMap::CoarsenReport::bytesAfter() const
+{
+    size_t n = 0;
+    for (const auto& r : coarsened) n += r.bytes_after;
+    return n;
+}
+
+void HybridMetricMap::insertRegionScan(
+    long region_id, const RegionScan& scan, const hymm::ltr::RegionPartition& partition)
+{
+    if (scan.empty()) return;
+    localMapFor(region_id, partition.region(region_id).reference).insert(scan);
 }
 
 std::vector<long> HybridMetricMap::removeStaleRegions(const RegionPartition& partition)
@@ -163,6 +236,7 @@ std::vector<long> HybridMetricMap::removeStaleRegions(const RegionPartition& par
             continue;
         }
         removed.push_back(it->first);
+        last_scan_regions_.erase(it->first);
         it = maps_.erase(it);
     }
     return removed;
@@ -241,6 +315,14 @@ size_t HybridMetricMap::memoryBytes() const
     return n;
 }
 
+std::map<std::string, size_t> HybridMetricMap::memoryBytesByKind() const
+{
+    std::map<std::string, size_t> out;
+    for (const auto& kv : maps_)
+        for (const std::string& kind : kv.second->layerKinds()) out[kind] += kv.second->layer(kind)->memoryBytes();
+    return out;
+}
+
 void HybridMetricMap::save(std::ostream& out) const
 {
     out << "hybrid_metric_map " << maps_.size() << '\n';
@@ -265,6 +347,7 @@ void HybridMetricMap::load(std::istream& in)
             throw std::runtime_error("HybridMetricMap::load: region " + std::to_string(id) + " twice");
     }
     maps_ = std::move(maps);
+    last_scan_regions_.clear();
 }
 
 }  // namespace hymm::dense

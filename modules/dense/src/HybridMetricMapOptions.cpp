@@ -8,10 +8,17 @@ void HybridMetricMap::Options::loadFromConfigFile(
     const mrpt::config::CConfigFileBase& cfg, const std::string& s)
 {
     using namespace hymm::core;
-    checkKnownKeys(cfg, s, {"enable_points", "enable_occupancy", "max_range_m", "enable_profiler"});
+    checkKnownKeys(
+        cfg, s,
+        {"enable_points", "enable_occupancy", "enable_particles", "enable_sog", "enable_property", "max_range_m",
+         "coarsen_every_n_scans", "enable_profiler"});
     enable_points = readBool(cfg, s, "enable_points", enable_points);
     enable_occupancy = readBool(cfg, s, "enable_occupancy", enable_occupancy);
+    enable_particles = readBool(cfg, s, "enable_particles", enable_particles);
+    enable_sog = readBool(cfg, s, "enable_sog", enable_sog);
+    enable_property = readBool(cfg, s, "enable_property", enable_property);
     max_range_m = readDoubleMin(cfg, s, "max_range_m", max_range_m, 0.0, true);
+    coarsen_every_n_scans = static_cast<int>(readInt(cfg, s, "coarsen_every_n_scans", coarsen_every_n_scans));
     enable_profiler = readBool(cfg, s, "enable_profiler", enable_profiler);
     validate(s);
 }
@@ -21,7 +28,11 @@ void HybridMetricMap::Options::saveToConfigFile(
 {
     cfg.write(s, "enable_points", enable_points);
     cfg.write(s, "enable_occupancy", enable_occupancy);
+    cfg.write(s, "enable_particles", enable_particles);
+    cfg.write(s, "enable_sog", enable_sog);
+    cfg.write(s, "enable_property", enable_property);
     cfg.write(s, "max_range_m", max_range_m);
+    cfg.write(s, "coarsen_every_n_scans", coarsen_every_n_scans);
     cfg.write(s, "enable_profiler", enable_profiler);
 }
 
@@ -30,6 +41,9 @@ void HybridMetricMap::Options::loadAll(const mrpt::config::CConfigFileBase& cfg)
     loadFromConfigFile(cfg, "HybridMetricMap");
     occupancy.loadFromConfigFile(cfg, "OccupancyLayer");
     points.loadFromConfigFile(cfg, "PointsLayer");
+    particles.loadFromConfigFile(cfg, "ParticlesLayer");
+    sog.loadFromConfigFile(cfg, "SogLayer");
+    property.loadFromConfigFile(cfg, "PropertyLayer");
 }
 
 void HybridMetricMap::Options::saveAll(mrpt::config::CConfigFileBase& cfg) const
@@ -37,17 +51,28 @@ void HybridMetricMap::Options::saveAll(mrpt::config::CConfigFileBase& cfg) const
     saveToConfigFile(cfg, "HybridMetricMap");
     occupancy.saveToConfigFile(cfg, "OccupancyLayer");
     points.saveToConfigFile(cfg, "PointsLayer");
+    particles.saveToConfigFile(cfg, "ParticlesLayer");
+    sog.saveToConfigFile(cfg, "SogLayer");
+    property.saveToConfigFile(cfg, "PropertyLayer");
 }
 
 void HybridMetricMap::Options::validate(const std::string& s) const
 {
     if (!(max_range_m > 0))
         hymm::core::throwConfigError(s, "max_range_m", std::to_string(max_range_m), "must be > 0");
-    if (!enable_points && !enable_occupancy)
+    if (!enable_points && !enable_occupancy && !enable_particles && !enable_sog && !enable_property)
         hymm::core::throwConfigError(
-            s, "enable_points", "false", "at least one of enable_points, enable_occupancy must be true");
+            s, "enable_points", "false",
+            "at least one of enable_points, enable_occupancy, enable_particles, enable_sog, enable_property "
+            "must be true");
+    if (coarsen_every_n_scans < 0)
+        hymm::core::throwConfigError(
+            s, "coarsen_every_n_scans", std::to_string(coarsen_every_n_scans), "must be >= 0 (0 = off)");
     occupancy.validate();
     points.validate();
+    particles.validate();
+    sog.validate();
+    property.validate();
 }
 
 }  // namespace hymm::dense

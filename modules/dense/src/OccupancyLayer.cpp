@@ -7,7 +7,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
+#include <vector>
 
 namespace hymm::dense
 {
@@ -33,13 +35,17 @@ void OccupancyLayer::Options::loadFromConfigFile(
     using namespace hymm::core;
     checkKnownKeys(
         cfg, s,
-        {"cell_size_m", "prob_hit", "prob_miss", "prob_prior", "prob_clamp_min", "prob_clamp_max"});
+        {"cell_size_m", "prob_hit", "prob_miss", "prob_prior", "prob_clamp_min", "prob_clamp_max",
+         "coarse_cell_size_m", "coarsen_cells_percent", "coarsen_min_prob"});
     cell_size_m = readDoubleMin(cfg, s, "cell_size_m", cell_size_m, 0.0, true);
     prob_hit = readDouble(cfg, s, "prob_hit", prob_hit);
     prob_miss = readDouble(cfg, s, "prob_miss", prob_miss);
     prob_prior = readDouble(cfg, s, "prob_prior", prob_prior);
     prob_clamp_min = readDouble(cfg, s, "prob_clamp_min", prob_clamp_min);
     prob_clamp_max = readDouble(cfg, s, "prob_clamp_max", prob_clamp_max);
+    coarse_cell_size_m = readDouble(cfg, s, "coarse_cell_size_m", coarse_cell_size_m);
+    coarsen_cells_percent = readDouble(cfg, s, "coarsen_cells_percent", coarsen_cells_percent);
+    coarsen_min_prob = readDouble(cfg, s, "coarsen_min_prob", coarsen_min_prob);
     validate(s);
 }
 
@@ -52,6 +58,9 @@ void OccupancyLayer::Options::saveToConfigFile(
     cfg.write(s, "prob_prior", prob_prior);
     cfg.write(s, "prob_clamp_min", prob_clamp_min);
     cfg.write(s, "prob_clamp_max", prob_clamp_max);
+    cfg.write(s, "coarse_cell_size_m", coarse_cell_size_m);
+    cfg.write(s, "coarsen_cells_percent", coarsen_cells_percent);
+    cfg.write(s, "coarsen_min_prob", coarsen_min_prob);
 }
 
 void OccupancyLayer::Options::validate(const std::string& s) const
@@ -75,6 +84,12 @@ void OccupancyLayer::Options::validate(const std::string& s) const
         throwConfigError(
             s, "prob_clamp_min", std::to_string(prob_clamp_min),
             "need prob_clamp_min <= prob_prior <= prob_clamp_max");
+    if (!(coarse_cell_size_m == 0 || (std::isfinite(coarse_cell_size_m) && coarse_cell_size_m > cell_size_m)))
+        throwConfigError(
+            s, "coarse_cell_size_m", std::to_string(coarse_cell_size_m), "must be 0 (off) or > cell_size_m");
+    if (!(coarsen_cells_percent > 0 && coarsen_cells_percent <= 1))
+        throwConfigError(s, "coarsen_cells_percent", std::to_string(coarsen_cells_percent), "must be in (0, 1]");
+    open01("coarsen_min_prob", coarsen_min_prob);
 }
 
 float OccupancyLayer::Options::hitIncrement() const
@@ -127,6 +142,59 @@ void OccupancyLayer::insert(const RegionScan& scan)
     grid_.applyMarks(
         options_.missIncrement(), options_.hitIncrement(), options_.clampMinLogOdds(),
         options_.clampMaxLogOdds());
+}
+
+double OccupancyLayer::freeFraction(double min_prob) const
+{
+    const double l_min = logit(min_prob);
+    size_t cells = 0, free = 0;
+    for (int iy = 0; iy < grid_.sizeY(); ++iy)
+        for (int ix = 0; ix < grid_.sizeX(); ++ix)
+        {
+            if (!grid_.updatable(ix, iy)) continue;
+            ++cells;
+            if (grid_.logOdds(ix, iy) < l_min) ++free;
+        }
+    return cells == 0 ? 0.0 : static_cast<double>(free) / static_cast<double>(cells);
+}
+
+bool OccupancyLayer::isCoarse() const
+{
+    return options_.coarse_cell_size_m > 0 && grid_.cellSize() >= options_.coarse_cell_size_m;
+}
+
+bool OccupancyLayer::coarsen()
+{
+    if (options_.coarse_cell_size_m <= 0 || isCoarse()) return false;
+    if (!(freeFraction(options_.coarsen_min_prob) > options_.coarsen_cells_percent)) return false;  // Sec. 4.1.3
+    LogOddsGrid coarse = LogOddsGrid::covering(
+        boxLo(reference_), boxHi(reference_), options_.coarse_cell_size_m, grid_.initialLogOdds());
+    const size_t n = static_cast<size_t>(coarse.sizeX()) * static_cast<size_t>(coarse.sizeY());
+    std::vector<float> max_l(n, -std::numeric_limits<float>::infinity());
+    std::vector<double> sum_l(n, 0.0);
+    std::vector<size_t> count(n, 0);
+    for (int iy = 0; iy < grid_.sizeY(); ++iy)
+        for (int ix = 0; ix < grid_.sizeX(); ++ix)
+        {
+            int cx, cy;
+            if (!grid_.updatable(ix, iy) || !coarse.cellOf(grid_.cellCentre(ix, iy), cx, cy)) continue;
+            const size_t k = static_cast<size_t>(cy) * static_cast<size_t>(coarse.sizeX()) + static_cast<size_t>(cx);
+            const float l = grid_.logOdds(ix, iy);
+            max_l[k] = std::max(max_l[k], l);
+            sum_l[k] += l;
+            ++count[k];
+        }
+    for (int cy = 0; cy < coarse.sizeY(); ++cy)
+        for (int cx = 0; cx < coarse.sizeX(); ++cx)
+        {
+            const size_t k = static_cast<size_t>(cy) * static_cast<size_t>(coarse.sizeX()) + static_cast<size_t>(cx);
+            if (count[k] == 0) continue;  // border cell beyond the fine grid: stays at the prior
+            // Occupied wins, so obstacles survive; otherwise the mean keeps free/unknown.
+            coarse.setLogOdds(cx, cy, max_l[k] > 0 ? max_l[k] : static_cast<float>(sum_l[k] / static_cast<double>(count[k])));
+        }
+    grid_ = std::move(coarse);
+    restrictToTriangle();
+    return true;
 }
 
 size_t OccupancyLayer::memoryBytes() const { return sizeof(*this) - sizeof(grid_) + grid_.memoryBytes(); }

@@ -3,13 +3,19 @@
 #include <mrpt/obs/CObservation2DRangeScan.h>
 
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 namespace hymm::dense
 {
-ScanPoints ScanPoints::fromRangeScan(const mrpt::obs::CObservation2DRangeScan& obs)
+ScanPoints ScanPoints::fromRangeScan(
+    const mrpt::obs::CObservation2DRangeScan& obs, double range_std_m, double bearing_std_rad)
 {
     ScanPoints s;
     s.sensor_on_vehicle = mrpt::math::TPose2D(obs.sensorPose.x(), obs.sensorPose.y(), obs.sensorPose.yaw());
+    s.range_std_m = range_std_m;
+    s.bearing_std_rad = bearing_std_rad;
+    const bool with_intensity = obs.hasIntensity();
     s.points.reserve(obs.getScanSize());
     for (size_t i = 0; i < obs.getScanSize(); ++i)
     {
@@ -17,8 +23,33 @@ ScanPoints ScanPoints::fromRangeScan(const mrpt::obs::CObservation2DRangeScan& o
         const double r = obs.getScanRange(i);
         const double a = obs.getScanAngle(i);
         s.points.emplace_back(r * std::cos(a), r * std::sin(a));
+        if (with_intensity) s.values.push_back(static_cast<double>(obs.getScanIntensity(i)));
     }
+    s.validate();
     return s;
+}
+
+void ScanPoints::validate() const
+{
+    const auto fail = [](const std::string& what) {
+        throw std::invalid_argument("ScanPoints: " + what);
+    };
+    if (!values.empty() && values.size() != points.size())
+        fail("values has " + std::to_string(values.size()) + " entries for " +
+             std::to_string(points.size()) + " returns (need 0 or one per return)");
+    if (!value_stds.empty() && value_stds.size() != values.size())
+        fail("value_stds has " + std::to_string(value_stds.size()) + " entries for " +
+             std::to_string(values.size()) + " values (need 0 or one per value)");
+    for (size_t i = 0; i < values.size(); ++i)
+        if (!std::isfinite(values[i])) fail("value " + std::to_string(i) + " is not finite");
+    for (size_t i = 0; i < value_stds.size(); ++i)
+        if (!(std::isfinite(value_stds[i]) && value_stds[i] > 0))
+            fail("value_std " + std::to_string(i) + "=" + std::to_string(value_stds[i]) +
+                 " must be finite and > 0");
+    if (!(range_std_m >= 0) || !std::isfinite(range_std_m))
+        fail("range_std_m=" + std::to_string(range_std_m) + " must be >= 0 (0 = unknown)");
+    if (!(bearing_std_rad >= 0) || !std::isfinite(bearing_std_rad))
+        fail("bearing_std_rad=" + std::to_string(bearing_std_rad) + " must be >= 0 (0 = unknown)");
 }
 
 WorldScan ScanPoints::toWorld(const mrpt::math::TPose2D& vehicle_pose, double max_range_m) const
@@ -29,11 +60,13 @@ WorldScan ScanPoints::toWorld(const mrpt::math::TPose2D& vehicle_pose, double ma
     w.sensor = Eigen::Vector2d(sensor.x, sensor.y);
     w.lo = w.hi = w.sensor;
     w.beams.reserve(points.size());
-    for (const Eigen::Vector2d& p : points)
+    for (size_t i = 0; i < points.size(); ++i)
     {
+        const Eigen::Vector2d& p = points[i];
         const double r = p.norm();
         if (!(r > 0)) continue;
         WorldBeam b;
+        b.source = i;
         Eigen::Vector2d q = p;
         if (r > max_range_m)
         {

@@ -114,4 +114,35 @@ void savePointsPng(
     write(path, img);
 }
 
+void saveScalarFieldPng(
+    const ScalarField& field, const std::string& path, double v_min, double v_max,
+    const hymm::ltr::RegionPartition* triangles, const std::vector<std::vector<Eigen::Vector2d>>* polylines)
+{
+    if (!(v_max > v_min)) throw std::invalid_argument("saveScalarFieldPng: need v_max > v_min");
+    const int w = field.sizeX(), h = field.sizeY();
+    checkSize(w, h, path);
+    cv::Mat grey(h, w, CV_8UC1), nodata(h, w, CV_8UC1, cv::Scalar(0));
+    for (int iy = 0; iy < h; ++iy)
+        for (int ix = 0; ix < w; ++ix)
+        {
+            const double v = field.values(iy, ix);
+            if (std::isnan(v)) nodata.at<unsigned char>(h - 1 - iy, ix) = 255;
+            const double t = std::isnan(v) ? 0.0 : std::clamp((v - v_min) / (v_max - v_min), 0.0, 1.0);
+            grey.at<unsigned char>(h - 1 - iy, ix) = static_cast<unsigned char>(std::lround(255.0 * t));
+        }
+    cv::Mat img;
+    cv::applyColorMap(grey, img, cv::COLORMAP_JET);
+    img.setTo(cv::Scalar(255, 255, 255), nodata);
+    const PixelFrame f{field.origin.x(), field.origin.y() + h * field.resolution, field.resolution};
+    if (triangles) drawTriangles(img, f, *triangles);
+    if (polylines)
+        for (const auto& poly : *polylines)
+        {
+            std::vector<cv::Point> pts;
+            for (const auto& p : poly) pts.push_back(f.px(p));
+            cv::polylines(img, pts, true, cv::Scalar(255, 255, 255), 1, cv::LINE_AA);
+        }
+    write(path, img);
+}
+
 }  // namespace hymm::dense

@@ -1,4 +1,7 @@
 #include "hymm/denseslam/DenseSlam.h"
+#include "hymm/denseslam/VirtualLandmarkView.h"
+
+#include <hymm/uif/DelayedDenseStore.h>
 
 #include <hymm/core/config_utils.h>
 #include <hymm/dense/ScanPoints.h>
@@ -81,7 +84,8 @@ void DenseSlam::Options::loadFromConfigFile(const mrpt::config::CConfigFileBase&
                          {"landmark_source", "use_landmark_ids", "odometry_cov_scale",
                           "odometry_std_xy", "odometry_std_phi_deg", "sensor_std_range",
                           "sensor_std_bearing_deg", "min_range", "max_range", "enable_profiler",
-                          "dense_layers", "classic_grid"});
+                          "dense_layers", "classic_grid", "laser_std_range",
+                          "laser_std_bearing_deg"});
     landmark_source = parseSource(core::readString(cfg, s, "landmark_source", sourceName(landmark_source)), s);
     use_landmark_ids = core::readBool(cfg, s, "use_landmark_ids", use_landmark_ids);
     odometry_cov_scale = core::readDoubleMin(cfg, s, "odometry_cov_scale", odometry_cov_scale, 0.0, true);
@@ -97,6 +101,9 @@ void DenseSlam::Options::loadFromConfigFile(const mrpt::config::CConfigFileBase&
     parseDenseLayers(core::readString(cfg, s, "dense_layers", denseLayersName(dense_points, dense_occupancy)),
                      s, dense_points, dense_occupancy);
     classic_grid = core::readBool(cfg, s, "classic_grid", classic_grid);
+    laser_std_range = core::readDoubleMin(cfg, s, "laser_std_range", laser_std_range, 0.0, true);
+    laser_std_bearing = kDeg * core::readDoubleMin(cfg, s, "laser_std_bearing_deg",
+                                                   laser_std_bearing / kDeg, 0.0, true);
 }
 
 void DenseSlam::Options::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
@@ -114,11 +121,15 @@ void DenseSlam::Options::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
     cfg.write(s, "enable_profiler", enable_profiler);
     cfg.write(s, "dense_layers", denseLayersName(dense_points, dense_occupancy));
     cfg.write(s, "classic_grid", classic_grid);
+    cfg.write(s, "laser_std_range", laser_std_range);
+    cfg.write(s, "laser_std_bearing_deg", laser_std_bearing / kDeg);
 }
 
 void DenseSlam::DenseOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg)
 {
     partition.loadFromConfigFile(cfg, "LtrPartition");
+    virtual_landmarks.loadFromConfigFile(cfg, "VirtualLandmarks");
+    delayed.loadFromConfigFile(cfg, "DelayedDenseStore");
     hybrid.loadAll(cfg);
     classic.loadFromConfigFile(cfg, "ClassicOccupancyGrid");
 }
@@ -142,8 +153,14 @@ DenseSlam::DenseSlam(const Options& opts, const ekf::EkfSlam::Options& ekf_opts,
                      const extract::TreeExtractor::Options& tree_opts,
                      const extract::ReflectorExtractor::Options& reflector_opts,
                      const DenseOptions& dense_opts)
-    : options_(opts), ekf_(ekf_opts), trees_(tree_opts), reflectors_(reflector_opts)
+    : options_(opts),
+      ekf_(ekf_opts),
+      trees_(tree_opts),
+      reflectors_(reflector_opts),
+      virtual_options_(dense_opts.virtual_landmarks)
 {
+    if (options_.denseLayers() && dense_opts.delayed.enabled)
+        store_ = std::make_unique<uif::DelayedDenseStore>(dense_opts.delayed);
     profiler_.enable(options_.enable_profiler);
     if (options_.denseLayers())
     {
@@ -248,21 +265,36 @@ void DenseSlam::processFrame(const mrpt::obs::CSensoryFrame& frame)
 
 void DenseSlam::processDense(const mrpt::obs::CSensoryFrame& frame, double t, bool map_changed)
 {
-    // Reads the filter only (UIF): nothing below writes to ekf_.
-    const EkfCovarianceView view(ekf_);
+    // Reads the filter only (UIF): nothing below writes to its active states.
+    const VirtualLandmarkView view(ekf_, virtual_ids_);
     if (partition_ && map_changed)
     {
         mrpt::system::CTimeLoggerEntry tle(profiler_, "denseslam.4_regions");
+        // local_refresh: only the regions the scans and the growth can reach follow the
+        // new estimates (O(area) per step); a large vehicle correction (a loop closure)
+        // refreshes every region. Otherwise every region and landmark, every step.
+        const auto& po = partition_->options();
+        const Eigen::Vector2d vehicle_xy = ekf_.vehiclePose().head<2>();
+        const bool local = po.local_refresh && (vehicle_xy - ekf_.predictedPose().head<2>()).norm() <=
+                                                   po.full_refresh_correction_m;
+        double reach = hybrid_->options().max_range_m;  // scan returns are looked up this far
+        for (const auto& o : frame)
+            if (const auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(o))
+                reach = std::max(reach, hybrid_->options().max_range_m +
+                                            std::hypot(scan->sensorPose.x(), scan->sensorPose.y()));
         // Regions anchored on landmarks that left the map go, with their dense content.
-        const auto stale = partition_->regionsWithMissingLandmarks(view);
+        const auto stale = local ? partition_->regionsWithMissingLandmarksNear(view, vehicle_xy, reach)
+                                 : partition_->regionsWithMissingLandmarks(view);
         for (long id : stale) partition_->removeRegion(id);
         if (!stale.empty())
         {
             stats_.regions_removed += stale.size();
             hybrid_->removeStaleRegions(*partition_);
+            dropUnusedVirtualLandmarks();
         }
-        // Refreshes the current vertices of every region, then grows (O(n) in landmarks).
-        stats_.regions_created += partition_->update(view, t).size();
+        // Refreshes the current vertices (near the vehicle or all), then grows around it.
+        stats_.regions_created +=
+            (local ? partition_->updateNear(view, t, reach) : partition_->update(view, t)).size();
         ++stats_.partition_updates;
     }
 
@@ -277,15 +309,91 @@ void DenseSlam::processDense(const mrpt::obs::CSensoryFrame& frame, double t, bo
         if (!scan) continue;
         // ScanPoints carries the scan's sensorPose: the layers compose it with `vehicle`.
         const auto pts = dense::ScanPoints::fromRangeScan(*scan);
+        if (hybrid_ && store_)
+        {
+            // Step 5a (Sec. 3.7.3): returns kept while no region covered them go into the
+            // regions that exist now, at their corrected local coordinates.
+            const auto rep = store_->fuse(ekf_, *partition_, [&](long rid, const dense::RegionScan& rs) {
+                hybrid_->insertRegionScan(rid, rs, *partition_);
+            });
+            stats_.delayed_fused += rep.fused;
+        }
         if (hybrid_)
         {
             const auto st = hybrid_->insertScan(pts, vehicle, *partition_);
             stats_.returns_stored += st.returns_stored;
             stats_.returns_outside += st.returns_outside;
             ++stats_.dense_scans;
+            if (virtual_options_.enabled) createVirtualLandmarks(st.unassigned, t);
+            if (store_ && !st.unassigned.empty())
+            {
+                // Step 5b: what no region holds waits in the store as passive states.
+                const Eigen::Matrix2d R = Eigen::Vector2d(options_.laser_std_range * options_.laser_std_range,
+                                                          options_.laser_std_bearing * options_.laser_std_bearing)
+                                              .asDiagonal();
+                const auto& sv = pts.sensor_on_vehicle;
+                const auto rep = store_->addGlobalPoints(ekf_, *partition_, st.unassigned, R,
+                                                         Eigen::Vector3d(sv.x, sv.y, sv.phi), t);
+                stats_.delayed_stored += rep.stored;
+            }
         }
         if (classic_) classic_->insertScan(pts, vehicle);
     }
+}
+
+void DenseSlam::createVirtualLandmarks(const std::vector<Eigen::Vector2d>& unassigned, double t)
+{
+    mrpt::system::CTimeLoggerEntry tle(profiler_, "denseslam.6_virtual");
+    const VirtualLandmarkView view(ekf_, virtual_ids_);
+    const auto proposals =
+        ltr::proposeVirtualLandmarks(*partition_, view, unassigned, virtual_options_);
+    const double var = virtual_options_.position_std_m * virtual_options_.position_std_m;
+    const Eigen::MatrixXd& P = ekf_.cov();
+    for (const auto& p : proposals)
+    {
+        const auto oa = static_cast<Eigen::Index>(ekf_.landmarkBlock(p.a).offset);
+        const auto ob = static_cast<Eigen::Index>(ekf_.landmarkBlock(p.b).offset);
+        // Shallower apexes when the full depth overlaps a region or fails a condition.
+        for (double depth = p.depth; depth >= virtual_options_.min_depth_m; depth *= 0.6)
+        {
+            // v = g(a, b) is augmented like a landmark (Eq. 2.53) with G = [J_a, J_b] on
+            // the states of a and b and a small definitional noise in place of R, as a
+            // passive state: it follows every correction of a and b, gives nothing back.
+            Eigen::Matrix2d Ja, Jb;
+            const Eigen::Vector2d v =
+                ltr::virtualApex(ekf_.landmarkMean(p.a), ekf_.landmarkMean(p.b), p.side, depth, &Ja, &Jb);
+            const Eigen::MatrixXd cross = Ja * P.middleRows(oa, 2) + Jb * P.middleRows(ob, 2);
+            Eigen::Matrix2d cov = cross.middleCols(oa, 2) * Ja.transpose() +
+                                  cross.middleCols(ob, 2) * Jb.transpose() +
+                                  var * Eigen::Matrix2d::Identity();
+            cov = 0.5 * (cov + cov.transpose()).eval();
+            const long id = next_virtual_id_++;
+            ekf_.addPassiveState(id, v, cov, cross);
+            virtual_ids_.insert(id);
+            const VirtualLandmarkView vview(ekf_, virtual_ids_);
+            if (partition_->tryAddRegion({p.a, p.b, id}, vview, t).accepted())
+            {
+                ++stats_.virtual_landmarks;
+                ++stats_.regions_created;
+                break;
+            }
+            ++stats_.virtual_rejected;
+            ekf_.removePassiveState(id);
+            virtual_ids_.erase(id);
+        }
+    }
+}
+
+void DenseSlam::dropUnusedVirtualLandmarks()
+{
+    for (auto it = virtual_ids_.begin(); it != virtual_ids_.end();)
+        if (partition_->regionsUsingLandmark(*it).empty())
+        {
+            if (ekf_.passive().has(*it)) ekf_.removePassiveState(*it);
+            it = virtual_ids_.erase(it);
+        }
+        else
+            ++it;
 }
 
 Eigen::Matrix2d DenseSlam::sensorNoise(double std_range, double std_bearing) const

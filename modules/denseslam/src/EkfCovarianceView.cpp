@@ -57,4 +57,15 @@ std::vector<long> EkfCovarianceView::ids() const
     return out;
 }
 
+std::vector<long> EkfCovarianceView::idsNear(const Eigen::Vector2d& centre, double radius) const
+{
+    std::vector<long> out;
+    const Eigen::VectorXd& x = ekf_.mean();
+    for (const auto& b : ekf_.layout().blocks())
+        if (visible(b) &&
+            (x.segment<2>(static_cast<Eigen::Index>(b.offset)) - centre).norm() <= radius)
+            out.push_back(b.id);
+    return out;
+}
+
 }  // namespace hymm::denseslam

@@ -39,6 +39,8 @@ Frame makeFrame(const MapPlot& plot)
     for (const auto& p : plot.true_path) grow(p);
     for (const auto& l : plot.estimated_landmarks) grow(l.mean);
     for (const auto& p : plot.true_landmarks) grow(p);
+    for (const auto& p : plot.dense_points)
+        if (p.allFinite()) grow(p);
     if (xmin > xmax) throw std::invalid_argument("map plot: nothing to draw");
     const double margin = 5.0;  // [m]
     xmin -= margin, ymin -= margin, xmax += margin, ymax += margin;
@@ -69,6 +71,8 @@ void writeMapPng(const MapPlot& plot, const std::string& path)
     cv::Mat img(f.h, f.w, CV_8UC3, cv::Scalar(255, 255, 255));
     const cv::Scalar grey(150, 150, 150), blue(200, 60, 0), red(0, 0, 220);
 
+    for (const auto& p : plot.dense_points)
+        if (p.allFinite()) cv::circle(img, f.px(p), 0, cv::Scalar(0, 0, 0), cv::FILLED);
     drawPolyline(img, f, plot.true_path, grey, 2);
     for (const auto& p : plot.true_landmarks)
         cv::drawMarker(img, f.px(p), grey, cv::MARKER_STAR, 9, 1, cv::LINE_AA);

@@ -80,9 +80,7 @@ void SlamApp::run(std::ostream& log)
     if (gt)
     {
         auto metrics = computeMetrics(*slam_, *gt, run_s);
-        std::vector<Eigen::Vector2d> true_landmarks;
-        for (const auto& l : gt->landmarks) true_landmarks.emplace_back(l.x, l.y);
-        writeDenseMetrics(metrics, *slam_, outlines, true_landmarks);
+        writeDenseMetrics(metrics, *slam_, outlines, trueTrunks(gt->landmarks));
         metrics.save(out + "metrics.json");
     }
     writeSummary(*slam_, run_s, reader.entriesRead(), out + "summary.txt");

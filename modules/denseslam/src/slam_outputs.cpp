@@ -13,6 +13,7 @@
 #include <mrpt/serialization/CArchive.h>
 #include <mrpt/system/filesystem.h>
 
+#include <cmath>
 #include <fstream>
 #include <iomanip>
 #include <stdexcept>
@@ -42,36 +43,34 @@ void writeSerialized(const T& obj, const std::string& file)
     mrpt::serialization::archiveFrom(f) << obj;
 }
 
-void setOutlineMetrics(eval::MetricsJson& j, const dense::OutlineMetrics& m)
-{
-    j.set("points", static_cast<unsigned long>(m.points));
-    j.set("mean_distance_m", m.mean_distance_m);
-    j.set("p95_distance_m", m.p95_distance_m);
-    j.set("coverage", m.coverage);
-    j.set("outline_samples", static_cast<unsigned long>(m.outline_samples));
-}
-
-// Outline metrics of `points`, and without the points near a true landmark.
+// Accuracy against every true surface (`surfaces`: object outlines and trunk circles),
+// coverage of the object outlines alone (trunks are landmarks, not dense content to cover).
 void setOutlineMetrics(eval::MetricsJson& j, const std::vector<Eigen::Vector2d>& points,
                        const std::vector<dense::Polygon>& outlines,
-                       const std::vector<Eigen::Vector2d>& landmarks, double radius)
+                       const std::vector<dense::Polygon>& surfaces)
 {
-    setOutlineMetrics(j, dense::evaluateOutlines(points, outlines));
-    if (landmarks.empty()) return;
-    std::vector<Eigen::Vector2d> kept;
-    kept.reserve(points.size());
-    for (const auto& p : points)
+    const dense::OutlineMetrics acc = dense::evaluateOutlines(points, surfaces);
+    const dense::OutlineMetrics cov = dense::evaluateOutlines(points, outlines);
+    j.set("points", static_cast<unsigned long>(acc.points));
+    j.set("mean_distance_m", acc.mean_distance_m);
+    j.set("p95_distance_m", acc.p95_distance_m);
+    j.set("coverage", cov.coverage);
+    j.set("outline_samples", static_cast<unsigned long>(cov.outline_samples));
+}
+
+// A trunk of radius r as a closed polygon (a single point when r = 0); 32 sides keep
+// the polygon within r (1 - cos(pi/32)) = 0.5% of r of the circle.
+dense::Polygon circleOutline(const Eigen::Vector2d& c, double r)
+{
+    if (!(r > 0)) return {c, c};
+    constexpr int kSides = 32;
+    dense::Polygon p;
+    for (int k = 0; k < kSides; ++k)
     {
-        bool near = false;
-        for (const auto& l : landmarks)
-            if ((p - l).squaredNorm() < radius * radius)
-            {
-                near = true;
-                break;
-            }
-        if (!near) kept.push_back(p);
+        const double a = 2 * M_PI * k / kSides;
+        p.emplace_back(c + r * Eigen::Vector2d(std::cos(a), std::sin(a)));
     }
-    setOutlineMetrics(j.object("objects_only"), dense::evaluateOutlines(kept, outlines));
+    return p;
 }
 
 // Occupancy layer rendered at its own cell size.
@@ -127,9 +126,18 @@ void writeDenseOutputs(const DenseSlam& slam, const std::string& dir, bool png)
     }
 }
 
+std::vector<TrueTrunk> trueTrunks(const std::vector<core::LandmarkRecord>& landmarks)
+{
+    std::vector<TrueTrunk> out;
+    out.reserve(landmarks.size());
+    for (const auto& l : landmarks)
+        out.push_back({Eigen::Vector2d(l.x, l.y), l.extra.empty() ? 0.0 : l.extra[0]});
+    return out;
+}
+
 void writeDenseMetrics(eval::MetricsJson& j, const DenseSlam& slam,
                        const std::vector<dense::Polygon>& outlines,
-                       const std::vector<Eigen::Vector2d>& true_landmarks, double landmark_radius_m)
+                       const std::vector<TrueTrunk>& true_landmarks)
 {
     if (!slam.partition() && !slam.classicGrid()) return;
     auto& dj = j.object("dense");
@@ -139,25 +147,27 @@ void writeDenseMetrics(eval::MetricsJson& j, const DenseSlam& slam,
         dj.set("regions", static_cast<unsigned long>(partition->size()));
         dj.set("regions_created", static_cast<unsigned long>(st.regions_created));
         dj.set("regions_removed", static_cast<unsigned long>(st.regions_removed));
+        dj.set("virtual_landmarks", static_cast<unsigned long>(slam.virtualLandmarkIds().size()));
         dj.set("returns_stored", static_cast<unsigned long>(st.returns_stored));
         dj.set("returns_outside", static_cast<unsigned long>(st.returns_outside));
         dj.set("memory_bytes", static_cast<unsigned long>(slam.hybridMap()->memoryBytes()));
     }
     if (outlines.empty()) return;
+    std::vector<dense::Polygon> surfaces = outlines;
+    for (const auto& t : true_landmarks) surfaces.push_back(circleOutline(t.centre, t.radius));
     const auto* hybrid = slam.hybridMap();
     if (hybrid && hybrid->options().enable_points)
     {
         mrpt::maps::CSimplePointsMap pts;
         hybrid->renderPoints(*slam.partition(), pts);
-        setOutlineMetrics(dj.object("points"), dense::pointsOf(pts), outlines, true_landmarks,
-                          landmark_radius_m);
+        setOutlineMetrics(dj.object("points"), dense::pointsOf(pts), outlines, surfaces);
     }
     if (hybrid && hybrid->options().enable_occupancy)
     {
         mrpt::maps::COccupancyGridMap2D grid;
         renderOccupancy(slam, grid);
         setOutlineMetrics(dj.object("occupancy"), dense::occupiedCellCentres(grid, kOccupiedProbability),
-                          outlines, true_landmarks, landmark_radius_m);
+                          outlines, surfaces);
     }
     if (const auto* classic = slam.classicGrid())
     {
@@ -165,7 +175,7 @@ void writeDenseMetrics(eval::MetricsJson& j, const DenseSlam& slam,
         classic->toOccupancyGridMap(grid);
         setOutlineMetrics(dj.object("classic_grid"),
                           dense::occupiedCellCentres(grid, kOccupiedProbability), outlines,
-                          true_landmarks, landmark_radius_m);
+                          surfaces);
     }
 }
 
@@ -260,6 +270,12 @@ MapPlot makeMapPlot(const DenseSlam& slam, const GroundTruth* gt)
     MapPlot p;
     for (const auto& s : slam.path()) p.estimated_path.emplace_back(s.pose[0], s.pose[1]);
     for (const auto& e : estimatedLandmarks(slam.ekf())) p.estimated_landmarks.push_back({e.position, e.cov});
+    if (const auto* hybrid = slam.hybridMap(); hybrid && hybrid->options().enable_points)
+    {
+        mrpt::maps::CSimplePointsMap pts;
+        hybrid->renderPoints(*slam.partition(), pts);
+        p.dense_points = dense::pointsOf(pts);
+    }
     if (gt)
     {
         for (const auto& s : gt->path) p.true_path.emplace_back(s.x, s.y);
@@ -369,7 +385,9 @@ void writeSummary(const DenseSlam& slam, double run_seconds, size_t entries, con
         f << "regions (LTR)        " << p->size() << " (created " << s.regions_created << ", removed "
           << s.regions_removed << ", partition updates " << s.partition_updates << ")\n"
           << "dense scans          " << s.dense_scans << " (returns stored " << s.returns_stored
-          << ", outside regions " << s.returns_outside << ")\n";
+          << ", outside regions " << s.returns_outside << ")\n"
+          << "virtual landmarks    " << slam.virtualLandmarkIds().size() << " (created "
+          << s.virtual_landmarks << ", apexes rejected " << s.virtual_rejected << ")\n";
     if (slam.classicGrid()) f << "classic grid         on\n";
     if (!f) throw std::runtime_error("error writing '" + file + "'");
 }

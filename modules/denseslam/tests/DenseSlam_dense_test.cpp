@@ -76,17 +76,33 @@ TEST(DenseSlamDense, FeatureMapAndPathAreBitwiseIdenticalWithAndWithoutDenseLaye
         ASSERT_TRUE(plain.path()[i].cov == dense.path()[i].cov) << "sample " << i;
     }
 
-    // Every region hangs off landmarks of the feature map, at their current estimates.
+    // Every region hangs off landmarks of the feature map or virtual landmarks carried
+    // as passive states (at most one per region), at their current estimates.
+    EXPECT_GT(dense.stats().virtual_landmarks, 0u);
+    EXPECT_EQ(dense.virtualLandmarkIds().size(), dense.ekf().passive().numBlocks());
+    size_t with_virtual = 0;
     for (long id : dense.partition()->regionIds())
     {
         const auto& r = dense.partition()->region(id);
+        int virtuals = 0;
         for (int k = 0; k < 3; ++k)
         {
-            ASSERT_TRUE(dense.ekf().hasLandmark(r.vertex_ids[k])) << "region " << id;
-            EXPECT_TRUE((r.current[k] - dense.ekf().landmarkMean(r.vertex_ids[k])).norm() < 1e-9)
+            const long v = r.vertex_ids[k];
+            if (dense.virtualLandmarkIds().count(v))
+            {
+                ++virtuals;
+                ASSERT_TRUE(dense.ekf().passive().has(v));
+                EXPECT_TRUE((r.current[k] - dense.ekf().passive().mean(v)).norm() < 1e-9);
+                continue;
+            }
+            ASSERT_TRUE(dense.ekf().hasLandmark(v)) << "region " << id;
+            EXPECT_TRUE((r.current[k] - dense.ekf().landmarkMean(v)).norm() < 1e-9)
                 << "region " << id << " vertex " << k;
         }
+        EXPECT_LE(virtuals, 1) << "region " << id;
+        with_virtual += virtuals;
     }
+    EXPECT_GT(with_virtual, 0u);
 }
 
 TEST(DenseSlamDense, DenseLayersKey)

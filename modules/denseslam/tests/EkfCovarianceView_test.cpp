@@ -4,6 +4,7 @@
 #include <hymm/denseslam/EkfCovarianceView.h>
 #include <hymm/ltr/DenseCovarianceView.h>
 
+#include <algorithm>
 #include <map>
 #include <random>
 
@@ -85,6 +86,52 @@ TEST(EkfCovarianceView, HidesTentativeLandmarksUnlessAsked)
     ekf.updateRangeBearing({z}, mrpt::poses::CPose3D());
     ASSERT_TRUE(ekf.landmarkBlock(4).confirmed);
     EXPECT_TRUE(EkfCovarianceView(ekf).has(4));
+}
+
+TEST(EkfCovarianceView, IdsNearEqualsTheBruteForceFilterInStateOrder)
+{
+    // 60 points (ids 1000 - 3k, so state order differs from id order), one 3-DOF block
+    // and one tentative landmark, which idsNear must hide like ids().
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> u(-50, 50);
+    std::vector<std::pair<long, int>> blocks;
+    for (int k = 0; k < 60; ++k) blocks.emplace_back(1000 - 3 * k, 2);
+    blocks.insert(blocks.begin() + 20, {5000, 3});
+    const int n = 3 + 2 * 60 + 3;
+    Eigen::VectorXd x(n);
+    for (int i = 0; i < n; ++i) x[i] = u(rng);
+    hymm::ekf::EkfSlam::Options o;
+    o.confirm_min_observations = 2;
+    hymm::ekf::EkfSlam ekf(o);
+    ekf.setActiveState(x, randomCov(n, 9), blocks);
+    hymm::ekf::RangeBearingObs z;  // a tentative landmark at (5, 0) from the vehicle
+    z.z = Eigen::Vector2d(5.0, 0.0);
+    z.R = Eigen::Vector2d(0.01, 0.001).asDiagonal();
+    z.id = 7;
+    ekf.updateRangeBearing({z}, mrpt::poses::CPose3D());
+    ASSERT_TRUE(ekf.hasLandmark(7));
+    ASSERT_FALSE(ekf.landmarkBlock(7).confirmed);
+
+    for (const bool confirmed_only : {true, false})
+    {
+        const EkfCovarianceView v(ekf, confirmed_only);
+        size_t found = 0;
+        for (int k = 0; k < 100; ++k)
+        {
+            const Eigen::Vector2d c(u(rng), u(rng));
+            const double r = 0.4 * std::abs(u(rng));
+            std::vector<long> brute;
+            for (const long id : v.ids())
+                if ((v.mean(id) - c).norm() <= r) brute.push_back(id);
+            ASSERT_EQ(v.idsNear(c, r), brute);
+            ASSERT_EQ(v.hymm::ltr::LandmarkCovarianceView::idsNear(c, r), brute);
+            found += brute.size();
+        }
+        EXPECT_GT(found, 100u);
+        const Eigen::Vector2d tentative = ekf.landmarkMean(7);
+        const std::vector<long> at = v.idsNear(tentative, 1e-9);
+        EXPECT_EQ(std::count(at.begin(), at.end(), 7L), confirmed_only ? 0 : 1);
+    }
 }
 
 }  // namespace

@@ -87,6 +87,7 @@ const char* toString(BaseCondition c)
         case BaseCondition::LowVertexCorrelation: return "LowVertexCorrelation";
         case BaseCondition::LowVehicleCorrelation: return "LowVehicleCorrelation";
         case BaseCondition::Overlap: return "Overlap";
+        case BaseCondition::TwoVirtualVertices: return "TwoVirtualVertices";
     }
     return "Unknown";
 }

@@ -87,4 +87,12 @@ std::vector<long> DenseCovarianceView::ids() const
     return out;
 }
 
+std::vector<long> DenseCovarianceView::idsNear(const Eigen::Vector2d& centre, double radius) const
+{
+    std::vector<long> out;
+    for (const auto& [id, off] : offsets_)
+        if ((mean_.segment<2>(off) - centre).norm() <= radius) out.push_back(id);
+    return out;
+}
+
 }  // namespace hymm::ltr

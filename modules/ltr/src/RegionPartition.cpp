@@ -45,7 +45,7 @@ void RegionPartition::Options::loadFromConfigFile(
     using namespace hymm::core;
     std::vector<std::string> known = BaseConditionChecker::Options::keys();
     for (const char* k : {"search_radius_m", "grid_cell_size_m", "max_new_regions_per_update",
-                          "max_seed_landmarks"})
+                          "max_seed_landmarks", "local_refresh", "full_refresh_correction_m"})
         known.emplace_back(k);
     checkKnownKeys(cfg, s, known);
     conditions.loadValues(cfg, s);
@@ -55,6 +55,9 @@ void RegionPartition::Options::loadFromConfigFile(
         readInt(cfg, s, "max_new_regions_per_update", max_new_regions_per_update));
     max_seed_landmarks =
         static_cast<int>(readInt(cfg, s, "max_seed_landmarks", max_seed_landmarks));
+    local_refresh = readBool(cfg, s, "local_refresh", local_refresh);
+    full_refresh_correction_m =
+        readDouble(cfg, s, "full_refresh_correction_m", full_refresh_correction_m);
     validate(s);
 }
 
@@ -66,6 +69,8 @@ void RegionPartition::Options::saveToConfigFile(
     cfg.write(s, "grid_cell_size_m", grid_cell_size_m);
     cfg.write(s, "max_new_regions_per_update", max_new_regions_per_update);
     cfg.write(s, "max_seed_landmarks", max_seed_landmarks);
+    cfg.write(s, "local_refresh", local_refresh);
+    cfg.write(s, "full_refresh_correction_m", full_refresh_correction_m);
 }
 
 void RegionPartition::Options::validate(const std::string& s) const
@@ -83,6 +88,10 @@ void RegionPartition::Options::validate(const std::string& s) const
     if (max_seed_landmarks < 3)
         throwConfigError(
             s, "max_seed_landmarks", std::to_string(max_seed_landmarks), "must be >= 3");
+    if (!(full_refresh_correction_m >= 0))
+        throwConfigError(
+            s, "full_refresh_correction_m", std::to_string(full_refresh_correction_m),
+            "must be >= 0");
 }
 
 // ---------------------------------------------------------------------------------
@@ -173,6 +182,13 @@ CheckResult RegionPartition::tryAddRegion(
 {
     for (const long l : ids)
         if (!view.has(l)) return checker_.check(ids, view, {});  // reports UnknownLandmark
+    if (view.isVirtual(ids[0]) + view.isVirtual(ids[1]) + view.isVirtual(ids[2]) > 1)
+    {
+        CheckResult r;
+        r.reason = BaseCondition::TwoVirtualVertices;
+        r.detail = "virtual-virtual correlations are not kept: at most one virtual vertex";
+        return r;
+    }
     const TriangleFrame::Vertices v{view.mean(ids[0]), view.mean(ids[1]), view.mean(ids[2])};
     // Overlap only against regions whose boxes meet the candidate's (grid query).
     const CheckResult res = checker_.check(ids, view, nearbyTriangles(v));
@@ -201,14 +217,90 @@ std::vector<TriangleFrame::Vertices> RegionPartition::nearbyTriangles(
     return out;
 }
 
+void RegionPartition::refreshRegion(Region& r, const LandmarkCovarianceView& view)
+{
+    long x0, y0, x1, y1;
+    cellRange(r.current, x0, y0, x1, y1);
+    const TriangleFrame::Vertices before = r.current;
+    for (size_t k = 0; k < 3; ++k)
+        if (view.has(r.vertex_ids[k])) r.current[k] = view.mean(r.vertex_ids[k]);
+    long nx0, ny0, nx1, ny1;
+    cellRange(r.current, nx0, ny0, nx1, ny1);
+    if (nx0 == x0 && ny0 == y0 && nx1 == x1 && ny1 == y1) return;  // same cells
+    Region old = r;
+    old.current = before;
+    unindexRegion(old);
+    indexRegion(r);
+}
+
 void RegionPartition::updateVertexPositions(const LandmarkCovarianceView& view)
 {
-    grid_.clear();
-    for (auto& [id, r] : regions_)
+    if (refresh_window_)
     {
-        for (size_t k = 0; k < 3; ++k)
-            if (view.has(r.vertex_ids[k])) r.current[k] = view.mean(r.vertex_ids[k]);
-        indexRegion(r);
+        refreshNear(view, refresh_window_->centre, refresh_window_->radius);
+        return;
+    }
+    for (auto& kv : regions_) refreshRegion(kv.second, view);
+}
+
+void RegionPartition::refreshNear(
+    const LandmarkCovarianceView& view, const Eigen::Vector2d& centre, double radius)
+{
+    const Eigen::Vector2d half = Eigen::Vector2d::Constant(radius);
+    for (const long id : regionsInBox(centre - half, centre + half))
+        refreshRegion(regions_.at(id), view);
+}
+
+namespace
+{
+/** The view the growth of updateNear() reads: everything forwarded, except that ids()
+ *  lists only the landmarks near the vehicle (the growth looks no farther). */
+class NearbyLandmarksView : public LandmarkCovarianceView
+{
+public:
+    NearbyLandmarksView(const LandmarkCovarianceView& view, std::vector<long> nearby)
+        : view_(view), nearby_(std::move(nearby))
+    {
+    }
+    bool has(long id) const override { return view_.has(id); }
+    Eigen::Vector2d mean(long id) const override { return view_.mean(id); }
+    Eigen::Matrix2d cov(long id) const override { return view_.cov(id); }
+    Eigen::Matrix2d crossCov(long a, long b) const override { return view_.crossCov(a, b); }
+    Eigen::Matrix<double, 2, 3> crossVehicle(long id) const override
+    {
+        return view_.crossVehicle(id);
+    }
+    Eigen::Matrix3d vehicleCov() const override { return view_.vehicleCov(); }
+    Eigen::Vector3d vehiclePose() const override { return view_.vehiclePose(); }
+    std::vector<long> ids() const override { return nearby_; }
+    bool isVirtual(long id) const override { return view_.isVirtual(id); }
+
+private:
+    const LandmarkCovarianceView& view_;
+    const std::vector<long> nearby_;
+};
+}  // namespace
+
+std::vector<long> RegionPartition::updateNear(
+    const LandmarkCovarianceView& view, double time, double refresh_radius_m)
+{
+    const Eigen::Vector2d vehicle = view.vehiclePose().head<2>();
+    // update() keeps only landmarks within search_radius_m of the vehicle: the same
+    // filter as idsNear, so handing it those alone changes nothing but the cost.
+    const NearbyLandmarksView nearby(view, view.idsNear(vehicle, options_.search_radius_m));
+    const double window =
+        std::max(options_.search_radius_m, refresh_radius_m) + options_.grid_cell_size_m;
+    refresh_window_ = RefreshWindow{vehicle, window};
+    try
+    {
+        std::vector<long> created = update(nearby, time);
+        refresh_window_.reset();
+        return created;
+    }
+    catch (...)
+    {
+        refresh_window_.reset();
+        throw;
     }
 }
 
@@ -219,6 +311,20 @@ std::vector<long> RegionPartition::regionsWithMissingLandmarks(
     for (const auto& [id, r] : regions_)
         if (!view.has(r.vertex_ids[0]) || !view.has(r.vertex_ids[1]) || !view.has(r.vertex_ids[2]))
             out.push_back(id);
+    return out;
+}
+
+std::vector<long> RegionPartition::regionsWithMissingLandmarksNear(
+    const LandmarkCovarianceView& view, const Eigen::Vector2d& centre, double radius) const
+{
+    const Eigen::Vector2d half = Eigen::Vector2d::Constant(radius);
+    std::vector<long> out;
+    for (const long id : regionsInBox(centre - half, centre + half))
+    {
+        const Region& r = regions_.at(id);
+        if (!view.has(r.vertex_ids[0]) || !view.has(r.vertex_ids[1]) || !view.has(r.vertex_ids[2]))
+            out.push_back(id);
+    }
     return out;
 }
 

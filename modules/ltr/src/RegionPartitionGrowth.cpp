@@ -143,9 +143,12 @@ bool RegionPartition::growFromEdges(
         const double inner_side = cross(pb - pa, view.mean(e.inner) - pa);
         // Third vertices on the free side, by decreasing angle subtended by the edge.
         std::vector<std::pair<double, long>> cands;
+        // At most one virtual vertex per region (virtual-virtual correlations are not kept).
+        const bool edge_has_virtual = view.isVirtual(a) || view.isVirtual(b);
         for (const long c : nb.eligible)
         {
             if (c == a || c == b) continue;
+            if (edge_has_virtual && view.isVirtual(c)) continue;
             const Eigen::Vector2d pc = view.mean(c);
             if (!(cross(pb - pa, pc - pa) * inner_side < 0)) continue;
             const Eigen::Vector2d u = pa - pc, v = pb - pc;
@@ -190,6 +193,9 @@ bool RegionPartition::seed(
             for (size_t k = j + 1; k < n; ++k)
             {
                 if (cross(p[j] - p[i], p[k] - p[i]) == 0) continue;
+                if (view.isVirtual(nb.eligible[i]) + view.isVirtual(nb.eligible[j]) +
+                        view.isVirtual(nb.eligible[k]) > 1)
+                    continue;
                 bool empty = true;
                 for (size_t m = 0; m < n && empty; ++m)
                     if (m != i && m != j && m != k && inCircle(p[i], p[j], p[k], p[m]) > 0)

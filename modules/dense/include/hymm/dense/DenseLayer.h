@@ -7,11 +7,16 @@
  * when the feature map is corrected; only the reference -> current affine map does,
  * and rendering applies it (Sec. 3.6: local coordinates are invariant after fusion).
  *
- * Implementations now: PointsLayer (Sec. 3.9 raw returns) and OccupancyLayer (Sec. 4.1).
- * The interface is meant to take further kinds without change: particle sets and sums
- * of Gaussians (render to points / sampled grids), scalar property grids (render by
- * sampling like OccupancyLayer), and per-region resolution (each layer is constructed
- * per region, so its cell size can differ from its neighbours').
+ * Implementations (kind() in quotes):
+ *  - PointsLayer "points": raw returns (Sec. 3.9) -> mrpt::maps::CPointsMap;
+ *  - OccupancyLayer "occupancy": log-odds grid (Sec. 4.1), per-region resolution by
+ *    coarsen() (Sec. 4.1.3) -> mrpt::maps::COccupancyGridMap2D;
+ *  - ParticlesLayer "particles": weighted samples (Sec. 4.2) -> CPointsMap
+ *    (CPointsMapXYZI: weight as intensity);
+ *  - SogLayer "sog": sum of Gaussians (Sec. 4.3) -> CPointsMap (means) or
+ *    COccupancyGridMap2D (surface); exact surface / ellipses via SogLayer methods;
+ *  - PropertyLayer "property": per-cell scalar mean / variance -> CHeightGridMap2D.
+ * Each layer is constructed per region, so resolutions can differ between neighbours.
  */
 #pragma once
 

@@ -21,6 +21,14 @@
  * Rendering evaluates every stored item at the CURRENT landmark estimates, so after a
  * loop closure the global dense map follows the corrected landmarks (Example 3.2).
  *
+ * Layers (thesis Sec. 4.5 multi-layer maps), each enabled by an option and built per
+ * region by makeLayer(): PointsLayer "points", OccupancyLayer "occupancy",
+ * ParticlesLayer "particles", SogLayer "sog", PropertyLayer "property".
+ *
+ * Background coarsening (Sec. 4.1.3, Fig. 4.6): coarsenIdleRegions() re-samples the
+ * occupancy grids of almost-empty regions that the last scan did not touch; with
+ * coarsen_every_n_scans > 0 insertScan() calls it itself every n scans.
+ *
  * Per-scan use by the pipeline (after the EKF update of that step):
  *   partition.update(view, t);            // or updateVertexPositions(view): current vertices
  *   dense.insertScan(ScanPoints::fromRangeScan(obs), vehicle_pose_estimate, partition);
@@ -30,8 +38,12 @@
 
 #include "hymm/dense/LocalDenseMap.h"
 #include "hymm/dense/OccupancyLayer.h"
+#include "hymm/dense/ParticlesLayer.h"
 #include "hymm/dense/PointsLayer.h"
+#include "hymm/dense/PropertyLayer.h"
+#include "hymm/dense/ScalarField.h"
 #include "hymm/dense/ScanPoints.h"
+#include "hymm/dense/SogLayer.h"
 #include "hymm/ltr/RegionPartition.h"
 
 #include <mrpt/config/CLoadableOptions.h>
@@ -42,6 +54,7 @@
 #include <iosfwd>
 #include <map>
 #include <memory>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -50,23 +63,33 @@ namespace hymm::dense
 class HybridMetricMap
 {
 public:
-    /** Ini section [HybridMetricMap]; the layers read [OccupancyLayer] and [PointsLayer]
-     *  (loadAll reads the three). Unknown keys are errors. */
+    /** Ini section [HybridMetricMap]; the layers read [OccupancyLayer], [PointsLayer],
+     *  [ParticlesLayer], [SogLayer] and [PropertyLayer] (loadAll reads all six).
+     *  Unknown keys are errors. */
     struct Options : public mrpt::config::CLoadableOptions
     {
         bool enable_points = true;     //!< keep raw returns (Sec. 3.9)
         bool enable_occupancy = true;  //!< keep occupancy grids (Sec. 4.1)
+        bool enable_particles = false; //!< keep particle sets (Sec. 4.2)
+        bool enable_sog = false;       //!< keep sums of Gaussians (Sec. 4.3)
+        bool enable_property = false;  //!< keep scalar property grids (ScanPoints::values)
         double max_range_m = 25.0;     //!< [m] returns beyond are free space only (Table 4.1)
+        /** insertScan() runs coarsenIdleRegions() every n scans; 0 = only when called.
+         *  Needs [OccupancyLayer] coarse_cell_size_m > 0 to have an effect. */
+        int coarsen_every_n_scans = 0;
         bool enable_profiler = false;  //!< CTimeLogger "dense.*" sections
         OccupancyLayer::Options occupancy;
         PointsLayer::Options points;
+        ParticlesLayer::Options particles;
+        SogLayer::Options sog;
+        PropertyLayer::Options property;
 
         /** Reads only the [section] keys of this class. */
         void loadFromConfigFile(
             const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
         void saveToConfigFile(
             mrpt::config::CConfigFileBase& cfg, const std::string& section) const override;
-        /** Reads [HybridMetricMap], [OccupancyLayer] and [PointsLayer]. */
+        /** Reads [HybridMetricMap] and the five layer sections. */
         void loadAll(const mrpt::config::CConfigFileBase& cfg);
         void saveAll(mrpt::config::CConfigFileBase& cfg) const;
         void validate(const std::string& section = "HybridMetricMap") const;
@@ -83,6 +106,23 @@ public:
         size_t regions_updated = 0;   //!< regions that received rays or returns
         size_t regions_degenerate = 0;  //!< skipped: current triangle no longer a valid frame
         std::vector<Eigen::Vector2d> unassigned;  //!< global positions of returns in no region
+        size_t regions_coarsened = 0;  //!< by the periodic coarsenIdleRegions() (if due)
+    };
+
+    /** Outcome of one coarsenIdleRegions(): memory of the occupancy layers before and
+     *  after, per coarsened region. */
+    struct CoarsenReport
+    {
+        struct Region
+        {
+            long id;
+            size_t bytes_before;  //!< OccupancyLayer::memoryBytes() before
+            size_t bytes_after;   //!< and after
+        };
+        size_t regions_checked = 0;  //!< idle regions with an occupancy layer not coarse yet
+        std::vector<Region> coarsened;
+        size_t bytesBefore() const;
+        size_t bytesAfter() const;
     };
 
     /** Throws std::invalid_argument on invalid options. */
@@ -99,6 +139,16 @@ public:
         const ScanPoints& scan, const mrpt::math::TPose2D& vehicle_pose,
         const hymm::ltr::RegionPartition& partition);
 
+    /** Coarsens (OccupancyLayer::coarsen) the grid of every region that the last
+     *  insertScan() did not update (Sec. 4.1.3 background function). */
+    CoarsenReport coarsenIdleRegions();
+
+    /** Fuses a scan piece already in the reference frame of `region_id` (e.g. returns
+     *  kept by the delayed-initialisation store until the region existed) into every
+     *  layer of that region. Throws std::out_of_range if the partition lacks the region. */
+    void insertRegionScan(long region_id, const RegionScan& scan,
+                          const hymm::ltr::RegionPartition& partition);
+
     /** Drops local maps of regions the partition no longer has; returns their ids. */
     std::vector<long> removeStaleRegions(const hymm::ltr::RegionPartition& partition);
 
@@ -112,6 +162,19 @@ public:
     void renderOccupancy(
         const hymm::ltr::RegionPartition& partition, double resolution_m,
         mrpt::maps::COccupancyGridMap2D& out) const;
+    /** SOG surface (Fig. 4.12 b): sum of all peak-1 Gaussians at `resolution_m` over the
+     *  bounding box of the current triangles holding a SOG layer plus `margin_m`. */
+    void renderSogSurface(
+        const hymm::ltr::RegionPartition& partition, double resolution_m, ScalarField& out,
+        double margin_m = 1.0) const;
+    /** 1-sigma ellipses of all Gaussians at the current region positions (Fig. 4.13). */
+    std::vector<std::vector<Eigen::Vector2d>> renderSogEllipses(
+        const hymm::ltr::RegionPartition& partition, int points = 36) const;
+    /** Property mean and standard deviation at `resolution_m` over the bounding box of
+     *  the current triangles holding a property layer; unobserved cells are NaN. */
+    void renderProperty(
+        const hymm::ltr::RegionPartition& partition, double resolution_m, ScalarField& mean,
+        ScalarField& stddev) const;
     /** Any layer kind into a map the caller sized (see DenseLayer::renderInto). */
     void renderLayer(
         const std::string& kind, const hymm::ltr::RegionPartition& partition,
@@ -123,6 +186,10 @@ public:
     const LocalDenseMap* localMap(long region_id) const;
     std::vector<long> regionIds() const;
     size_t memoryBytes() const;
+    /** memoryBytes() of all layers of each kind, summed over regions. */
+    std::map<std::string, size_t> memoryBytesByKind() const;
+    /** Layer kinds this map builds, in construction order. */
+    std::vector<std::string> enabledKinds() const;
     /** Empty layer of `kind` for a region (nullptr if the kind is unknown/disabled). */
     std::unique_ptr<DenseLayer> makeLayer(
         const std::string& kind, const hymm::ltr::TriangleFrame::Vertices& reference) const;
@@ -135,9 +202,16 @@ public:
 
 private:
     LocalDenseMap& localMapFor(long region_id, const hymm::ltr::TriangleFrame::Vertices& reference);
+    /** Bounding box of the current triangles of regions holding a layer of `kind`;
+     *  false if there is none. */
+    bool layerBox(
+        const std::string& kind, const hymm::ltr::RegionPartition& partition, Eigen::Vector2d& lo,
+        Eigen::Vector2d& hi) const;
 
     const Options options_;
     std::map<long, std::unique_ptr<LocalDenseMap>> maps_;
+    std::set<long> last_scan_regions_;  //!< regions updated by the last insertScan()
+    size_t scans_ = 0;                  //!< insertScan() calls
     mutable mrpt::system::CTimeLogger profiler_;
 };
 

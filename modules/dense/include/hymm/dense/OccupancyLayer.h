@@ -14,6 +14,15 @@
  * corrected Eq. 4.7 (see LogOddsGrid.h), clamped to [prob_clamp_min, prob_clamp_max]
  * so that cells stay revisable.
  *
+ * Per-region resolution (Sec. 4.1.3, Fig. 4.6): coarsen() re-samples an "almost
+ * empty" region to `coarse_cell_size_m`. A region is almost empty when the fraction of
+ * its cells (those meeting the triangle) with P(occupied) < coarsen_min_prob exceeds
+ * coarsen_cells_percent (thesis: minProb = 0.2, cellsPercent = 0.99, 0.2 m -> 0.5 m).
+ * Each coarse cell takes the largest log-odds of the fine cells whose centres it holds
+ * when one of them is occupied (P > 0.5), so the few occupied cells the criterion allows
+ * (e.g. around the landmarks at the corners) survive; otherwise the mean log-odds.
+ * Later scans update the coarse grid; a region is never refined again.
+ *
  * Why an own grid rather than mrpt::maps::COccupancyGridMap2D for storage: MRPT's
  * insertObservation() traces whole beams from a sensor pose with its own likelihood
  * model and cannot be restricted to a triangle, and its cells hold 8/16-bit quantised
@@ -42,6 +51,9 @@ public:
         double prob_prior = 0.5;       //!< P(C_i) before any observation
         double prob_clamp_min = 0.03;  //!< lower clamp of the posterior
         double prob_clamp_max = 0.97;  //!< upper clamp of the posterior
+        double coarse_cell_size_m = 0.0;     //!< [m] cell after coarsen(); 0 = never coarsen
+        double coarsen_cells_percent = 0.99; //!< cellsPercent: fraction of free cells needed
+        double coarsen_min_prob = 0.2;       //!< minProb: a cell is free below this P
 
         void loadFromConfigFile(
             const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
@@ -74,6 +86,14 @@ public:
         mrpt::maps::CMetricMap& out) const override;
     void save(std::ostream& out) const override;
     void load(std::istream& in) override;
+
+    /** Fraction of the triangle's cells with P(occupied) < `min_prob` (Sec. 4.1.3). */
+    double freeFraction(double min_prob) const;
+    /** Re-samples the grid to coarse_cell_size_m if the region is almost empty (see
+     *  above) and not coarse yet; returns true if it did. */
+    bool coarsen();
+    /** True once the grid is at the coarse cell size. */
+    bool isCoarse() const;
 
     /** P(occupied) at a reference-frame point (the prior outside the grid). */
     double probabilityAt(const Eigen::Vector2d& p_ref) const;

@@ -11,6 +11,7 @@
 
 #include <Eigen/Core>
 
+#include <limits>
 #include <vector>
 
 namespace hymm::dense
@@ -22,6 +23,11 @@ struct FreeRay
     Eigen::Vector2d from;
     Eigen::Vector2d to;
     bool ends_at_hit = false;
+    /** Far end of the WHOLE beam (the return when `beam_hit`, else the point at max
+     *  range), reference coordinates; NaN when unknown (rays built by hand), in which
+     *  case layers take `to` as the return if `ends_at_hit` and as a free end if not. */
+    Eigen::Vector2d beam_end = Eigen::Vector2d::Constant(std::numeric_limits<double>::quiet_NaN());
+    bool beam_hit = false;  //!< the whole beam ended in a return (valid with beam_end)
 };
 
 struct RegionScan
@@ -32,6 +38,22 @@ struct RegionScan
     std::vector<FreeRay> rays;
     /** Sensor position at observation time (may lie outside the triangle). */
     Eigen::Vector2d sensor = Eigen::Vector2d::Zero();
+
+    /** Optional per-return scalar (intensity, elevation, ...), parallel to `hits`; empty
+     *  when the scan carries none. */
+    std::vector<double> hit_values;
+    /** Optional 1-sigma of `hit_values`, parallel to it; empty = the layer's default. */
+    std::vector<double> hit_value_stds;
+
+    /** Range / bearing noise of the returns [m], [rad]; 0 = unknown (layers then use
+     *  their configured noise). */
+    double range_std_m = 0.0;
+    double bearing_std_rad = 0.0;
+    /** Linear part of the current -> reference map of the region (A^{-1} for
+     *  current = A reference + t). Noise and bearings are defined in the current
+     *  (metric, global) frame; layers map covariances and sample offsets with it.
+     *  Identity when the region has not moved. */
+    Eigen::Matrix2d to_reference_linear = Eigen::Matrix2d::Identity();
 
     bool empty() const { return hits.empty() && rays.empty(); }
 };

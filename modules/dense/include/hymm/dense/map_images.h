@@ -7,12 +7,14 @@
  */
 #pragma once
 
+#include "hymm/dense/ScalarField.h"
 #include "hymm/ltr/RegionPartition.h"
 
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/maps/CPointsMap.h>
 
 #include <string>
+#include <vector>
 
 namespace hymm::dense
 {
@@ -27,5 +29,14 @@ void saveOccupancyPng(
 void savePointsPng(
     const mrpt::maps::CPointsMap& points, const std::string& path, double resolution_m,
     const hymm::ltr::RegionPartition* triangles = nullptr, double margin_m = 1.0);
+
+/** Colour map (OpenCV JET) of `field` with values clamped to [v_min, v_max], NaN cells
+ *  white; optional triangle edges (red) and closed polylines (white, e.g. the SOG
+ *  1-sigma ellipses). One pixel per cell. Used for the SOG surface (Fig. 4.12 b) and
+ *  property means / stds. */
+void saveScalarFieldPng(
+    const ScalarField& field, const std::string& path, double v_min, double v_max,
+    const hymm::ltr::RegionPartition* triangles = nullptr,
+    const std::vector<std::vector<Eigen::Vector2d>>* polylines = nullptr);
 
 }  // namespace hymm::dense

@@ -32,6 +32,8 @@
 #include <hymm/extract/ReflectorExtractor.h>
 #include <hymm/extract/TreeExtractor.h>
 #include <hymm/ltr/RegionPartition.h>
+#include <hymm/ltr/VirtualLandmarks.h>
+#include <hymm/uif/DelayedDenseStore.h>
 #include <mrpt/config/CLoadableOptions.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/obs/CObservationBearingRange.h>
@@ -40,6 +42,7 @@
 
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -72,6 +75,8 @@ public:
         bool dense_points = false;     //!< raw-returns layer (ini: dense_layers)
         bool dense_occupancy = false;  //!< occupancy layer (ini: dense_layers)
         bool classic_grid = false;     //!< also build the classic occupancy-grid baseline
+        double laser_std_range = 0.1;    //!< [m] laser range noise (delayed store covariances)
+        double laser_std_bearing = 0.017453292519943295;  //!< [rad] (ini: laser_std_bearing_deg)
 
         /** True if a layer of the HYMM is on (regions are grown only then; the classic
          *  grid does not need them). */
@@ -90,6 +95,8 @@ public:
     struct DenseOptions
     {
         ltr::RegionPartition::Options partition;
+        ltr::VirtualLandmarkOptions virtual_landmarks;  //!< [VirtualLandmarks] (Sec. 3.5.1)
+        uif::DelayedDenseStore::Options delayed;        //!< [DelayedDenseStore] (Sec. 3.7.3)
         dense::HybridMetricMap::Options hybrid;
         dense::ClassicOccupancyGrid::Options classic;
 
@@ -121,6 +128,10 @@ public:
         size_t dense_scans = 0;         //!< scans fused into the dense layers
         size_t returns_stored = 0;      //!< returns assigned to a region
         size_t returns_outside = 0;     //!< returns in no region (not stored)
+        size_t virtual_landmarks = 0;   //!< virtual landmarks created with their region
+        size_t virtual_rejected = 0;    //!< virtual apexes whose region failed a condition
+        size_t delayed_stored = 0;      //!< returns kept by the delayed-initialisation store
+        size_t delayed_fused = 0;       //!< stored returns later fused into a region
     };
 
     /** Builds the pipeline from an .ini: sections [DenseSlam], [EkfSlam], [TreeExtractor],
@@ -151,6 +162,11 @@ public:
     const ltr::RegionPartition* partition() const { return partition_.get(); }
     /** The dense layers; nullptr when no dense layer is on. */
     const dense::HybridMetricMap* hybridMap() const { return hybrid_.get(); }
+    /** Passive-state ids of the virtual landmarks in use (Sec. 3.5.1); their estimates
+     *  are ekf().passive().mean(id). */
+    const std::set<long>& virtualLandmarkIds() const { return virtual_ids_; }
+    /** The delayed-initialisation store (Sec. 3.7.3); nullptr unless enabled. */
+    const uif::DelayedDenseStore* delayedStore() const { return store_.get(); }
     /** The classic grid baseline; nullptr unless classic_grid is on. */
     const dense::ClassicOccupancyGrid* classicGrid() const { return classic_.get(); }
 
@@ -160,6 +176,10 @@ private:
     void processOdometryObservation(const mrpt::obs::CObservation& obs);
     void update(const std::vector<ekf::RangeBearingObs>& obs, const mrpt::poses::CPose3D& sensor);
     Eigen::Matrix2d sensorNoise(double std_range, double std_bearing) const;
+    /** Step 6: virtual landmarks for returns no region holds (Sec. 3.5.1). */
+    void createVirtualLandmarks(const std::vector<Eigen::Vector2d>& unassigned, double t);
+    /** Removes the passive blocks of virtual landmarks no region uses any more. */
+    void dropUnusedVirtualLandmarks();
     /** Steps 4-5 of the class comment for one frame. */
     void processDense(const mrpt::obs::CSensoryFrame& frame, double t, bool map_changed);
 
@@ -174,6 +194,11 @@ private:
     std::unique_ptr<ltr::RegionPartition> partition_;
     std::unique_ptr<dense::HybridMetricMap> hybrid_;
     std::unique_ptr<dense::ClassicOccupancyGrid> classic_;
+    ltr::VirtualLandmarkOptions virtual_options_;
+    std::unique_ptr<uif::DelayedDenseStore> store_;  //!< nullptr unless enabled
+    std::set<long> virtual_ids_;  //!< passive blocks of ekf_ that are virtual landmarks
+    /** Virtual landmarks live in the passive-state id space, far above real landmark ids. */
+    long next_virtual_id_ = 1L << 40;
     mrpt::system::CTimeLogger profiler_{false, "hymm::DenseSlam"};
 };
 

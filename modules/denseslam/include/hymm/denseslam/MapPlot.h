@@ -24,6 +24,7 @@ struct MapPlot
     std::vector<Eigen::Vector2d> true_path;
     std::vector<Landmark> estimated_landmarks;
     std::vector<Eigen::Vector2d> true_landmarks;
+    std::vector<Eigen::Vector2d> dense_points;  //!< rendered dense returns (drawn first, black)
     double sigma_scale = 3.0;      //!< ellipses at this many standard deviations
     double pixels_per_metre = 8;   //!< scale, reduced if the image would exceed max_side
     int max_side = 2400;           //!< largest image side [px]

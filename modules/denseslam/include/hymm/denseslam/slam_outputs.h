@@ -99,19 +99,29 @@ std::vector<dense::Polygon> loadObjectOutlines(const std::string& file);
  */
 void writeDenseOutputs(const DenseSlam& slam, const std::string& dir, bool png = true);
 
+/** A true point landmark as the laser sees it: a trunk of `radius` [m] (0: a point). */
+struct TrueTrunk
+{
+    Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+    double radius = 0;
+};
+
+/** Trunks of the ground-truth landmarks: the radius is the record's first extra column
+ *  (HYMM's simulator writes "id,x,y,radius"), 0 when the file has none. */
+std::vector<TrueTrunk> trueTrunks(const std::vector<core::LandmarkRecord>& landmarks);
+
 /**
- * Outline accuracy and coverage of every dense map the run built (dense module's
+ * Accuracy and coverage of every dense map the run built (dense module's
  * evaluateOutlines), into `j` under "dense": "points" (every rendered point),
  * "occupancy" and "classic_grid" (centres of cells with P(occupied) > 0.8), each with
- * points, mean_distance_m, p95_distance_m, coverage; plus region and return counters.
- * Laser returns on the landmarks themselves (trunks) are far from every object outline;
- * with `true_landmarks` given, each map also gets "objects_only": the same metrics
- * without the map points closer than `landmark_radius_m` to a true landmark.
+ * points, mean_distance_m and p95_distance_m (distance of each map point to the nearest
+ * true surface: the object outlines and the trunks of `true_landmarks`, since the laser
+ * sees both), coverage and outline_samples (of the object outlines only: a sample is
+ * covered with a map point within 0.3 m); plus region and return counters.
  */
 void writeDenseMetrics(eval::MetricsJson& j, const DenseSlam& slam,
                        const std::vector<dense::Polygon>& outlines,
-                       const std::vector<Eigen::Vector2d>& true_landmarks = {},
-                       double landmark_radius_m = 1.0);
+                       const std::vector<TrueTrunk>& true_landmarks = {});
 
 /** Human-readable counters and timing. */
 void writeSummary(const DenseSlam& slam, double run_seconds, size_t entries,

@@ -55,7 +55,8 @@ enum class BaseCondition
     IllConditioned,         //!< a vertex n-sigma ellipse reaches the opposite edge line
     LowVertexCorrelation,   //!< a vertex pair below min_vertex_correlation
     LowVehicleCorrelation,  //!< a vertex below min_vehicle_correlation with the vehicle
-    Overlap                 //!< interior intersects an existing region
+    Overlap,                //!< interior intersects an existing region
+    TwoVirtualVertices      //!< more than one virtual landmark (Sec. 3.5.1) among the vertices
 };
 
 /** Stable name of a condition, e.g. "LowVertexCorrelation". */

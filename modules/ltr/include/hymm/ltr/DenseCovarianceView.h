@@ -30,6 +30,8 @@ public:
     Eigen::Matrix3d vehicleCov() const override;
     Eigen::Vector3d vehiclePose() const override;
     std::vector<long> ids() const override;
+    /** One pass over the id -> offset map, reading the mean vector in place. */
+    std::vector<long> idsNear(const Eigen::Vector2d& centre, double radius) const override;
 
     const Eigen::VectorXd& stateMean() const { return mean_; }
     const Eigen::MatrixXd& stateCov() const { return cov_; }

@@ -36,6 +36,22 @@ public:
     virtual Eigen::Vector3d vehiclePose() const = 0;
     /** Ids of all landmarks in the map. */
     virtual std::vector<long> ids() const = 0;
+    /** True if `id` is a virtual landmark (Sec. 3.5.1): a point carried by the filter but
+     *  never observed. Its cross-covariance with another virtual landmark is not kept,
+     *  so a region may have at most one virtual vertex. */
+    virtual bool isVirtual(long /*id*/) const { return false; }
+    /** Ids of the landmarks whose mean lies within `radius` of `centre`
+     *  ((mean - centre).norm() <= radius), in the order of ids(). The default filters
+     *  ids() through mean() (a lookup per landmark); implementations override it with a
+     *  single pass over their storage. The partition's growth uses it instead of ids()
+     *  (RegionPartition::updateNear). */
+    virtual std::vector<long> idsNear(const Eigen::Vector2d& centre, double radius) const
+    {
+        std::vector<long> out;
+        for (const long id : ids())
+            if ((mean(id) - centre).norm() <= radius) out.push_back(id);
+        return out;
+    }
 };
 
 }  // namespace hymm::ltr

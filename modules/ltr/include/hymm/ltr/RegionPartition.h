@@ -17,11 +17,22 @@
  *
  * Each region keeps its reference triangle (vertex positions at creation) and the
  * current vertex positions. Invariant of the point lookup: a uniform grid indexes the
- * bounding boxes of the CURRENT triangles as of the last update() or
- * updateVertexPositions() call; lookups (findRegion/findRegions) visit one grid cell
- * and test only the regions listed there, never all regions. After the feature map
- * changes (every filter update, a loop closure) call updateVertexPositions() before
- * looking points up.
+ * bounding box of every region's `current` triangle as of that region's last refresh;
+ * lookups (findRegion/findRegions/regionsInBox) visit the grid cells of the query and
+ * test only the regions listed there, never all regions.
+ *
+ * Refreshing the current vertices after the feature map changed:
+ *  - update() and updateVertexPositions() re-read every region (O(regions)), and
+ *    update() scans every landmark id (O(landmarks)): exact everywhere;
+ *  - updateNear() and refreshNear() re-read only the regions whose box meets a window
+ *    around the vehicle, and updateNear() asks the view for the landmarks near the
+ *    vehicle (LandmarkCovarianceView::idsNear): the per-step cost depends on the area
+ *    around the vehicle, not on the size of the map (thesis: the dense layers add O(1)
+ *    per step). Regions outside the window keep the positions of their last refresh,
+ *    which is what the dense layers store against (local coordinates never change);
+ *    call updateVertexPositions() before reading far regions (rendering the global map,
+ *    after a loop closure, before saving). Options::local_refresh tells the pipeline
+ *    which of the two to use.
  *
  * Text save/load round-trips all regions (ids, vertex ids, reference and current
  * vertices, creation times) exactly.
@@ -68,6 +79,13 @@ public:
         double grid_cell_size_m = 10.0;  //!< [m] cell of the point-lookup grid
         int max_new_regions_per_update = 16;  //!< bound on work per update()
         int max_seed_landmarks = 8;  //!< nearest eligible landmarks tried when seeding (>= 3)
+        /** Pipeline (DenseSlam): grow with updateNear() (O(area around the vehicle) per
+         *  step) instead of update() (O(regions + landmarks)); far regions are then
+         *  refreshed by updateVertexPositions() only after a large correction. */
+        bool local_refresh = false;
+        /** [m] with local_refresh: a vehicle correction (update minus prediction) larger
+         *  than this is treated as a loop closure and every region is refreshed. */
+        double full_refresh_correction_m = 1.0;
 
         void loadFromConfigFile(
             const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
@@ -95,12 +113,33 @@ public:
         const std::array<long, 3>& ids, const LandmarkCovarianceView& view, double time,
         long* id = nullptr);
 
-    /** Re-reads the current vertex positions of every region and rebuilds the lookup
+    /** update() limited to the area around view.vehiclePose(): refreshes the regions
+     *  whose box meets the square of half-side max(search_radius_m, refresh_radius_m)
+     *  + grid_cell_size_m around the vehicle (refreshNear), and grows from the
+     *  landmarks view.idsNear(vehicle, search_radius_m). `refresh_radius_m`: how far
+     *  from the vehicle the caller will look regions up before the next update (scan
+     *  range plus sensor offset); the extra grid cell absorbs the drift of regions
+     *  refreshed in earlier steps. Creates the same regions as update() as long as no
+     *  region outside the window moved into it since its last refresh (a loop closure:
+     *  call updateVertexPositions() first). Cost: O(regions and landmarks near the
+     *  vehicle) plus one pass of idsNear(). */
+    std::vector<long> updateNear(
+        const LandmarkCovarianceView& view, double time, double refresh_radius_m = 0);
+
+    /** Re-reads the current vertex positions of every region and updates the lookup
      *  grid (O(number of regions)). Vertices no longer in `view` keep their last
      *  position; regionsWithMissingLandmarks() lists them. */
     void updateVertexPositions(const LandmarkCovarianceView& view);
+    /** updateVertexPositions() for the regions whose box (as of their last refresh)
+     *  meets the square of half-side `radius` around `centre`; O(regions there). */
+    void refreshNear(
+        const LandmarkCovarianceView& view, const Eigen::Vector2d& centre, double radius);
     /** Regions with a vertex that `view` no longer has (candidates for removal). */
     std::vector<long> regionsWithMissingLandmarks(const LandmarkCovarianceView& view) const;
+    /** regionsWithMissingLandmarks() among the regions whose box meets the square of
+     *  half-side `radius` around `centre`, sorted by id. */
+    std::vector<long> regionsWithMissingLandmarksNear(
+        const LandmarkCovarianceView& view, const Eigen::Vector2d& centre, double radius) const;
 
     // --- lookup -------------------------------------------------------------------
     /** A region whose current triangle contains `p` (closed, lowest id on shared
@@ -150,6 +189,8 @@ private:
     void cellRange(const TriangleFrame::Vertices& v, long& x0, long& y0, long& x1, long& y1) const;
     void indexRegion(const Region& r);
     void unindexRegion(const Region& r);
+    /** Re-reads r.current from `view`; moves r in the grid if its cells changed. */
+    void refreshRegion(Region& r, const LandmarkCovarianceView& view);
     long insertRegion(Region r);
     std::vector<TriangleFrame::Vertices> nearbyTriangles(const TriangleFrame::Vertices& v) const;
 
@@ -172,6 +213,15 @@ private:
     std::unordered_map<long, std::vector<long>> by_landmark_;
     std::unordered_map<std::int64_t, std::vector<long>> grid_;
     long next_id_ = 0;
+    /** Set by updateNear() for the duration of its update() call: the window
+     *  updateVertexPositions() then limits itself to (update() lives in
+     *  RegionPartitionGrowth.cpp and refreshes through updateVertexPositions()). */
+    struct RefreshWindow
+    {
+        Eigen::Vector2d centre;
+        double radius;
+    };
+    std::optional<RefreshWindow> refresh_window_;
 };
 
 }  // namespace hymm::ltr

@@ -1,0 +1,99 @@
+// Global rendering of the SOG and property layers (HybridMetricMap.h); kept apart from
+// the fusion code of HybridMetricMap.cpp.
+#include "hymm/dense/HybridMetricMap.h"
+
+#include <limits>
+#include <stdexcept>
+
+namespace hymm::dense
+{
+namespace
+{
+using hymm::ltr::AffineRegionMap;
+using hymm::ltr::RegionPartition;
+
+/** The region's reference -> current map, or nullopt for a degenerate triangle. */
+std::optional<AffineRegionMap> currentMap(const RegionPartition& partition, long id)
+{
+    try
+    {
+        return partition.referenceToCurrent(id);
+    }
+    catch (const std::invalid_argument&)
+    {
+        return std::nullopt;  // folded triangle: its content has no valid position
+    }
+}
+}  // namespace
+
+bool HybridMetricMap::layerBox(
+    const std::string& kind, const RegionPartition& partition, Eigen::Vector2d& lo, Eigen::Vector2d& hi) const
+{
+    lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
+    hi = -lo;
+    for (const auto& [id, map] : maps_)
+    {
+        if (!partition.has(id) || !map->layer(kind)) continue;
+        for (const auto& v : partition.region(id).current)
+        {
+            lo = lo.cwiseMin(v);
+            hi = hi.cwiseMax(v);
+        }
+    }
+    return lo.x() <= hi.x();
+}
+
+void HybridMetricMap::renderSogSurface(
+    const RegionPartition& partition, double resolution_m, ScalarField& out, double margin_m) const
+{
+    if (!(resolution_m > 0) || !(margin_m >= 0))
+        throw std::invalid_argument("HybridMetricMap::renderSogSurface: need resolution > 0 and margin >= 0");
+    mrpt::system::CTimeLoggerEntry tle(profiler_, "dense.render.sog_surface");
+    Eigen::Vector2d lo, hi;
+    if (!layerBox(SogLayer::kKind, partition, lo, hi)) lo = hi = Eigen::Vector2d::Zero();
+    const Eigen::Vector2d m = Eigen::Vector2d::Constant(margin_m);
+    out = ScalarField::covering(lo - m, hi + m, resolution_m, 0.0);
+    for (const auto& [id, map] : maps_)
+    {
+        const auto* sog = partition.has(id) ? map->layerAs<SogLayer>(SogLayer::kKind) : nullptr;
+        if (!sog) continue;
+        if (const auto to_current = currentMap(partition, id)) sog->addSurface(*to_current, out);
+    }
+}
+
+std::vector<std::vector<Eigen::Vector2d>> HybridMetricMap::renderSogEllipses(
+    const RegionPartition& partition, int points) const
+{
+    std::vector<std::vector<Eigen::Vector2d>> out;
+    for (const auto& [id, map] : maps_)
+    {
+        const auto* sog = partition.has(id) ? map->layerAs<SogLayer>(SogLayer::kKind) : nullptr;
+        if (!sog) continue;
+        if (const auto to_current = currentMap(partition, id))
+        {
+            auto e = sog->ellipses(*to_current, points);
+            out.insert(out.end(), std::make_move_iterator(e.begin()), std::make_move_iterator(e.end()));
+        }
+    }
+    return out;
+}
+
+void HybridMetricMap::renderProperty(
+    const RegionPartition& partition, double resolution_m, ScalarField& mean, ScalarField& stddev) const
+{
+    if (!(resolution_m > 0)) throw std::invalid_argument("HybridMetricMap::renderProperty: resolution must be > 0");
+    mrpt::system::CTimeLoggerEntry tle(profiler_, "dense.render.property");
+    Eigen::Vector2d lo, hi;
+    if (!layerBox(PropertyLayer::kKind, partition, lo, hi)) lo = hi = Eigen::Vector2d::Zero();
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    mean = ScalarField::covering(lo, hi, resolution_m, nan);
+    stddev = ScalarField::covering(lo, hi, resolution_m, nan);
+    for (const auto& [id, map] : maps_)
+    {
+        const auto* prop = partition.has(id) ? map->layerAs<PropertyLayer>(PropertyLayer::kKind) : nullptr;
+        if (!prop) continue;
+        if (const auto to_current = currentMap(partition, id)) prop->renderFields(*to_current, mean, &stddev);
+    }
+}
+
+}  // namespace hymm::dense

@@ -1,0 +1,357 @@
+#include "hymm/dense/ParticlesLayer.h"
+
+#include "hymm/dense/geometry.h"
+#include "text_io.h"
+
+#include <hymm/core/config_utils.h>
+#include <mrpt/maps/CPointsMap.h>
+#include <mrpt/maps/CPointsMapXYZI.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <ostream>
+#include <stdexcept>
+#include <unordered_map>
+
+namespace hymm::dense
+{
+namespace
+{
+// Beyond 3 sigma in bearing the cone factor a(phi) of the occupancy model is < 0.012:
+// beams farther away cannot move a particle's weight noticeably.
+constexpr double kConeSigmas = 3.0;
+// A model value above 0.5 + this means the particle sits in a return's peak.
+constexpr double kPeakTol = 1e-9;
+
+void checkFinite(const RegionScan& scan)
+{
+    if (!scan.to_reference_linear.allFinite() || std::abs(scan.to_reference_linear.determinant()) < 1e-12)
+        throw std::invalid_argument("ParticlesLayer::insert: to_reference_linear must be finite and invertible");
+    if (!scan.sensor.allFinite()) throw std::invalid_argument("ParticlesLayer::insert: sensor is not finite");
+    for (const auto& h : scan.hits)
+        if (!h.allFinite()) throw std::invalid_argument("ParticlesLayer::insert: a return is not finite");
+}
+}  // namespace
+
+void ParticlesLayer::Options::loadFromConfigFile(
+    const mrpt::config::CConfigFileBase& cfg, const std::string& s)
+{
+    using namespace hymm::core;
+    checkKnownKeys(
+        cfg, s,
+        {"samples_per_return", "range_std_m", "bearing_std_deg", "prob_min", "prob_max", "d_min_m",
+         "position_averaging", "free_space_update", "min_weight", "max_weight", "max_particles",
+         "random_seed", "render_min_weight"});
+    samples_per_return = static_cast<int>(readInt(cfg, s, "samples_per_return", samples_per_return));
+    range_std_m = readDouble(cfg, s, "range_std_m", range_std_m);
+    bearing_std_deg = readDouble(cfg, s, "bearing_std_deg", bearing_std_deg);
+    prob_min = readDouble(cfg, s, "prob_min", prob_min);
+    prob_max = readDouble(cfg, s, "prob_max", prob_max);
+    d_min_m = readDouble(cfg, s, "d_min_m", d_min_m);
+    position_averaging = readBool(cfg, s, "position_averaging", position_averaging);
+    free_space_update = readBool(cfg, s, "free_space_update", free_space_update);
+    min_weight = readDouble(cfg, s, "min_weight", min_weight);
+    max_weight = readDouble(cfg, s, "max_weight", max_weight);
+    max_particles = static_cast<int>(readInt(cfg, s, "max_particles", max_particles));
+    random_seed = static_cast<int>(readInt(cfg, s, "random_seed", random_seed));
+    render_min_weight = readDouble(cfg, s, "render_min_weight", render_min_weight);
+    validate(s);
+}
+
+void ParticlesLayer::Options::saveToConfigFile(
+    mrpt::config::CConfigFileBase& cfg, const std::string& s) const
+{
+    cfg.write(s, "samples_per_return", samples_per_return);
+    cfg.write(s, "range_std_m", range_std_m);
+    cfg.write(s, "bearing_std_deg", bearing_std_deg);
+    cfg.write(s, "prob_min", prob_min);
+    cfg.write(s, "prob_max", prob_max);
+    cfg.write(s, "d_min_m", d_min_m);
+    cfg.write(s, "position_averaging", position_averaging);
+    cfg.write(s, "free_space_update", free_space_update);
+    cfg.write(s, "min_weight", min_weight);
+    cfg.write(s, "max_weight", max_weight);
+    cfg.write(s, "max_particles", max_particles);
+    cfg.write(s, "random_seed", random_seed);
+    cfg.write(s, "render_min_weight", render_min_weight);
+}
+
+void ParticlesLayer::Options::validate(const std::string& s) const
+{
+    using hymm::core::throwConfigError;
+    const auto str = [](double v) { return std::to_string(v); };
+    if (samples_per_return < 1)
+        throwConfigError(s, "samples_per_return", str(samples_per_return), "must be >= 1");
+    if (!(range_std_m > 0) || !std::isfinite(range_std_m))
+        throwConfigError(s, "range_std_m", str(range_std_m), "must be finite and > 0");
+    if (!(bearing_std_deg > 0 && bearing_std_deg < 60))
+        throwConfigError(s, "bearing_std_deg", str(bearing_std_deg), "must be in (0, 60)");
+    if (!(prob_min > 0 && prob_min < 0.5))
+        throwConfigError(s, "prob_min", str(prob_min), "must be in (0, 0.5)");
+    if (!(prob_max > 0.5 && prob_max < 1))
+        throwConfigError(s, "prob_max", str(prob_max), "must be in (0.5, 1)");
+    if (!(d_min_m > 0) || !std::isfinite(d_min_m))
+        throwConfigError(s, "d_min_m", str(d_min_m), "must be finite and > 0");
+    if (!(min_weight >= 0 && min_weight < 0.5))
+        throwConfigError(s, "min_weight", str(min_weight), "must be in [0, 0.5)");
+    if (!(max_weight >= prob_max && max_weight < 1))
+        throwConfigError(s, "max_weight", str(max_weight), "must be in [prob_max, 1)");
+    if (max_particles < 0) throwConfigError(s, "max_particles", str(max_particles), "must be >= 0");
+    if (!(render_min_weight >= 0 && render_min_weight <= 1))
+        throwConfigError(s, "render_min_weight", str(render_min_weight), "must be in [0, 1]");
+}
+
+RangeBearingNoise ParticlesLayer::Options::noise() const
+{
+    return {range_std_m, bearing_std_deg * M_PI / 180.0};
+}
+
+ParticlesLayer::ParticlesLayer(const Options& options, const hymm::ltr::TriangleFrame::Vertices& reference)
+    : options_(options), noise_(options.noise())
+{
+    options_.validate();
+    // Seed from the option and the vertices' bit patterns: regions draw independent
+    // streams, and the same map is rebuilt on the same data.
+    std::vector<std::uint32_t> seed{static_cast<std::uint32_t>(options_.random_seed)};
+    for (const auto& v : reference)
+        for (int k = 0; k < 2; ++k)
+        {
+            std::uint64_t bits = 0;
+            const double x = v[k];
+            std::memcpy(&bits, &x, sizeof(bits));
+            seed.push_back(static_cast<std::uint32_t>(bits));
+            seed.push_back(static_cast<std::uint32_t>(bits >> 32));
+        }
+    std::seed_seq seq(seed.begin(), seed.end());
+    rng_.seed(seq);
+}
+
+void ParticlesLayer::insert(const RegionScan& scan)
+{
+    last_ = {};
+    if (scan.empty()) return;
+    checkFinite(scan);
+    noise_ = effectiveNoise(scan, options_.noise());
+    const Eigen::Matrix2d to_current = scan.to_reference_linear.inverse();
+
+    const std::vector<Particle> samples = drawSamples(scan, to_current);
+    std::vector<char> updated(particles_.size(), 0);
+    const std::vector<Particle> fresh = associate(samples, updated);
+    if (options_.free_space_update) freeSpaceUpdate(scan, to_current, updated);
+    particles_.insert(particles_.end(), fresh.begin(), fresh.end());
+    last_.added = fresh.size();
+    prune();
+}
+
+std::vector<ParticlesLayer::Particle> ParticlesLayer::drawSamples(
+    const RegionScan& scan, const Eigen::Matrix2d& to_current_linear)
+{
+    std::normal_distribution<double> n01(0.0, 1.0);
+    std::vector<Particle> out;
+    out.reserve(scan.hits.size() * static_cast<size_t>(options_.samples_per_return));
+    for (const Eigen::Vector2d& h : scan.hits)
+    {
+        // Range and bearing of the return in the current (metric) frame.
+        const Eigen::Vector2d d = to_current_linear * (h - scan.sensor);
+        const double z_r = d.norm();
+        if (!(z_r > 0)) continue;
+        const double z_t = std::atan2(d.y(), d.x());
+        for (int k = 0; k < options_.samples_per_return; ++k)
+        {
+            const double r = z_r + noise_.range_std_m * n01(rng_);
+            const double t = z_t + noise_.bearing_std_rad * n01(rng_);
+            if (!(r > 0)) continue;  // a sample behind the sensor has no meaning
+            const double w = occupancyModel(r, t, z_r, z_t, true, noise_, options_.profile());  // Eq. 4.9
+            const Eigen::Vector2d off_cur(r * std::cos(t), r * std::sin(t));
+            out.push_back({scan.sensor + scan.to_reference_linear * off_cur, std::min(w, options_.max_weight)});
+        }
+    }
+    last_.drawn = out.size();
+    return out;
+}
+
+std::vector<ParticlesLayer::Particle> ParticlesLayer::associate(
+    const std::vector<Particle>& samples, std::vector<char>& updated)
+{
+    // Hash grid of the new samples with cells of d_min: the nearest sample within d_min
+    // of a point lies in its cell or one of the 8 neighbours.
+    const double cell = options_.d_min_m;
+    const auto cellOf = [cell](const Eigen::Vector2d& p) {
+        return std::pair<std::int64_t, std::int64_t>{
+            static_cast<std::int64_t>(std::floor(p.x() / cell)), static_cast<std::int64_t>(std::floor(p.y() / cell))};
+    };
+    std::unordered_map<std::int64_t, std::vector<size_t>> index;
+    for (size_t i = 0; i < samples.size(); ++i)
+    {
+        const auto [cx, cy] = cellOf(samples[i].position);
+        index[packCellKey(cx, cy)].push_back(i);
+    }
+    std::vector<char> used(samples.size(), 0);
+    const double d2_min = options_.d_min_m * options_.d_min_m;
+    for (size_t j = 0; j < particles_.size(); ++j)
+    {
+        Particle& pj = particles_[j];
+        const auto [cx, cy] = cellOf(pj.position);
+        size_t best = samples.size();
+        double best_d2 = d2_min;
+        for (std::int64_t dx = -1; dx <= 1; ++dx)
+            for (std::int64_t dy = -1; dy <= 1; ++dy)
+            {
+                const auto it = index.find(packCellKey(cx + dx, cy + dy));
+                if (it == index.end()) continue;
+                for (const size_t i : it->second)
+                {
+                    const double d2 = (samples[i].position - pj.position).squaredNorm();
+                    if (d2 < best_d2)  // Eq. 4.10: strictly closer than d_min
+                    {
+                        best_d2 = d2;
+                        best = i;
+                    }
+                }
+            }
+        if (best == samples.size()) continue;
+        const Particle& si = samples[best];
+        pj.weight = std::min(bayesOccupancyUpdate(pj.weight, si.weight), options_.max_weight);  // Eq. 4.11
+        if (options_.position_averaging) pj.position = 0.5 * (pj.position + si.position);
+        updated[j] = 1;
+        used[best] = 1;
+        ++last_.associated;
+    }
+    std::vector<Particle> fresh;
+    for (size_t i = 0; i < samples.size(); ++i)
+        if (!used[i]) fresh.push_back(samples[i]);  // Eq. 4.12
+    return fresh;
+}
+
+void ParticlesLayer::freeSpaceUpdate(
+    const RegionScan& scan, const Eigen::Matrix2d& to_current_linear, const std::vector<char>& updated)
+{
+    std::vector<Beam> beams;
+    beams.reserve(scan.rays.size());
+    for (const FreeRay& ray : scan.rays)
+    {
+        const bool known = ray.beam_end.allFinite();
+        const Eigen::Vector2d end = known ? ray.beam_end : ray.to;
+        const Eigen::Vector2d d = to_current_linear * (end - scan.sensor);
+        const double range = d.norm();
+        if (!(range > 0)) continue;
+        beams.push_back({std::atan2(d.y(), d.x()), range, known ? ray.beam_hit : ray.ends_at_hit});
+    }
+    if (beams.empty()) return;
+    std::sort(beams.begin(), beams.end(), [](const Beam& a, const Beam& b) { return a.bearing < b.bearing; });
+
+    const double half = kConeSigmas * noise_.bearing_std_rad;
+    const OccupancyProfile profile = options_.profile();
+    for (size_t j = 0; j < particles_.size(); ++j)
+    {
+        if (updated[j]) continue;  // this scan's returns already spoke for it
+        Particle& p = particles_[j];
+        const Eigen::Vector2d d = to_current_linear * (p.position - scan.sensor);
+        const double rho = d.norm();
+        if (!(rho > 0)) continue;
+        const double phi = std::atan2(d.y(), d.x());
+        double p_lo = 0.5, p_hi = 0.5;
+        const auto visit = [&](double lo, double hi) {
+            auto it = std::lower_bound(
+                beams.begin(), beams.end(), lo, [](const Beam& b, double v) { return b.bearing < v; });
+            for (; it != beams.end() && it->bearing <= hi; ++it)
+            {
+                const double m = occupancyModel(rho, phi, it->range, it->bearing, it->hit, noise_, profile);
+                p_lo = std::min(p_lo, m);
+                p_hi = std::max(p_hi, m);
+            }
+        };
+        if (half >= M_PI)
+            visit(-M_PI, M_PI);
+        else if (phi - half < -M_PI)
+        {
+            visit(phi - half + 2 * M_PI, M_PI);
+            visit(-M_PI, phi + half);
+        }
+        else if (phi + half > M_PI)
+        {
+            visit(-M_PI, phi + half - 2 * M_PI);
+            visit(phi - half, M_PI);
+        }
+        else
+            visit(phi - half, phi + half);
+        if (p_hi > 0.5 + kPeakTol || !(p_lo < 0.5)) continue;  // in a return's peak, or no free evidence
+        p.weight = bayesOccupancyUpdate(p.weight, p_lo);  // Eq. 4.11 with the free-space weight
+        ++last_.free_updated;
+    }
+}
+
+void ParticlesLayer::prune()
+{
+    const size_t before = particles_.size();
+    particles_.erase(
+        std::remove_if(
+            particles_.begin(), particles_.end(),
+            [this](const Particle& p) { return p.weight < options_.min_weight; }),
+        particles_.end());
+    const auto cap = static_cast<size_t>(options_.max_particles);
+    if (cap > 0 && particles_.size() > cap)
+    {
+        // Keep the heaviest: the layer exists to describe occupied structure (Sec. 4.2.1),
+        // and a dropped free particle only returns its area to "unknown".
+        std::nth_element(
+            particles_.begin(), particles_.begin() + static_cast<std::ptrdiff_t>(cap), particles_.end(),
+            [](const Particle& a, const Particle& b) { return a.weight > b.weight; });
+        particles_.resize(cap);
+    }
+    last_.removed = before - particles_.size();
+}
+
+size_t ParticlesLayer::memoryBytes() const
+{
+    return sizeof(*this) + particles_.capacity() * sizeof(Particle);
+}
+
+void ParticlesLayer::renderInto(
+    const hymm::ltr::AffineRegionMap& reference_to_current, mrpt::maps::CMetricMap& out) const
+{
+    auto* pts = dynamic_cast<mrpt::maps::CPointsMap*>(&out);
+    if (!pts)
+        throw std::invalid_argument(
+            std::string("ParticlesLayer::renderInto: cannot draw particles into a ") +
+            out.GetRuntimeClass()->className);
+    auto* xyzi = dynamic_cast<mrpt::maps::CPointsMapXYZI*>(&out);
+    for (const Particle& p : particles_)
+    {
+        if (p.weight < options_.render_min_weight) continue;
+        const Eigen::Vector2d c = reference_to_current.mapPoint(p.position);
+        pts->insertPoint(static_cast<float>(c.x()), static_cast<float>(c.y()));
+        if (xyzi) xyzi->setPointIntensity(xyzi->size() - 1, static_cast<float>(p.weight));
+    }
+}
+
+void ParticlesLayer::save(std::ostream& out) const
+{
+    out << "particles " << particles_.size() << '\n' << std::hexfloat;
+    for (const Particle& p : particles_)
+        out << p.position.x() << ' ' << p.position.y() << ' ' << p.weight << '\n';
+    out << std::defaultfloat;
+}
+
+void ParticlesLayer::load(std::istream& in)
+{
+    constexpr const char* kWho = "ParticlesLayer::load";
+    const size_t n = text_io::readHeader(in, "particles", kWho);
+    std::vector<Particle> ps;
+    ps.reserve(n);
+    for (size_t i = 0; i < n; ++i)
+    {
+        Particle p{};
+        p.position.x() = text_io::readNumber(in, kWho);
+        p.position.y() = text_io::readNumber(in, kWho);
+        p.weight = text_io::readNumber(in, kWho);
+        if (!p.position.allFinite() || !(p.weight >= 0 && p.weight <= 1))
+            throw std::runtime_error(std::string(kWho) + ": bad particle " + std::to_string(i));
+        ps.push_back(p);
+    }
+    particles_ = std::move(ps);
+}
+
+}  // namespace hymm::dense

@@ -1,0 +1,310 @@
+#include "hymm/dense/SogLayer.h"
+
+#include "hymm/dense/geometry.h"
+#include "text_io.h"
+
+#include <hymm/core/config_utils.h>
+#include <mrpt/maps/COccupancyGridMap2D.h>
+#include <mrpt/maps/CPointsMap.h>
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/LU>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <ostream>
+#include <stdexcept>
+#include <unordered_map>
+
+namespace hymm::dense
+{
+namespace
+{
+/** Current-frame Gaussian with its information matrix, for surface evaluation. */
+struct CurrentGaussian
+{
+    Eigen::Vector2d mean;
+    Eigen::Matrix2d info;
+    Eigen::Vector2d half;  // half-size of the cutoff box
+};
+
+CurrentGaussian toCurrent(
+    const SogLayer::Gaussian& g, const hymm::ltr::AffineRegionMap& m, double cutoff_sigmas)
+{
+    const Eigen::Matrix2d p = transformCovariance(m.linear(), g.cov);
+    return {m.mapPoint(g.mean), p.inverse(),
+            cutoff_sigmas * Eigen::Vector2d(std::sqrt(p(0, 0)), std::sqrt(p(1, 1)))};
+}
+
+/** Peak-1 Gaussian (Fig. 4.12 b) at `x`. */
+double peakOne(const CurrentGaussian& g, const Eigen::Vector2d& x)
+{
+    const Eigen::Vector2d d = x - g.mean;
+    return std::exp(-0.5 * d.dot(g.info * d));
+}
+
+bool isCovariance(const Eigen::Matrix2d& p)
+{
+    return p.allFinite() && p(0, 1) == p(1, 0) && p(0, 0) > 0 && p(1, 1) > 0 && p.determinant() > 0;
+}
+
+const char* ruleName(SogLayer::FusionRule r)
+{
+    return r == SogLayer::FusionRule::Product ? "product" : "average";
+}
+}  // namespace
+
+double majorSigma(const Eigen::Matrix2d& cov)
+{
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(cov, Eigen::EigenvaluesOnly);
+    return std::sqrt(std::max(0.0, es.eigenvalues()(1)));
+}
+
+void SogLayer::Options::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& s)
+{
+    using namespace hymm::core;
+    checkKnownKeys(cfg, s, {"range_std_m", "bearing_std_deg", "d_min_m", "k", "fusion_rule", "cutoff_sigmas"});
+    range_std_m = readDouble(cfg, s, "range_std_m", range_std_m);
+    bearing_std_deg = readDouble(cfg, s, "bearing_std_deg", bearing_std_deg);
+    d_min_m = readDouble(cfg, s, "d_min_m", d_min_m);
+    k = readDouble(cfg, s, "k", k);
+    const std::string rule = readString(cfg, s, "fusion_rule", ruleName(fusion_rule));
+    if (rule == "average")
+        fusion_rule = FusionRule::Average;
+    else if (rule == "product")
+        fusion_rule = FusionRule::Product;
+    else
+        throwConfigError(s, "fusion_rule", rule, "must be 'average' (Eq. 4.17-4.20) or 'product'");
+    cutoff_sigmas = readDouble(cfg, s, "cutoff_sigmas", cutoff_sigmas);
+    validate(s);
+}
+
+void SogLayer::Options::saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& s) const
+{
+    cfg.write(s, "range_std_m", range_std_m);
+    cfg.write(s, "bearing_std_deg", bearing_std_deg);
+    cfg.write(s, "d_min_m", d_min_m);
+    cfg.write(s, "k", k);
+    cfg.write(s, "fusion_rule", std::string(ruleName(fusion_rule)));
+    cfg.write(s, "cutoff_sigmas", cutoff_sigmas);
+}
+
+void SogLayer::Options::validate(const std::string& s) const
+{
+    using hymm::core::throwConfigError;
+    const auto positive = [&](const char* key, double v) {
+        if (!(v > 0) || !std::isfinite(v)) throwConfigError(s, key, std::to_string(v), "must be finite and > 0");
+    };
+    positive("range_std_m", range_std_m);
+    positive("bearing_std_deg", bearing_std_deg);
+    positive("d_min_m", d_min_m);
+    positive("k", k);
+    positive("cutoff_sigmas", cutoff_sigmas);
+}
+
+RangeBearingNoise SogLayer::Options::noise() const { return {range_std_m, bearing_std_deg * M_PI / 180.0}; }
+
+SogLayer::SogLayer(const Options& options) : options_(options) { options_.validate(); }
+
+std::vector<SogLayer::Gaussian> SogLayer::observationGaussians(const RegionScan& scan) const
+{
+    const RangeBearingNoise noise = effectiveNoise(scan, options_.noise());
+    const Eigen::Matrix2d& to_ref = scan.to_reference_linear;
+    if (!to_ref.allFinite() || std::abs(to_ref.determinant()) < 1e-12)
+        throw std::invalid_argument("SogLayer::insert: to_reference_linear must be finite and invertible");
+    const Eigen::Matrix2d to_cur = to_ref.inverse();
+    std::vector<Gaussian> out;
+    out.reserve(scan.hits.size());
+    for (const Eigen::Vector2d& h : scan.hits)
+    {
+        if (!h.allFinite()) throw std::invalid_argument("SogLayer::insert: a return is not finite");
+        const Eigen::Vector2d d = to_cur * (h - scan.sensor);
+        const double r = d.norm();
+        if (!(r > 0)) continue;
+        // Eq. 4.15-4.16 in the current frame, then into the reference frame.
+        const Eigen::Matrix2d p = polarToCartesianCovariance(r, std::atan2(d.y(), d.x()), noise);
+        out.push_back({h, transformCovariance(to_ref, p)});
+    }
+    return out;
+}
+
+SogLayer::Gaussian SogLayer::fuse(const Gaussian& priori, const Gaussian& obs) const
+{
+    if (options_.fusion_rule == FusionRule::Product)
+    {
+        const mrpt::poses::CPoint2DPDFGaussian a(
+            mrpt::poses::CPoint2D(priori.mean.x(), priori.mean.y()), mrpt::math::CMatrixDouble22(priori.cov));
+        const mrpt::poses::CPoint2DPDFGaussian b(
+            mrpt::poses::CPoint2D(obs.mean.x(), obs.mean.y()), mrpt::math::CMatrixDouble22(obs.cov));
+        mrpt::poses::CPoint2DPDFGaussian c;
+        c.bayesianFusion(a, b);
+        const Eigen::Matrix2d p = c.cov.asEigen();
+        return {Eigen::Vector2d(c.mean.x(), c.mean.y()), 0.5 * (p + p.transpose())};
+    }
+    Gaussian g;
+    g.mean = 0.5 * (priori.mean + obs.mean);  // Eq. 4.17
+    if (majorSigma(priori.cov) + majorSigma(obs.cov) <= options_.k * options_.d_min_m)  // Eq. 4.18
+        g.cov = priori.cov + obs.cov;  // Eq. 4.19
+    else
+        g.cov = priori.cov;  // Eq. 4.20
+    return g;
+}
+
+void SogLayer::insert(const RegionScan& scan)
+{
+    if (scan.hits.empty()) return;
+    const std::vector<Gaussian> obs = observationGaussians(scan);
+    // Nearest scan Gaussian of each map Gaussian, looked up in a hash grid of cell
+    // d_min: only neighbours closer than d_min can be fused (step 3).
+    const double cell = options_.d_min_m;
+    const auto key = [cell](const Eigen::Vector2d& p, std::int64_t dx, std::int64_t dy) {
+        return packCellKey(
+            static_cast<std::int64_t>(std::floor(p.x() / cell)) + dx,
+            static_cast<std::int64_t>(std::floor(p.y() / cell)) + dy);
+    };
+    std::unordered_map<std::int64_t, std::vector<size_t>> index;
+    for (size_t i = 0; i < obs.size(); ++i) index[key(obs[i].mean, 0, 0)].push_back(i);
+    std::vector<char> used(obs.size(), 0);
+    for (Gaussian& g : gaussians_)
+    {
+        size_t best = obs.size();
+        double best_d2 = options_.d_min_m * options_.d_min_m;
+        for (std::int64_t dx = -1; dx <= 1; ++dx)
+            for (std::int64_t dy = -1; dy <= 1; ++dy)
+            {
+                const auto it = index.find(key(g.mean, dx, dy));
+                if (it == index.end()) continue;
+                for (const size_t i : it->second)
+                {
+                    const double d2 = (obs[i].mean - g.mean).squaredNorm();
+                    if (d2 < best_d2)
+                    {
+                        best_d2 = d2;
+                        best = i;
+                    }
+                }
+            }
+        if (best == obs.size()) continue;
+        g = fuse(g, obs[best]);
+        used[best] = 1;
+    }
+    for (size_t i = 0; i < obs.size(); ++i)
+        if (!used[i]) gaussians_.push_back(obs[i]);
+}
+
+size_t SogLayer::memoryBytes() const { return sizeof(*this) + gaussians_.capacity() * sizeof(Gaussian); }
+
+mrpt::poses::CPoint2DPDFGaussian SogLayer::gaussianAt(
+    size_t i, const hymm::ltr::AffineRegionMap& reference_to_current) const
+{
+    const Gaussian& g = gaussians_.at(i);
+    const Eigen::Vector2d m = reference_to_current.mapPoint(g.mean);
+    return mrpt::poses::CPoint2DPDFGaussian(
+        mrpt::poses::CPoint2D(m.x(), m.y()),
+        mrpt::math::CMatrixDouble22(transformCovariance(reference_to_current.linear(), g.cov)));
+}
+
+void SogLayer::addSurface(const hymm::ltr::AffineRegionMap& reference_to_current, ScalarField& field) const
+{
+    for (const Gaussian& g : gaussians_)
+    {
+        const CurrentGaussian c = toCurrent(g, reference_to_current, options_.cutoff_sigmas);
+        const double res = field.resolution;
+        const int x0 = std::max(0, static_cast<int>(std::floor((c.mean.x() - c.half.x() - field.origin.x()) / res)));
+        const int y0 = std::max(0, static_cast<int>(std::floor((c.mean.y() - c.half.y() - field.origin.y()) / res)));
+        const int x1 = std::min(field.sizeX() - 1, static_cast<int>(std::floor((c.mean.x() + c.half.x() - field.origin.x()) / res)));
+        const int y1 = std::min(field.sizeY() - 1, static_cast<int>(std::floor((c.mean.y() + c.half.y() - field.origin.y()) / res)));
+        for (int iy = y0; iy <= y1; ++iy)
+            for (int ix = x0; ix <= x1; ++ix) field.values(iy, ix) += peakOne(c, field.cellCentre(ix, iy));
+    }
+}
+
+std::vector<std::vector<Eigen::Vector2d>> SogLayer::ellipses(
+    const hymm::ltr::AffineRegionMap& reference_to_current, int points) const
+{
+    if (points < 3) throw std::invalid_argument("SogLayer::ellipses: need >= 3 points per ellipse");
+    std::vector<std::vector<Eigen::Vector2d>> out;
+    out.reserve(gaussians_.size());
+    for (const Gaussian& g : gaussians_)
+    {
+        // 1-sigma contour: m + V diag(sqrt(lambda)) (cos t, sin t).
+        const Eigen::Matrix2d p = transformCovariance(reference_to_current.linear(), g.cov);
+        const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(p);
+        const Eigen::Matrix2d l = es.eigenvectors() * es.eigenvalues().cwiseMax(0.0).cwiseSqrt().asDiagonal();
+        const Eigen::Vector2d m = reference_to_current.mapPoint(g.mean);
+        std::vector<Eigen::Vector2d> poly;
+        for (int k = 0; k < points; ++k)
+        {
+            const double t = 2 * M_PI * k / points;
+            poly.push_back(m + l * Eigen::Vector2d(std::cos(t), std::sin(t)));
+        }
+        out.push_back(std::move(poly));
+    }
+    return out;
+}
+
+void SogLayer::renderInto(const hymm::ltr::AffineRegionMap& reference_to_current, mrpt::maps::CMetricMap& out) const
+{
+    if (auto* pts = dynamic_cast<mrpt::maps::CPointsMap*>(&out))
+    {
+        for (const Gaussian& g : gaussians_)
+        {
+            const Eigen::Vector2d m = reference_to_current.mapPoint(g.mean);
+            pts->insertPoint(static_cast<float>(m.x()), static_cast<float>(m.y()));
+        }
+        return;
+    }
+    auto* og = dynamic_cast<mrpt::maps::COccupancyGridMap2D*>(&out);
+    if (!og)
+        throw std::invalid_argument(
+            std::string("SogLayer::renderInto: cannot draw Gaussians into a ") + out.GetRuntimeClass()->className);
+    if (gaussians_.empty()) return;
+    // This region's sum on a field aligned with the grid's cells, then max-merged.
+    const double res = og->getResolution();
+    ScalarField f;
+    f.origin = Eigen::Vector2d(og->getXMin(), og->getYMin());
+    f.resolution = res;
+    f.values = Eigen::MatrixXd::Zero(og->getSizeY(), og->getSizeX());
+    addSurface(reference_to_current, f);
+    for (int iy = 0; iy < f.sizeY(); ++iy)
+        for (int ix = 0; ix < f.sizeX(); ++ix)
+        {
+            const double v = std::min(1.0, f.values(iy, ix));
+            if (v <= 0) continue;
+            if (v > og->getCell(ix, iy)) og->setCell(ix, iy, static_cast<float>(v));
+        }
+}
+
+void SogLayer::save(std::ostream& out) const
+{
+    out << "sog " << gaussians_.size() << '\n' << std::hexfloat;
+    for (const Gaussian& g : gaussians_)
+        out << g.mean.x() << ' ' << g.mean.y() << ' ' << g.cov(0, 0) << ' ' << g.cov(0, 1) << ' ' << g.cov(1, 1)
+            << '\n';
+    out << std::defaultfloat;
+}
+
+void SogLayer::load(std::istream& in)
+{
+    constexpr const char* kWho = "SogLayer::load";
+    const size_t n = text_io::readHeader(in, "sog", kWho);
+    std::vector<Gaussian> gs;
+    gs.reserve(n);
+    for (size_t i = 0; i < n; ++i)
+    {
+        Gaussian g;
+        g.mean.x() = text_io::readNumber(in, kWho);
+        g.mean.y() = text_io::readNumber(in, kWho);
+        g.cov(0, 0) = text_io::readNumber(in, kWho);
+        g.cov(0, 1) = g.cov(1, 0) = text_io::readNumber(in, kWho);
+        g.cov(1, 1) = text_io::readNumber(in, kWho);
+        if (!g.mean.allFinite() || !isCovariance(g.cov))
+            throw std::runtime_error(std::string(kWho) + ": Gaussian " + std::to_string(i) +
+                                     " has a non-finite mean or a covariance that is not positive definite");
+        gs.push_back(g);
+    }
+    gaussians_ = std::move(gs);
+}
+
+}  // namespace hymm::dense

@@ -1,0 +1,221 @@
+/**
+ * @file SogLayer_test.cpp
+ * @brief SOG observation covariance (Eq. 4.15-4.16) in a deformed region, the two
+ *        fusion rules against their closed forms, nearest-neighbour association and
+ *        the surface / ellipse outputs.
+ */
+#include "hymm/dense/SogLayer.h"
+
+#include <gtest/gtest.h>
+#include <mrpt/maps/COccupancyGridMap2D.h>
+#include <mrpt/maps/CSimplePointsMap.h>
+#include <mrpt/math/num_jacobian.h>
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/LU>
+
+#include <cmath>
+#include <sstream>
+
+namespace
+{
+using namespace hymm::dense;
+using V2 = Eigen::Vector2d;
+using M2 = Eigen::Matrix2d;
+using G = SogLayer::Gaussian;
+
+SogLayer::Options opts(SogLayer::FusionRule rule = SogLayer::FusionRule::Average)
+{
+    SogLayer::Options o;
+    o.fusion_rule = rule;
+    return o;
+}
+
+M2 spd(double a, double b, double c)
+{
+    M2 m;
+    m << a, b, b, c;
+    return m;
+}
+
+void expectCovariance(const M2& p)
+{
+    EXPECT_EQ(p(0, 1), p(1, 0));
+    const Eigen::SelfAdjointEigenSolver<M2> es(p);
+    EXPECT_GE(es.eigenvalues().minCoeff(), 0.0);
+}
+
+TEST(SogLayerTest, ObservationCovarianceIsNumericJacobianPropagationInTheReferenceFrame)
+{
+    // Region deformed since creation: current = A reference + t.
+    M2 a;
+    a << 1.05, 0.1, -0.08, 0.97;
+    RegionScan scan;
+    scan.to_reference_linear = a.inverse();
+    scan.sensor = V2(1, 2);  // reference coordinates
+    scan.range_std_m = 0.07;
+    scan.bearing_std_rad = 0.02;
+    scan.hits = {V2(6, 4), V2(-3, 7)};
+    SogLayer layer(opts());
+    const auto gs = layer.observationGaussians(scan);
+    ASSERT_EQ(gs.size(), 2u);
+    for (size_t k = 0; k < 2; ++k)
+    {
+        // Polar measurement in the current (metric) frame, then the numeric Jacobian of
+        // reference position w.r.t. (r, theta): x_ref = s_ref + A^{-1} (r cos t, r sin t).
+        const V2 d = a * (scan.hits[k] - scan.sensor);
+        Eigen::VectorXd z(2), inc(2);
+        z << d.norm(), std::atan2(d.y(), d.x());
+        inc << 1e-6, 1e-7;
+        const std::function<void(const Eigen::VectorXd&, const int&, Eigen::VectorXd&)> f =
+            [&](const Eigen::VectorXd& zz, const int&, Eigen::VectorXd& out) {
+                out = scan.sensor + a.inverse() * V2(zz[0] * std::cos(zz[1]), zz[0] * std::sin(zz[1]));
+            };
+        Eigen::MatrixXd j;
+        mrpt::math::estimateJacobian(z, f, inc, 0, j);
+        const M2 r = V2(0.07 * 0.07, 0.02 * 0.02).asDiagonal();
+        const M2 expected = j * r * j.transpose();
+        EXPECT_LT((gs[k].cov - expected).norm(), 1e-9) << gs[k].cov << "\n" << expected;
+        EXPECT_LT((gs[k].mean - scan.hits[k]).norm(), 1e-12);
+        expectCovariance(gs[k].cov);
+    }
+}
+
+TEST(SogLayerTest, AverageFusionFollowsEquations417To420)
+{
+    SogLayer layer(opts());  // d_min 0.2, k 0.8: threshold 0.16 m
+    const G a{V2(1, 2), spd(0.002, 0.0005, 0.003)};
+    const G b{V2(1.1, 2.05), spd(0.004, -0.001, 0.001)};
+    ASSERT_LE(majorSigma(a.cov) + majorSigma(b.cov), 0.16);
+    const G small = layer.fuse(a, b);
+    EXPECT_LT((small.mean - V2(1.05, 2.025)).norm(), 1e-15);  // Eq. 4.17
+    EXPECT_LT((small.cov - (a.cov + b.cov)).norm(), 1e-15);    // Eq. 4.19
+    const G big{V2(1.1, 2.05), spd(0.04, 0.0, 0.01)};
+    ASSERT_GT(majorSigma(a.cov) + majorSigma(big.cov), 0.16);
+    const G kept = layer.fuse(a, big);
+    EXPECT_LT((kept.mean - V2(1.05, 2.025)).norm(), 1e-15);
+    EXPECT_EQ(kept.cov, a.cov);  // Eq. 4.20
+    // sigma of Eq. 4.18 is the major 1-sigma semi-axis.
+    EXPECT_NEAR(majorSigma(spd(0.04, 0.0, 0.01)), 0.2, 1e-15);
+}
+
+TEST(SogLayerTest, ProductFusionEqualsClosedFormGaussianProduct)
+{
+    SogLayer layer(opts(SogLayer::FusionRule::Product));
+    const G a{V2(1, 2), spd(0.02, 0.005, 0.03)};
+    const G b{V2(1.1, 1.95), spd(0.04, -0.01, 0.01)};
+    const G c = layer.fuse(a, b);
+    const M2 s = (a.cov.inverse() + b.cov.inverse()).inverse();
+    const V2 m = s * (a.cov.inverse() * a.mean + b.cov.inverse() * b.mean);
+    EXPECT_LT((c.cov - s).norm(), 1e-12);
+    EXPECT_LT((c.mean - m).norm(), 1e-12);
+    expectCovariance(c.cov);
+    // The product density is proportional to g(x; a) g(x; b) everywhere.
+    const auto g = [](const G& q, const V2& x) {
+        const V2 d = x - q.mean;
+        return std::exp(-0.5 * d.dot(q.cov.inverse() * d)) / (2 * M_PI * std::sqrt(q.cov.determinant()));
+    };
+    const double k0 = g(a, V2(1, 2)) * g(b, V2(1, 2)) / g(c, V2(1, 2));
+    for (const V2& x : {V2(0.9, 2.1), V2(1.2, 1.8), V2(1.05, 1.99)})
+        EXPECT_NEAR(g(a, x) * g(b, x) / g(c, x), k0, 1e-9 * k0);
+}
+
+RegionScan wallScan(double wall_x, double jitter)
+{
+    RegionScan s;
+    s.sensor = V2(0, 0);
+    // 2 deg apart: neighbouring returns 0.17 m apart at 5 m, so a return's nearest map
+    // Gaussian is its own beam's (jitter <= 0.03 m).
+    for (int k = -10; k <= 10; ++k)
+    {
+        const double th = k * 2.0 * M_PI / 180;
+        const double r = wall_x / std::cos(th) + jitter;
+        s.hits.emplace_back(r * std::cos(th), r * std::sin(th));
+    }
+    return s;
+}
+
+TEST(SogLayerTest, RepeatedScansFuseInsteadOfGrowing)
+{
+    SogLayer layer(opts());
+    layer.insert(wallScan(5.0, 0.0));
+    const size_t n = layer.size();
+    EXPECT_EQ(n, 21u);
+    for (int rep = 0; rep < 5; ++rep) layer.insert(wallScan(5.0, rep % 2 ? 0.03 : -0.03));
+    EXPECT_EQ(layer.size(), n);  // every return lands within d_min of its Gaussian
+    for (const G& g : layer.gaussians())
+    {
+        EXPECT_NEAR(g.mean.x(), 5.0, 0.05);
+        expectCovariance(g.cov);
+    }
+    // A second wall beyond d_min adds its own Gaussians.
+    layer.insert(wallScan(7.0, 0.0));
+    EXPECT_EQ(layer.size(), 2 * n);
+}
+
+TEST(SogLayerTest, SurfaceEllipsesAndRendering)
+{
+    SogLayer layer(opts());
+    RegionScan s;
+    s.sensor = V2(0, 0);
+    s.hits = {V2(4, 3)};
+    layer.insert(s);
+    ASSERT_EQ(layer.size(), 1u);
+    const G& g = layer.gaussians()[0];
+    const hymm::ltr::AffineRegionMap id;
+    // Peak-1 Gaussian: 1 at the mean, exp(-1/2) one sigma along an eigenvector.
+    ScalarField f;
+    f.origin = V2(4, 3) - V2(0.0005, 0.0005);
+    f.resolution = 0.001;
+    f.values = Eigen::MatrixXd::Zero(1, 1);
+    layer.addSurface(id, f);
+    EXPECT_NEAR(f.values(0, 0), 1.0, 1e-12);
+    const Eigen::SelfAdjointEigenSolver<M2> es(g.cov);
+    const V2 one_sigma = g.mean + std::sqrt(es.eigenvalues()(1)) * es.eigenvectors().col(1);
+    f.origin = one_sigma - V2(0.0005, 0.0005);
+    f.values.setZero();
+    layer.addSurface(id, f);
+    EXPECT_NEAR(f.values(0, 0), std::exp(-0.5), 1e-9);
+
+    const auto ells = layer.ellipses(id, 24);
+    ASSERT_EQ(ells.size(), 1u);
+    for (const V2& p : ells[0]) EXPECT_NEAR((p - g.mean).dot(g.cov.inverse() * (p - g.mean)), 1.0, 1e-9);
+
+    mrpt::maps::CSimplePointsMap pts;
+    layer.renderInto(id, pts);
+    ASSERT_EQ(pts.size(), 1u);
+    EXPECT_NEAR(pts.getPointsBufferRef_x()[0], 4.0, 1e-5);
+    mrpt::maps::COccupancyGridMap2D og(2, 6, 1, 5, 0.05f);
+    og.fill(0.0f);
+    layer.renderInto(id, og);
+    EXPECT_GT(og.getPos(4.0f, 3.0f), 0.9f);
+    EXPECT_LT(og.getPos(3.0f, 2.0f), 0.05f);
+}
+
+TEST(SogLayerTest, SaveLoadRoundTripAndBadInput)
+{
+    SogLayer layer(opts());
+    layer.insert(wallScan(5.0, 0.0));
+    std::stringstream ss;
+    layer.save(ss);
+    SogLayer copy(opts());
+    copy.load(ss);
+    ASSERT_EQ(copy.size(), layer.size());
+    for (size_t i = 0; i < copy.size(); ++i)
+    {
+        EXPECT_EQ(copy.gaussians()[i].mean, layer.gaussians()[i].mean);
+        EXPECT_EQ(copy.gaussians()[i].cov, layer.gaussians()[i].cov);
+    }
+    std::stringstream bad("sog 1\n0x1p+0 0x1p+0 -0x1p+0 0x0p+0 0x1p+0\n");  // negative variance
+    EXPECT_THROW(copy.load(bad), std::runtime_error);
+    EXPECT_EQ(copy.size(), layer.size());  // unchanged on failure
+
+    RegionScan s = wallScan(5.0, 0.0);
+    s.range_std_m = std::nan("");
+    EXPECT_THROW(layer.insert(s), std::invalid_argument);
+    s = wallScan(5.0, 0.0);
+    s.hits[3].x() = std::nan("");
+    EXPECT_THROW(layer.insert(s), std::invalid_argument);
+}
+
+}  // namespace
