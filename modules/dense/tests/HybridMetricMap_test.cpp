@@ -21,22 +21,6 @@ using namespace hymm::dense;
 using namespace hymm::dense::synthetic;
 using V2 = Eigen::Vector2d;
 
-constexpr double kWallX = 17.0;
-constexpr int kBeams = 161;
-constexpr double kHalfFov = 40.0 * M_PI / 180.0;
-const mrpt::math::TPose2D kVehicle{3.0, 7.5, 0.0};
-const mrpt::math::TPose2D kMount{0.3, 0.0, 0.0};
-
-/** 5 x 4 landmarks, 5 m apart: 24 regions over [0, 20] x [0, 15]. */
-struct WallWorld
-{
-    Lattice lattice{5, 4, 5.0, V2(0, 0)};
-    hymm::ltr::DenseCovarianceView view =
-        makeDenseView(lattice.landmarks(), Eigen::Vector3d(kVehicle.x, kVehicle.y, kVehicle.phi));
-    hymm::ltr::RegionPartition partition{permissivePartitionOptions()};
-    WallWorld() { addRegions(partition, view, lattice.triangles(V2(10, 7.5)), 24); }
-};
-
 HybridMetricMap::Options mapOptions()
 {
     HybridMetricMap::Options o;

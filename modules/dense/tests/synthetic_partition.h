@@ -159,4 +159,22 @@ inline ScanPoints wallScan(
     }
     return s;
 }
+/** The wall test scene: 5 x 4 landmarks, 5 m apart (24 regions over [0, 20] x [0, 15]),
+ *  a vehicle at (3, 7.5) looking at a wall x = kWallX with a kBeams-beam, +-40 deg scan
+ *  from a sensor mounted 0.3 m ahead. */
+constexpr double kWallX = 17.0;
+constexpr int kBeams = 161;
+constexpr double kHalfFov = 40.0 * M_PI / 180.0;
+inline const mrpt::math::TPose2D kVehicle{3.0, 7.5, 0.0};
+inline const mrpt::math::TPose2D kMount{0.3, 0.0, 0.0};
+
+struct WallWorld
+{
+    Lattice lattice{5, 4, 5.0, Eigen::Vector2d(0, 0)};
+    hymm::ltr::DenseCovarianceView view =
+        makeDenseView(lattice.landmarks(), Eigen::Vector3d(kVehicle.x, kVehicle.y, kVehicle.phi));
+    hymm::ltr::RegionPartition partition{permissivePartitionOptions()};
+    WallWorld() { addRegions(partition, view, lattice.triangles(Eigen::Vector2d(10, 7.5)), 24); }
+};
+
 }  // namespace hymm::dense::synthetic

@@ -34,15 +34,14 @@ Eigen::Matrix2d VirtualLandmarkView::crossCov(long id_a, long id_b) const
     if (!real_.has(l))
         throw std::out_of_range("VirtualLandmarkView: unknown landmark id " + std::to_string(l));
     // Passive cross terms are stored against the whole active state (Ex. 3.3).
-    const auto off = static_cast<Eigen::Index>(ekf_.landmarkBlock(l).offset);
-    const Eigen::Matrix2d pvl = ekf_.passive().crossCov(v).block<2, 2>(0, off);
+    const Eigen::Matrix2d pvl = ekf_.passive().crossCov(v, ekf_.landmarkBlock(l).offset, 2);
     return va ? pvl : Eigen::Matrix2d(pvl.transpose());
 }
 
 Eigen::Matrix<double, 2, 3> VirtualLandmarkView::crossVehicle(long id) const
 {
     if (!isVirtual(id)) return real_.crossVehicle(id);
-    return ekf_.passive().crossCov(id).block<2, 3>(0, 0);
+    return ekf_.passive().crossCov(id, 0, 3);
 }
 
 std::vector<long> VirtualLandmarkView::ids() const

@@ -100,6 +100,14 @@ Eigen::MatrixXd PassiveStates::crossCov(long id) const
     return cross_.middleRows(static_cast<Eigen::Index>(b.row), b.dim);
 }
 
+Eigen::MatrixXd PassiveStates::crossCov(long id, size_t first, int cols) const
+{
+    const Block& b = block(id);
+    if (cols < 0 || first + static_cast<size_t>(cols) > static_cast<size_t>(cross_.cols()))
+        throw std::out_of_range("PassiveStates::crossCov: columns out of range");
+    return cross_.block(static_cast<Eigen::Index>(b.row), static_cast<Eigen::Index>(first), b.dim, cols);
+}
+
 size_t PassiveStates::storedCovarianceEntries() const
 {
     size_t n = static_cast<size_t>(cross_.size());

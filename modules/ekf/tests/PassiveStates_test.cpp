@@ -172,4 +172,17 @@ TEST(PassiveStatesTest, RejectsBadBlocks)
     EXPECT_THROW(f.removePassiveState(5), std::out_of_range);
 }
 
+TEST(PassiveStatesTest, CrossCovColumnsAreTheMatchingBlock)
+{
+    PassiveStates ps;
+    const size_t n_active = 7;
+    Eigen::MatrixXd cross(2, n_active);
+    for (Eigen::Index c = 0; c < cross.cols(); ++c) cross.col(c) << 0.1 * c, -0.2 * c;
+    ps.add(3, Eigen::Vector2d(1, 2), Eigen::Matrix2d::Identity(), cross, n_active);
+    EXPECT_TRUE(ps.crossCov(3, 0, 3) == ps.crossCov(3).leftCols(3));
+    EXPECT_TRUE(ps.crossCov(3, 5, 2) == cross.middleCols(5, 2));
+    EXPECT_THROW(ps.crossCov(3, 6, 2), std::out_of_range);
+    EXPECT_THROW(ps.crossCov(4, 0, 2), std::out_of_range);
+}
+
 }  // namespace

@@ -235,11 +235,6 @@ void RegionPartition::refreshRegion(Region& r, const LandmarkCovarianceView& vie
 
 void RegionPartition::updateVertexPositions(const LandmarkCovarianceView& view)
 {
-    if (refresh_window_)
-    {
-        refreshNear(view, refresh_window_->centre, refresh_window_->radius);
-        return;
-    }
     for (auto& kv : regions_) refreshRegion(kv.second, view);
 }
 
@@ -251,57 +246,13 @@ void RegionPartition::refreshNear(
         refreshRegion(regions_.at(id), view);
 }
 
-namespace
-{
-/** The view the growth of updateNear() reads: everything forwarded, except that ids()
- *  lists only the landmarks near the vehicle (the growth looks no farther). */
-class NearbyLandmarksView : public LandmarkCovarianceView
-{
-public:
-    NearbyLandmarksView(const LandmarkCovarianceView& view, std::vector<long> nearby)
-        : view_(view), nearby_(std::move(nearby))
-    {
-    }
-    bool has(long id) const override { return view_.has(id); }
-    Eigen::Vector2d mean(long id) const override { return view_.mean(id); }
-    Eigen::Matrix2d cov(long id) const override { return view_.cov(id); }
-    Eigen::Matrix2d crossCov(long a, long b) const override { return view_.crossCov(a, b); }
-    Eigen::Matrix<double, 2, 3> crossVehicle(long id) const override
-    {
-        return view_.crossVehicle(id);
-    }
-    Eigen::Matrix3d vehicleCov() const override { return view_.vehicleCov(); }
-    Eigen::Vector3d vehiclePose() const override { return view_.vehiclePose(); }
-    std::vector<long> ids() const override { return nearby_; }
-    bool isVirtual(long id) const override { return view_.isVirtual(id); }
-
-private:
-    const LandmarkCovarianceView& view_;
-    const std::vector<long> nearby_;
-};
-}  // namespace
-
 std::vector<long> RegionPartition::updateNear(
     const LandmarkCovarianceView& view, double time, double refresh_radius_m)
 {
     const Eigen::Vector2d vehicle = view.vehiclePose().head<2>();
-    // update() keeps only landmarks within search_radius_m of the vehicle: the same
-    // filter as idsNear, so handing it those alone changes nothing but the cost.
-    const NearbyLandmarksView nearby(view, view.idsNear(vehicle, options_.search_radius_m));
-    const double window =
-        std::max(options_.search_radius_m, refresh_radius_m) + options_.grid_cell_size_m;
-    refresh_window_ = RefreshWindow{vehicle, window};
-    try
-    {
-        std::vector<long> created = update(nearby, time);
-        refresh_window_.reset();
-        return created;
-    }
-    catch (...)
-    {
-        refresh_window_.reset();
-        throw;
-    }
+    refreshNear(view, vehicle,
+                std::max(options_.search_radius_m, refresh_radius_m) + options_.grid_cell_size_m);
+    return grow(view, time);
 }
 
 std::vector<long> RegionPartition::regionsWithMissingLandmarks(

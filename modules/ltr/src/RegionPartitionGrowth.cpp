@@ -56,20 +56,23 @@ std::vector<long> RegionPartition::update(const LandmarkCovarianceView& view, do
 {
     // 1. Bring the lookup grid to today's vertex estimates.
     updateVertexPositions(view);
+    return grow(view, time);
+}
 
+std::vector<long> RegionPartition::grow(const LandmarkCovarianceView& view, double time)
+{
     // 2. Landmarks around the vehicle that may become vertices. The vehicle
     //    correlation depends on one landmark only, so it is filtered here once.
     Neighbourhood nb;
     nb.vehicle = view.vehiclePose().head<2>();
-    for (const long id : view.ids())
-        if ((view.mean(id) - nb.vehicle).norm() <= options_.search_radius_m)
-        {
-            nb.nearby.push_back(id);
-            nb.nearby_set.insert(id);
-            if (options_.conditions.min_vehicle_correlation <= 0 ||
-                checker_.vehicleCorrelation(id, view) >= options_.conditions.min_vehicle_correlation)
-                nb.eligible.push_back(id);
-        }
+    for (const long id : view.idsNear(nb.vehicle, options_.search_radius_m))
+    {
+        nb.nearby.push_back(id);
+        nb.nearby_set.insert(id);
+        if (options_.conditions.min_vehicle_correlation <= 0 ||
+            checker_.vehicleCorrelation(id, view) >= options_.conditions.min_vehicle_correlation)
+            nb.eligible.push_back(id);
+    }
     std::sort(nb.eligible.begin(), nb.eligible.end(), [&](long a, long b) {
         return (view.mean(a) - nb.vehicle).squaredNorm() < (view.mean(b) - nb.vehicle).squaredNorm();
     });

@@ -172,19 +172,16 @@ std::vector<VirtualLandmarkProposal> proposeVirtualLandmarks(
             out.push_back(prop);
         }
     }
-    // A triangle holding a landmark would block the real regions around it.
-    const std::vector<long> all = view.ids();
+    // A triangle holding a landmark would block the real regions around it. Only
+    // landmarks within reach of the triangle are tested (idsNear: no scan of the map).
     out.erase(std::remove_if(out.begin(), out.end(),
                              [&](const VirtualLandmarkProposal& p) {
                                  const Eigen::Vector2d pa = view.mean(p.a), pb = view.mean(p.b);
-                                 for (const long id : all)
-                                 {
-                                     if (id == p.a || id == p.b) continue;
-                                     const Eigen::Vector2d m = view.mean(id);
-                                     if ((m - p.edge_midpoint).norm() > p.depth + std::sqrt((pb - pa).squaredNorm()))
-                                         continue;
-                                     if (strictlyInside(m, pa, pb, p.position)) return true;
-                                 }
+                                 const double reach = p.depth + (pb - pa).norm();
+                                 for (const long id : view.idsNear(p.edge_midpoint, reach))
+                                     if (id != p.a && id != p.b &&
+                                         strictlyInside(view.mean(id), pa, pb, p.position))
+                                         return true;
                                  return false;
                              }),
               out.end());

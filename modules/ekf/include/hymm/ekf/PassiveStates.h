@@ -43,6 +43,9 @@ public:
     Eigen::MatrixXd cov(long id) const;
     /** cov(x_p, x_active): dim x n_active. */
     Eigen::MatrixXd crossCov(long id) const;
+    /** Columns [first, first + cols) of crossCov(id), without copying the whole row
+     *  block (e.g. the cross-covariance with one landmark or the vehicle). */
+    Eigen::MatrixXd crossCov(long id, size_t first, int cols) const;
     /** Number of covariance entries stored (N_p * n_active + sum of d_p^2). */
     size_t storedCovarianceEntries() const;
 

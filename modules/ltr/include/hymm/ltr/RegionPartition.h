@@ -194,7 +194,10 @@ private:
     long insertRegion(Region r);
     std::vector<TriangleFrame::Vertices> nearbyTriangles(const TriangleFrame::Vertices& v) const;
 
-    // growth helpers (RegionPartition.cpp)
+    /** Steps 2-3 of update(): grows around the vehicle from the landmarks within
+     *  search_radius_m (view.idsNear), current vertices already refreshed. */
+    std::vector<long> grow(const LandmarkCovarianceView& view, double time);
+    // growth helpers (RegionPartitionGrowth.cpp)
     struct Neighbourhood;  // landmarks near the vehicle for one update()
     bool growFromEdges(
         const LandmarkCovarianceView& view, const Neighbourhood& nb, double time,
@@ -213,15 +216,6 @@ private:
     std::unordered_map<long, std::vector<long>> by_landmark_;
     std::unordered_map<std::int64_t, std::vector<long>> grid_;
     long next_id_ = 0;
-    /** Set by updateNear() for the duration of its update() call: the window
-     *  updateVertexPositions() then limits itself to (update() lives in
-     *  RegionPartitionGrowth.cpp and refreshes through updateVertexPositions()). */
-    struct RefreshWindow
-    {
-        Eigen::Vector2d centre;
-        double radius;
-    };
-    std::optional<RefreshWindow> refresh_window_;
 };
 
 }  // namespace hymm::ltr
