@@ -41,11 +41,19 @@ const char* sourceName(DenseSlam::LandmarkSource s)
     }
 }
 
-// dense_layers = none | points | occupancy | points,occupancy (any order, spaces allowed)
-void parseDenseLayers(const std::string& value, const std::string& section, bool& points,
-                      bool& occupancy)
+// dense_layers = none | comma-separated list of points, occupancy, particles, sog,
+// property (any order, each at most once, spaces allowed).
+const char* const kDenseLayersHelp =
+    "must be none, or a comma-separated list of points, occupancy, particles, sog, property "
+    "(each at most once)";
+
+void parseDenseLayers(const std::string& value, const std::string& section,
+                      DenseSlam::Options& o)
 {
-    points = occupancy = false;
+    bool* flags[] = {&o.dense_points, &o.dense_occupancy, &o.dense_particles, &o.dense_sog,
+                     &o.dense_property};
+    const char* names[] = {"points", "occupancy", "particles", "sog", "property"};
+    for (bool* f : flags) *f = false;
     std::string v;
     for (char c : value)
         if (c != ' ' && c != '\t') v += c;
@@ -55,25 +63,26 @@ void parseDenseLayers(const std::string& value, const std::string& section, bool
     bool any = false;
     while (std::getline(ss, item, ','))
     {
-        if (item == "points" && !points) points = true;
-        else if (item == "occupancy" && !occupancy) occupancy = true;
-        else
-            core::throwConfigError(section, "dense_layers", value,
-                                   "must be none, or a comma-separated list of points, occupancy "
-                                   "(each at most once)");
+        bool known = false;
+        for (size_t k = 0; k < 5; ++k)
+            if (item == names[k] && !*flags[k]) *flags[k] = known = true;
+        if (!known) core::throwConfigError(section, "dense_layers", value, kDenseLayersHelp);
         any = true;
     }
-    if (!any)
-        core::throwConfigError(section, "dense_layers", value,
-                               "must be none, or a comma-separated list of points, occupancy");
+    if (!any) core::throwConfigError(section, "dense_layers", value, kDenseLayersHelp);
 }
 
-std::string denseLayersName(bool points, bool occupancy)
+std::string denseLayersName(const DenseSlam::Options& o)
 {
-    if (points && occupancy) return "points,occupancy";
-    if (points) return "points";
-    if (occupancy) return "occupancy";
-    return "none";
+    std::string out;
+    const std::pair<bool, const char*> items[] = {{o.dense_points, "points"},
+                                                  {o.dense_occupancy, "occupancy"},
+                                                  {o.dense_particles, "particles"},
+                                                  {o.dense_sog, "sog"},
+                                                  {o.dense_property, "property"}};
+    for (const auto& [on, name] : items)
+        if (on) out += (out.empty() ? "" : ",") + std::string(name);
+    return out.empty() ? "none" : out;
 }
 }  // namespace
 
@@ -98,8 +107,7 @@ void DenseSlam::Options::loadFromConfigFile(const mrpt::config::CConfigFileBase&
     min_range = core::readDoubleMin(cfg, s, "min_range", min_range, 0.0, false);
     max_range = core::readDoubleMin(cfg, s, "max_range", max_range, min_range, true);
     enable_profiler = core::readBool(cfg, s, "enable_profiler", enable_profiler);
-    parseDenseLayers(core::readString(cfg, s, "dense_layers", denseLayersName(dense_points, dense_occupancy)),
-                     s, dense_points, dense_occupancy);
+    parseDenseLayers(core::readString(cfg, s, "dense_layers", denseLayersName(*this)), s, *this);
     classic_grid = core::readBool(cfg, s, "classic_grid", classic_grid);
     laser_std_range = core::readDoubleMin(cfg, s, "laser_std_range", laser_std_range, 0.0, true);
     laser_std_bearing = kDeg * core::readDoubleMin(cfg, s, "laser_std_bearing_deg",
@@ -119,7 +127,7 @@ void DenseSlam::Options::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
     cfg.write(s, "min_range", min_range);
     cfg.write(s, "max_range", max_range);
     cfg.write(s, "enable_profiler", enable_profiler);
-    cfg.write(s, "dense_layers", denseLayersName(dense_points, dense_occupancy));
+    cfg.write(s, "dense_layers", denseLayersName(*this));
     cfg.write(s, "classic_grid", classic_grid);
     cfg.write(s, "laser_std_range", laser_std_range);
     cfg.write(s, "laser_std_bearing_deg", laser_std_bearing / kDeg);
@@ -168,6 +176,9 @@ DenseSlam::DenseSlam(const Options& opts, const ekf::EkfSlam::Options& ekf_opts,
         auto h = dense_opts.hybrid;
         h.enable_points = options_.dense_points;
         h.enable_occupancy = options_.dense_occupancy;
+        h.enable_particles = options_.dense_particles;
+        h.enable_sog = options_.dense_sog;
+        h.enable_property = options_.dense_property;
         hybrid_ = std::make_unique<dense::HybridMetricMap>(h);
     }
     if (options_.classic_grid)
@@ -261,6 +272,12 @@ void DenseSlam::processFrame(const mrpt::obs::CSensoryFrame& frame)
     s.cov = ekf_.vehicleCov();
     path_.push_back(s);
     if (partition_ || classic_) processDense(frame, s.t, updates_ != updates_before);
+}
+
+void DenseSlam::refreshRegions()
+{
+    if (!partition_) return;
+    partition_->updateVertexPositions(VirtualLandmarkView(ekf_, virtual_ids_));
 }
 
 void DenseSlam::processDense(const mrpt::obs::CSensoryFrame& frame, double t, bool map_changed)

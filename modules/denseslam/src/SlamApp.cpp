@@ -68,7 +68,8 @@ void SlamApp::run(std::ostream& log)
     if (reader.entriesRead() == 0)
         throw std::runtime_error("rawlog '" + args_.rawlog + "' holds no entries");
 
-    // Outputs.
+    // Outputs: the global dense map at the final landmark estimates.
+    slam_->refreshRegions();
     if (!mrpt::system::directoryExists(args_.out_dir) &&
         !mrpt::system::createDirectory(args_.out_dir))
         throw std::runtime_error("cannot create output folder '" + args_.out_dir + "'");

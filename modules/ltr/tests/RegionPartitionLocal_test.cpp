@@ -210,14 +210,14 @@ TEST(RegionPartitionLocalTest, MissingLandmarksNearIsTheFullListInsideTheWindow)
 TEST(RegionPartitionLocalTest, OptionsRoundTripAndValidation)
 {
     RegionPartition::Options o;
-    EXPECT_FALSE(o.local_refresh);
-    o.local_refresh = true;
+    EXPECT_TRUE(o.local_refresh);
+    o.local_refresh = false;
     o.full_refresh_correction_m = 2.5;
     mrpt::config::CConfigFileMemory cfg;
     o.saveToConfigFile(cfg, "LtrPartition");
     RegionPartition::Options r;
     r.loadFromConfigFile(cfg, "LtrPartition");
-    EXPECT_TRUE(r.local_refresh);
+    EXPECT_FALSE(r.local_refresh);
     EXPECT_DOUBLE_EQ(r.full_refresh_correction_m, 2.5);
     cfg.write("LtrPartition", "full_refresh_correction_m", -1.0);
     EXPECT_THROW(r.loadFromConfigFile(cfg, "LtrPartition"), std::exception);

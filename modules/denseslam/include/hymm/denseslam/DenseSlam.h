@@ -74,13 +74,19 @@ public:
         bool enable_profiler = false;
         bool dense_points = false;     //!< raw-returns layer (ini: dense_layers)
         bool dense_occupancy = false;  //!< occupancy layer (ini: dense_layers)
+        bool dense_particles = false;  //!< particle layer, Sec. 4.2 (ini: dense_layers)
+        bool dense_sog = false;        //!< sum-of-Gaussians layer, Sec. 4.3 (ini: dense_layers)
+        bool dense_property = false;   //!< scalar property grid (ini: dense_layers)
         bool classic_grid = false;     //!< also build the classic occupancy-grid baseline
         double laser_std_range = 0.1;    //!< [m] laser range noise (delayed store covariances)
         double laser_std_bearing = 0.017453292519943295;  //!< [rad] (ini: laser_std_bearing_deg)
 
         /** True if a layer of the HYMM is on (regions are grown only then; the classic
          *  grid does not need them). */
-        bool denseLayers() const { return dense_points || dense_occupancy; }
+        bool denseLayers() const
+        {
+            return dense_points || dense_occupancy || dense_particles || dense_sog || dense_property;
+        }
 
         void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
                                 const std::string& section) override;
@@ -90,8 +96,8 @@ public:
 
     /** Settings of the dense part; read from [LtrPartition], [HybridMetricMap],
      *  [OccupancyLayer], [PointsLayer] and [ClassicOccupancyGrid]. The layers switched on
-     *  come from Options::dense_points / dense_occupancy, which override
-     *  HybridMetricMap::Options::enable_points / enable_occupancy. */
+     *  come from Options::dense_* (ini: [DenseSlam] dense_layers), which override
+     *  HybridMetricMap::Options::enable_*. */
     struct DenseOptions
     {
         ltr::RegionPartition::Options partition;
@@ -157,6 +163,13 @@ public:
     const Stats& stats() const { return stats_; }
     const Options& options() const { return options_; }
     mrpt::system::CTimeLogger& profiler() { return profiler_; }
+
+    /** Brings the current vertices of every region to the latest landmark estimates
+     *  (RegionPartition::updateVertexPositions, O(regions)). With [LtrPartition]
+     *  local_refresh the per-step refresh only reaches regions near the vehicle, so call
+     *  this before rendering or saving the global dense map; without it, it is a no-op
+     *  in effect (every region is already current after each update). */
+    void refreshRegions();
 
     /** The LTRs; nullptr when no dense layer is on. */
     const ltr::RegionPartition* partition() const { return partition_.get(); }

@@ -81,8 +81,9 @@ public:
         int max_seed_landmarks = 8;  //!< nearest eligible landmarks tried when seeding (>= 3)
         /** Pipeline (DenseSlam): grow with updateNear() (O(area around the vehicle) per
          *  step) instead of update() (O(regions + landmarks)); far regions are then
-         *  refreshed by updateVertexPositions() only after a large correction. */
-        bool local_refresh = false;
+         *  refreshed by updateVertexPositions() only after a large correction (and by
+         *  DenseSlam::refreshRegions() before the global map is rendered). */
+        bool local_refresh = true;
         /** [m] with local_refresh: a vehicle correction (update minus prediction) larger
          *  than this is treated as a loop closure and every region is refreshed. */
         double full_refresh_correction_m = 1.0;
