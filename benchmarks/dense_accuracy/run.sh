@@ -38,19 +38,24 @@ run ch4_end    "$root/configs/sim/ch4_objects.ini" "$root/configs/ch4_slam.ini" 
 python3 - "$out" <<'PY'
 import json, sys, os
 out = sys.argv[1]
-rows = ["| run | landmark err [m] | layer | cells/points | mean [m] | p95 [m] | coverage |",
-        "|---|---|---|---|---|---|---|"]
+rows = ["| run | landmark err [m] (aligned) | layer | cells/points | mean [m] | p95 [m] | coverage | aligned mean [m] | aligned p95 [m] |",
+        "|---|---|---|---|---|---|---|---|---|"]
 for name in ["ch3_before", "ch3_after", "ch3_end", "ch4_before", "ch4_after", "ch4_end"]:
     m = json.load(open(os.path.join(out, name, "metrics.json")))
     d = m["dense"]
+    al = d.get("landmark_alignment", {})
     for layer in ["occupancy", "points", "classic_grid"]:
         if layer not in d: continue
         x = d[layer]
-        rows.append("| %s | %.2f | %s | %d | %.3f | %.3f | %.1f%% |" % (
-            name, m["landmarks"]["mean_error_m"], layer, x["points"], x["mean_distance_m"],
-            x["p95_distance_m"], 100 * x["coverage"]))
-    occ, cl = d["occupancy"]["mean_distance_m"], d["classic_grid"]["mean_distance_m"]
-    rows.append("| %s | | classic / HYMM occupancy | | %.2fx | | |" % (name, cl / occ))
+        a = x.get("aligned", {})
+        rows.append("| %s | %.2f (%.2f) | %s | %d | %.3f | %.3f | %.1f%% | %.3f | %.3f |" % (
+            name, m["landmarks"]["mean_error_m"], al.get("landmark_mean_error_aligned_m", float("nan")),
+            layer, x["points"], x["mean_distance_m"], x["p95_distance_m"], 100 * x["coverage"],
+            a.get("mean_distance_m", float("nan")), a.get("p95_distance_m", float("nan"))))
+    occ, cl = d["occupancy"], d["classic_grid"]
+    rows.append("| %s | rotation %.2f deg | classic / HYMM occupancy | | %.2fx | | | %.2fx | |" % (
+        name, al.get("phi_deg", float("nan")), cl["mean_distance_m"] / occ["mean_distance_m"],
+        cl["aligned"]["mean_distance_m"] / occ["aligned"]["mean_distance_m"] if "aligned" in occ else float("nan")))
 open(os.path.join(out, "summary.md"), "w").write("\n".join(rows) + "\n")
 print("\n".join(rows))
 PY

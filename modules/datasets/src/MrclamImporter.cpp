@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <sstream>
 #include <stdexcept>
 
 #include "hymm/datasets/RawlogWriter.h"
@@ -59,7 +60,7 @@ void MrclamImporter::Options::loadFromConfigFile(
     using namespace hymm::core;
     std::vector<std::string> keys = {"name",        "robot",           "num_robots",
                                      "max_range_m", "std_range_m",     "std_bearing_deg",
-                                     "sample_period_s"};
+                                     "sample_period_s", "barcode_fixes"};
     keys.insert(keys.end(), OdometryIntegrator::Options::keys().begin(),
                 OdometryIntegrator::Options::keys().end());
     checkKnownKeys(cfg, section, keys);
@@ -75,6 +76,20 @@ void MrclamImporter::Options::loadFromConfigFile(
     max_range_m = readDoubleMin(cfg, section, "max_range_m", max_range_m, 0, true);
     std_range_m = readDoubleMin(cfg, section, "std_range_m", std_range_m, 0, true);
     std_bearing_deg = readDoubleMin(cfg, section, "std_bearing_deg", std_bearing_deg, 0, true);
+    const std::string fixes = readString(cfg, section, "barcode_fixes", "");
+    barcode_fixes.clear();
+    std::istringstream in(fixes);
+    for (std::string tok; in >> tok;)
+    {
+        BarcodeFix f;
+        char c1 = 0, c2 = 0;
+        std::istringstream t(tok);
+        if (!(t >> f.barcode >> c1 >> f.listed >> c2 >> f.actual) || c1 != ':' || c2 != ':' ||
+            t.peek() != std::char_traits<char>::eof())
+            throwConfigError(section, "barcode_fixes", fixes,
+                             "'" + tok + "' is not barcode:listed_subject:actual_subject");
+        barcode_fixes.push_back(f);
+    }
     odometry.loadFromConfigFile(cfg, section);
 }
 
@@ -88,6 +103,11 @@ void MrclamImporter::Options::saveToConfigFile(
     cfg.write(section, "max_range_m", max_range_m);
     cfg.write(section, "std_range_m", std_range_m);
     cfg.write(section, "std_bearing_deg", std_bearing_deg);
+    std::string fixes;
+    for (const auto& f : barcode_fixes)
+        fixes += (fixes.empty() ? "" : " ") + std::to_string(f.barcode) + ":" +
+                 std::to_string(f.listed) + ":" + std::to_string(f.actual);
+    cfg.write(section, "barcode_fixes", fixes);
     odometry.saveToConfigFile(cfg, section);
 }
 
@@ -120,6 +140,61 @@ std::map<int, int> MrclamImporter::readBarcodes(const std::string& path)
     }
     if (out.empty()) throw std::runtime_error("'" + path + "': no barcode found");
     return out;
+}
+
+std::map<int, int> MrclamImporter::barcodeMap(const std::string& path,
+                                              ImportSummary& summary) const
+{
+    auto codes = readBarcodes(path);
+    for (const auto& f : options_.barcode_fixes)
+    {
+        const auto it = codes.find(f.barcode);
+        if (it == codes.end() || it->second != f.listed) continue;
+        it->second = f.actual;
+        summary.repaired["barcode_subject_fix"]++;
+    }
+    return codes;
+}
+
+std::vector<OdometryIntegrator::ControlSample> MrclamImporter::readOdometry(
+    const std::string& path, ImportSummary& summary) const
+{
+    auto rows = readNumericTable(path, 3, &summary, "odometry_malformed_line");
+    restoreUniformTimes(rows, options_.sample_period_s, summary, "odometry");
+    std::vector<OdometryIntegrator::ControlSample> raw;
+    raw.reserve(rows.size());
+    for (const auto& r : rows) raw.push_back({r[0], r[1], r[2]});
+    return OdometryIntegrator::sanitize(raw, OdometryIntegrator::Model::Unicycle,
+                                        hymm::core::UteParams{}, summary);
+}
+
+std::vector<hymm::core::StampedPose2D> MrclamImporter::readGroundTruth(
+    const std::string& path, ImportSummary& summary) const
+{
+    auto rows = readNumericTable(path, 4, &summary, "groundtruth_malformed_line");
+    restoreUniformTimes(rows, options_.sample_period_s, summary, "groundtruth");
+    std::vector<hymm::core::StampedPose2D> gt;
+    gt.reserve(rows.size());
+    for (const auto& r : rows)
+    {
+        if (!std::isfinite(r[0]) || !std::isfinite(r[1]) || !std::isfinite(r[2]) ||
+            !std::isfinite(r[3]))
+            summary.skip("groundtruth_nan");
+        else if (!gt.empty() && !(r[0] > gt.back().t))
+            summary.skip("groundtruth_non_monotonic");
+        else
+            gt.push_back({r[0], r[1], r[2], mrpt::math::wrapToPi(r[3])});
+    }
+    return gt;
+}
+
+std::vector<hymm::core::LandmarkRecord> MrclamImporter::readLandmarks(const std::string& path,
+                                                                      ImportSummary& summary)
+{
+    std::vector<hymm::core::LandmarkRecord> lms;
+    for (const auto& r : readNumericTable(path, 5, &summary, "landmark_malformed_line"))
+        lms.push_back({static_cast<long>(r[0]), r[1], r[2], {r[3], r[4]}});
+    return lms;
 }
 
 std::vector<mrpt::obs::CObservation::Ptr> MrclamImporter::readMeasurements(
@@ -201,18 +276,13 @@ ImportSummary MrclamImporter::run(const Inputs& in, const std::string& out_dir) 
     const std::string base = out_dir + "/" + name;
 
     // 1. Odometry (unicycle: v, omega).
-    auto odo_rows = readNumericTable(in.odometry, 3, &summary, "odometry_malformed_line");
-    restoreUniformTimes(odo_rows, options_.sample_period_s, summary, "odometry");
-    std::vector<OdometryIntegrator::ControlSample> raw;
-    for (const auto& r : odo_rows) raw.push_back({r[0], r[1], r[2]});
-    const auto controls = OdometryIntegrator::sanitize(raw, OdometryIntegrator::Model::Unicycle,
-                                                       hymm::core::UteParams{}, summary);
+    const auto controls = readOdometry(in.odometry, summary);
     summary.odometry_samples = controls.size();
     const OdometryIntegrator odo(OdometryIntegrator::Model::Unicycle, hymm::core::UteParams{},
                                  options_.odometry, controls);
 
     // 2. Identified landmark measurements and rawlog.
-    const auto obs = readMeasurements(in.measurements, readBarcodes(in.barcodes), summary);
+    const auto obs = readMeasurements(in.measurements, barcodeMap(in.barcodes, summary), summary);
     if (obs.empty())
         throw std::runtime_error("no usable landmark measurement in '" + in.measurements + "'");
     writeOdometryRawlog(base + ".rawlog", odo, obs, summary);
@@ -220,19 +290,7 @@ ImportSummary MrclamImporter::run(const Inputs& in, const std::string& out_dir) 
     // 3. Ground truth: Vicon path and surveyed landmarks.
     if (!in.groundtruth.empty())
     {
-        auto gt_rows = readNumericTable(in.groundtruth, 4, &summary, "groundtruth_malformed_line");
-        restoreUniformTimes(gt_rows, options_.sample_period_s, summary, "groundtruth");
-        std::vector<hymm::core::StampedPose2D> gt;
-        for (const auto& r : gt_rows)
-        {
-            if (!std::isfinite(r[0]) || !std::isfinite(r[1]) || !std::isfinite(r[2]) ||
-                !std::isfinite(r[3]))
-                summary.skip("groundtruth_nan");
-            else if (!gt.empty() && !(r[0] > gt.back().t))
-                summary.skip("groundtruth_non_monotonic");
-            else
-                gt.push_back({r[0], r[1], r[2], mrpt::math::wrapToPi(r[3])});
-        }
+        const auto gt = readGroundTruth(in.groundtruth, summary);
         hymm::core::writeTum(base + "_groundtruth.tum", gt);
         summary.ground_truth_poses = gt.size();
         summary.outputs.push_back(base + "_groundtruth.tum");
@@ -241,9 +299,7 @@ ImportSummary MrclamImporter::run(const Inputs& in, const std::string& out_dir) 
         summary.skip("groundtruth_file_missing");
     if (!in.landmarks.empty())
     {
-        std::vector<hymm::core::LandmarkRecord> lms;
-        for (const auto& r : readNumericTable(in.landmarks, 5, &summary, "landmark_malformed_line"))
-            lms.push_back({static_cast<long>(r[0]), r[1], r[2], {r[3], r[4]}});
+        const auto lms = readLandmarks(in.landmarks, summary);
         hymm::core::writeLandmarksCsv(base + "_landmarks.csv", lms,
                                       "id,x,y,std_x,std_y (MRCLAM subject number; metres)");
         summary.landmarks = lms.size();

@@ -1,4 +1,5 @@
 #include <gtest/gtest.h>
+#include <hymm/core/config_utils.h>
 #include <hymm/core/trajectory_io.h>
 #include <hymm/datasets/MrclamImporter.h>
 #include <hymm/datasets/import_dataset.h>
@@ -139,4 +140,44 @@ TEST(MrclamImporterTest, BadInputsThrowClearly)
     }
 }
 
+}  // namespace
+
+namespace
+{
+TEST(MrclamImporterTest, BarcodeFixesApplyOnlyToTheListedPairs)
+{
+    TempDir dir;
+    writeDataset(dir);
+    // 72 -> 6 and 27 -> 7 swapped; 14 is listed as robot 2, so "14:3:8" does not apply.
+    writeText(dir.file("fix.ini"),
+              "[MrclamImporter]\nbarcode_fixes = 72:6:7 27:7:6 14:3:8\n");
+    const auto cfg = hymm::core::openConfigFile(dir.file("fix.ini"));
+    MrclamImporter::Options o;
+    o.loadFromConfigFile(*cfg, "MrclamImporter");
+    ASSERT_EQ(o.barcode_fixes.size(), 3u);
+    hymm::datasets::ImportSummary sum;
+    const auto codes = MrclamImporter(o).barcodeMap(dir.file("Barcodes.dat"), sum);
+    EXPECT_EQ(codes.at(72), 7);
+    EXPECT_EQ(codes.at(27), 6);
+    EXPECT_EQ(codes.at(14), 2);
+    EXPECT_EQ(sum.repairedCount("barcode_subject_fix"), 2u);
+
+    const auto out = hymm::datasets::importDataset("mrclam", {dir.path()}, dir.file("out"),
+                                                   dir.file("fix.ini"));
+    EXPECT_EQ(out.repairedCount("barcode_subject_fix"), 2u);
+    const auto log = hymm::datasets::testing::loadRawlog(dir.file("out/mrclam_robot1.rawlog"));
+    const auto obs = log.getAsObservations(1)->getObservationByClass<
+        mrpt::obs::CObservationBearingRange>();
+    ASSERT_TRUE(obs);
+    EXPECT_EQ(obs->sensedData[0].landmarkID, 7);  // barcode 72, listed as 6
+
+    for (const char* bad : {"72:6", "72:6:x", "72-6-7", "72:6:7:1"})
+    {
+        writeText(dir.file("bad.ini"), std::string("[MrclamImporter]\nbarcode_fixes = ") + bad + "\n");
+        EXPECT_THROW(o.loadFromConfigFile(*hymm::core::openConfigFile(dir.file("bad.ini")),
+                                          "MrclamImporter"),
+                     std::invalid_argument)
+            << bad;
+    }
+}
 }  // namespace

@@ -1,6 +1,8 @@
 // Converts the real datasets (folder from $HYMM_DATASETS) and checks the conversions.
 #include <gtest/gtest.h>
+#include <hymm/core/config_utils.h>
 #include <hymm/core/trajectory_io.h>
+#include <hymm/datasets/NoiseCalibration.h>
 #include <hymm/datasets/ground_truth.h>
 #include <hymm/datasets/import_dataset.h>
 
@@ -128,6 +130,40 @@ TEST(RealDatasetsTest, MrclamRobot1ConvertsWithIdentifiedLandmarks)
     const double err = meanDrError(dr, gt, 0.5);
     std::cout << "MRCLAM robot 1 dead reckoning vs Vicon, mean distance: " << err << " m\n";
     EXPECT_LT(err, 10.0);
+}
+
+// The noise values of configs/datasets/mrclam.ini are what hymm-calibrate gives on
+// dataset 2, robot 1 (docs/results.md); dataset 1's label swap is found without the fix.
+TEST(RealDatasetsTest, MrclamCalibrationReproducesTheConverterConfig)
+{
+    if (datasets().empty()) GTEST_SKIP() << "HYMM_DATASETS not set";
+    const std::string ini = std::string(HYMM_SOURCE_DIR) + "/configs/datasets/mrclam.ini";
+    const auto res = hymm::datasets::calibrateMrclam(
+        {datasets() + "/utias_mrclam/MRCLAM_Dataset2"}, 1, ini);
+    std::cout << res.toString();
+    const auto cfg = hymm::core::openConfigFile(ini);
+    const auto val = [&cfg](const char* key) {
+        return hymm::core::readDouble(*cfg, "MrclamImporter", key, 0, true);
+    };
+    // The config holds the values rounded to 3 significant digits.
+    EXPECT_NEAR(res.odometry.joint.std_speed_mps, val("std_speed_mps"), 0.005 * val("std_speed_mps"));
+    EXPECT_NEAR(res.odometry.joint.std_turn_rate_deg_s, val("std_turn_rate_deg_s"),
+                0.005 * val("std_turn_rate_deg_s"));
+    EXPECT_NEAR(res.measurements.range.model_std, val("std_range_m"), 0.005 * val("std_range_m"));
+    EXPECT_NEAR(res.measurements.bearing.model_std, val("std_bearing_deg"),
+                0.005 * val("std_bearing_deg"));
+    // The joint values predict the 5-20 s windows they were fitted on.
+    EXPECT_NEAR(res.odometry.joint.mean_nees, 3.0, 0.2);
+    EXPECT_NEAR(res.odometry.bias.lag_s, 0.2, 0.1);  // the commands lead the motion
+
+    const auto d1 = hymm::datasets::calibrateMrclam(
+        {datasets() + "/utias_mrclam/MRCLAM_Dataset1"}, 2, "");  // no barcode fixes
+    EXPECT_EQ(d1.measurements.best_fit_landmark.at(11).first, 17);
+    EXPECT_EQ(d1.measurements.best_fit_landmark.at(17).first, 11);
+    const auto d1_fixed = hymm::datasets::calibrateMrclam(
+        {datasets() + "/utias_mrclam/MRCLAM_Dataset1"}, 2, ini);
+    for (const auto& [label, best] : d1_fixed.measurements.best_fit_landmark)
+        EXPECT_EQ(best.first, label);
 }
 
 }  // namespace

@@ -28,6 +28,7 @@ struct Candidate
     const hymm::ltr::Region* region;
     AffineRegionMap to_current;
     Eigen::Vector2d lo, hi;  // current bounding box
+    bool withheld = false;   // refused by insertScan's `accept`
 };
 
 bool boxesOverlap(
@@ -105,7 +106,8 @@ LocalDenseMap& HybridMetricMap::localMapFor(long region_id, const Vertices& refe
 }
 
 HybridMetricMap::InsertStats HybridMetricMap::insertScan(
-    const ScanPoints& scan, const mrpt::math::TPose2D& vehicle_pose, const RegionPartition& partition)
+    const ScanPoints& scan, const mrpt::math::TPose2D& vehicle_pose, const RegionPartition& partition,
+    const RegionFilter& accept)
 {
     mrpt::system::CTimeLoggerEntry tle(profiler_, "dense.insertScan");
     scan.validate();  // values / noise: bad input is rejected before anything changes
@@ -124,9 +126,14 @@ HybridMetricMap::InsertStats HybridMetricMap::insertScan(
             const auto& r = partition.region(id);
             try
             {
-                Candidate c{id, &r, partition.referenceToCurrent(id), {}, {}};
+                Candidate c{id, &r, partition.referenceToCurrent(id), {}, {}, false};
                 c.lo = r.current[0].cwiseMin(r.current[1]).cwiseMin(r.current[2]);
                 c.hi = r.current[0].cwiseMax(r.current[1]).cwiseMax(r.current[2]);
+                if (accept && !accept(id))
+                {
+                    c.withheld = true;
+                    ++st.regions_withheld;
+                }
                 index_of[id] = cands.size();
                 cands.push_back(std::move(c));
             }
@@ -153,6 +160,12 @@ HybridMetricMap::InsertStats HybridMetricMap::insertScan(
                 st.unassigned.push_back(b.end);
                 continue;
             }
+            if (cands[it->second].withheld)
+            {
+                ++st.returns_withheld;
+                st.withheld.push_back(b.end);
+                continue;
+            }
             RegionScan& rs = per_region[it->second];
             rs.hits.push_back(cands[it->second].to_current.inverseMapPoint(b.end));
             if (!scan.values.empty()) rs.hit_values.push_back(scan.values[b.source]);
@@ -167,6 +180,7 @@ HybridMetricMap::InsertStats HybridMetricMap::insertScan(
         last_scan_regions_.clear();
         for (size_t k = 0; k < cands.size(); ++k)
         {
+            if (cands[k].withheld) continue;
             RegionScan& rs = per_region[k];
             clipBeams(w, cands[k], rs);
             if (rs.empty()) continue;

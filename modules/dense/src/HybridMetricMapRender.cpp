@@ -1,5 +1,5 @@
-// Global rendering of the SOG and property layers (HybridMetricMap.h); kept apart from
-// the fusion code of HybridMetricMap.cpp.
+// Global rendering of the SOG and property layers and per-kind statistics
+// (HybridMetricMap.h); kept apart from the fusion code of HybridMetricMap.cpp.
 #include "hymm/dense/HybridMetricMap.h"
 
 #include <limits>
@@ -94,6 +94,62 @@ void HybridMetricMap::renderProperty(
         if (!prop) continue;
         if (const auto to_current = currentMap(partition, id)) prop->renderFields(*to_current, mean, &stddev);
     }
+}
+
+std::vector<mrpt::poses::CPoint2DPDFGaussian> HybridMetricMap::renderSogGaussians(
+    const RegionPartition& partition) const
+{
+    std::vector<mrpt::poses::CPoint2DPDFGaussian> out;
+    for (const auto& [id, map] : maps_)
+    {
+        const auto* sog = partition.has(id) ? map->layerAs<SogLayer>(SogLayer::kKind) : nullptr;
+        if (!sog) continue;
+        if (const auto to_current = currentMap(partition, id))
+            for (size_t i = 0; i < sog->size(); ++i) out.push_back(sog->gaussianAt(i, *to_current));
+    }
+    return out;
+}
+
+std::map<std::string, size_t> HybridMetricMap::sizeByKind() const
+{
+    std::map<std::string, size_t> out;
+    for (const auto& kv : maps_)
+        for (const std::string& kind : kv.second->layerKinds())
+            out[kind] += kv.second->layer(kind)->size();
+    return out;
+}
+
+std::vector<HybridMetricMap::OccupancyRegionStats> HybridMetricMap::occupancyRegionStats(
+    double occupied_prob) const
+{
+    if (!(occupied_prob > 0 && occupied_prob < 1))
+        throw std::invalid_argument(
+            "HybridMetricMap::occupancyRegionStats: occupied_prob must be in (0, 1)");
+    const double l_occ = logit(occupied_prob);
+    const double l_free = logit(options_.occupancy.coarsen_min_prob);
+    std::vector<OccupancyRegionStats> out;
+    for (const auto& [id, map] : maps_)
+    {
+        const auto* occ = map->layerAs<OccupancyLayer>(OccupancyLayer::kKind);
+        if (!occ) continue;
+        OccupancyRegionStats r;
+        r.id = id;
+        r.coarse = occ->isCoarse();
+        r.memory_bytes = occ->memoryBytes();
+        const LogOddsGrid& g = occ->grid();
+        r.cell_size_m = g.cellSize();
+        for (int iy = 0; iy < g.sizeY(); ++iy)
+            for (int ix = 0; ix < g.sizeX(); ++ix)
+            {
+                if (!g.updatable(ix, iy)) continue;  // outside the triangle: a neighbour's
+                ++r.cells;
+                const double l = g.logOdds(ix, iy);
+                if (l > l_occ) ++r.occupied;
+                if (l < l_free) ++r.free;
+            }
+        out.push_back(r);
+    }
+    return out;
 }
 
 }  // namespace hymm::dense

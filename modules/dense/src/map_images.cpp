@@ -8,6 +8,8 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <utility>
+#include <vector>
 
 namespace hymm::dense
 {
@@ -56,6 +58,39 @@ void checkSize(long w, long h, const std::string& path)
     if (w <= 0 || h <= 0 || w * h > kMaxPixels)
         throw std::invalid_argument(
             "PNG '" + path + "' would be " + std::to_string(w) + "x" + std::to_string(h) + " pixels");
+}
+
+/** Bounding box of metric content, growing over the given points. */
+struct Box
+{
+    Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
+    Eigen::Vector2d hi = -lo;
+    void add(const Eigen::Vector2d& p)
+    {
+        lo = lo.cwiseMin(p);
+        hi = hi.cwiseMax(p);
+    }
+    void add(const hymm::ltr::RegionPartition& part)
+    {
+        for (const long id : part.regionIds())
+            for (const auto& v : part.region(id).current) add(v);
+    }
+};
+
+/** White image covering `box` (origin if empty) plus `margin_m`, and its pixel frame. */
+cv::Mat whiteCanvas(Box box, double resolution_m, double margin_m, const std::string& path,
+                    PixelFrame& f)
+{
+    if (!(resolution_m > 0))
+        throw std::invalid_argument("PNG '" + path + "': resolution must be > 0");
+    if (!(box.lo.x() <= box.hi.x())) box.lo = box.hi = Eigen::Vector2d::Zero();
+    box.lo -= Eigen::Vector2d::Constant(margin_m);
+    box.hi += Eigen::Vector2d::Constant(margin_m);
+    const long w = static_cast<long>(std::ceil((box.hi.x() - box.lo.x()) / resolution_m));
+    const long h = static_cast<long>(std::ceil((box.hi.y() - box.lo.y()) / resolution_m));
+    checkSize(w, h, path);
+    f = PixelFrame{box.lo.x(), box.hi.y(), resolution_m};
+    return cv::Mat(static_cast<int>(h), static_cast<int>(w), CV_8UC3, cv::Scalar(255, 255, 255));
 }
 }  // namespace
 
@@ -111,6 +146,63 @@ void savePointsPng(
     if (triangles) drawTriangles(img, f, *triangles);
     for (size_t i = 0; i < xs.size(); ++i)
         cv::circle(img, f.px(Eigen::Vector2d(xs[i], ys[i])), 1, cv::Scalar(0, 0, 0), cv::FILLED);
+    write(path, img);
+}
+
+void savePointsByValuePng(const mrpt::maps::CPointsMapXYZI& points, const std::string& path,
+                          double resolution_m, double v_min, double v_max,
+                          const hymm::ltr::RegionPartition* triangles, double margin_m)
+{
+    if (!(v_max > v_min)) throw std::invalid_argument("savePointsByValuePng: need v_max > v_min");
+    const auto& xs = points.getPointsBufferRef_x();
+    const auto& ys = points.getPointsBufferRef_y();
+    Box box;
+    for (size_t i = 0; i < xs.size(); ++i) box.add(Eigen::Vector2d(xs[i], ys[i]));
+    if (triangles) box.add(*triangles);
+    PixelFrame f{};
+    cv::Mat img = whiteCanvas(box, resolution_m, margin_m, path, f);
+    if (triangles) drawTriangles(img, f, *triangles);
+    // One JET colour per 8-bit level; draw low values first so high ones stay on top.
+    cv::Mat levels(1, 256, CV_8UC1), colours;
+    for (int k = 0; k < 256; ++k) levels.at<unsigned char>(0, k) = static_cast<unsigned char>(k);
+    cv::applyColorMap(levels, colours, cv::COLORMAP_JET);
+    std::vector<std::pair<int, size_t>> order;
+    order.reserve(xs.size());
+    for (size_t i = 0; i < xs.size(); ++i)
+    {
+        const double t =
+            std::clamp((points.getPointIntensity(i) - v_min) / (v_max - v_min), 0.0, 1.0);
+        order.emplace_back(static_cast<int>(std::lround(255.0 * t)), i);
+    }
+    std::stable_sort(order.begin(), order.end(),
+                     [](const auto& a, const auto& b) { return a.first < b.first; });
+    for (const auto& [level, i] : order)
+    {
+        const cv::Vec3b c = colours.at<cv::Vec3b>(0, level);
+        cv::circle(img, f.px(Eigen::Vector2d(xs[i], ys[i])), 1, cv::Scalar(c[0], c[1], c[2]),
+                   cv::FILLED);
+    }
+    write(path, img);
+}
+
+void savePolylinesPng(const std::vector<std::vector<Eigen::Vector2d>>& polylines,
+                      const std::string& path, double resolution_m,
+                      const hymm::ltr::RegionPartition* triangles, double margin_m)
+{
+    Box box;
+    for (const auto& poly : polylines)
+        for (const auto& p : poly) box.add(p);
+    if (triangles) box.add(*triangles);
+    PixelFrame f{};
+    cv::Mat img = whiteCanvas(box, resolution_m, margin_m, path, f);
+    if (triangles) drawTriangles(img, f, *triangles);
+    for (const auto& poly : polylines)
+    {
+        std::vector<cv::Point> pts;
+        pts.reserve(poly.size());
+        for (const auto& p : poly) pts.push_back(f.px(p));
+        cv::polylines(img, pts, true, cv::Scalar(200, 0, 0), 1, cv::LINE_AA);
+    }
     write(path, img);
 }
 

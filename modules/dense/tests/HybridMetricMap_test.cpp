@@ -28,6 +28,38 @@ HybridMetricMap::Options mapOptions()
     return o;
 }
 
+// A region refused by insertScan's filter (its local frame not known well enough relative
+// to the vehicle, Sec. 3.6) gets neither returns nor free space; its returns come back.
+TEST(HybridMetricMapTest, RefusedRegionsGetNothingAndTheirReturnsComeBack)
+{
+    WallWorld w;
+    const ScanPoints scan = wallScan(kVehicle, kMount, kWallX, kBeams, kHalfFov);
+    HybridMetricMap all(mapOptions()), some(mapOptions());
+    const auto st_all = all.insertScan(scan, kVehicle, w.partition);
+    long refused = -1;  // a region that holds returns
+    for (long id : all.regionIds())
+        if (refused < 0 && all.localMap(id)->layerAs<PointsLayer>(PointsLayer::kKind)->points().size() > 0)
+            refused = id;
+    ASSERT_GE(refused, 0);
+    const auto st = some.insertScan(scan, kVehicle, w.partition, [&](long id) { return id != refused; });
+    EXPECT_EQ(st.regions_withheld, 1u);
+    EXPECT_GT(st.returns_withheld, 0u);
+    EXPECT_EQ(some.localMap(refused), nullptr);
+    EXPECT_EQ(st.regions_updated + 1, st_all.regions_updated);
+    EXPECT_EQ(st.returns_outside, st_all.returns_outside);
+    EXPECT_EQ(st.returns_stored + st.returns_withheld, st_all.returns_stored);
+    ASSERT_EQ(st.withheld.size(), st.returns_withheld);
+    for (const V2& p : st.withheld) EXPECT_EQ(w.partition.findRegion(p), std::optional<long>(refused));
+    // Every other region holds exactly what it holds without the filter.
+    for (long id : some.regionIds())
+    {
+        const auto* a = all.localMap(id)->layerAs<PointsLayer>(PointsLayer::kKind);
+        const auto* b = some.localMap(id)->layerAs<PointsLayer>(PointsLayer::kKind);
+        ASSERT_TRUE(a && b);
+        EXPECT_EQ(a->points().size(), b->points().size());
+    }
+}
+
 TEST(HybridMetricMapTest, WallScanIsStoredOnTheWallAcrossRegions)
 {
     WallWorld w;

@@ -1,10 +1,13 @@
 /**
  * @file PropertyLayer_test.cpp
  * @brief Inverse-variance fusion per cell, input checks, intensities from an MRPT
- *        range scan, rendering into CHeightGridMap2D and persistence.
+ *        range scan, rendering into CHeightGridMap2D and persistence, and noisy
+ *        intensities of a wall recovered through HybridMetricMap.
  */
+#include "hymm/dense/HybridMetricMap.h"
 #include "hymm/dense/PropertyLayer.h"
 #include "hymm/dense/ScanPoints.h"
+#include "synthetic_partition.h"
 
 #include <gtest/gtest.h>
 #include <mrpt/maps/CHeightGridMap2D.h>
@@ -12,7 +15,9 @@
 
 #include <cmath>
 #include <limits>
+#include <random>
 #include <sstream>
+#include <vector>
 
 namespace
 {
@@ -143,6 +148,106 @@ TEST(PropertyLayerTest, RendersIntoHeightGridAndRoundTrips)
     EXPECT_EQ(copy.estimateAt(V2(1.25, 1.25))->mean, layer.estimateAt(V2(1.25, 1.25))->mean);
     std::stringstream bad("property 1\n5 0x0p+0 0x1p+0 1\n");  // zero information
     EXPECT_THROW(copy.load(bad), std::runtime_error);
+}
+
+/** An MRPT scan of the wall test scene (synthetic_partition.h) whose intensities are
+ *  the wall's property 80 + 0.5 y plus Gaussian noise of `sigma`, rounded as MRPT
+ *  stores them. */
+mrpt::obs::CObservation2DRangeScan noisyWallScan(std::mt19937& rng, double sigma)
+{
+    using namespace hymm::dense::synthetic;
+    const ScanPoints geometry = wallScan(kVehicle, kMount, kWallX, kBeams, kHalfFov);
+    const WorldScan world = geometry.toWorld(kVehicle, 100.0);
+    mrpt::obs::CObservation2DRangeScan obs;
+    obs.aperture = static_cast<float>(2 * kHalfFov);
+    obs.rightToLeft = true;
+    obs.maxRange = 80.0f;
+    obs.sensorPose = mrpt::poses::CPose3D(kMount.x, kMount.y, 0, kMount.phi, 0, 0);
+    obs.resizeScan(kBeams);
+    obs.setScanHasIntensity(true);
+    std::normal_distribution<double> noise(0.0, sigma);
+    for (size_t i = 0; i < static_cast<size_t>(kBeams); ++i)
+    {
+        obs.setScanRange(i, static_cast<float>(geometry.points[i].norm()));
+        obs.setScanRangeValidity(i, true);
+        const double truth = 80.0 + 0.5 * world.beams[i].end.y();
+        obs.setScanIntensity(i, static_cast<int>(std::lround(truth + noise(rng))));
+    }
+    return obs;
+}
+
+/** Cells of a rendered property field (non-NaN), with the truth at their centres. */
+struct RenderedCells
+{
+    std::vector<double> z;       // (mean - truth) / stddev
+    std::vector<double> stddev;  // by cell, row-major
+};
+
+RenderedCells renderWall(const HybridMetricMap& map, const hymm::ltr::RegionPartition& partition)
+{
+    ScalarField mean, sd;
+    map.renderProperty(partition, 0.2, mean, sd);
+    RenderedCells out;
+    for (int iy = 0; iy < mean.sizeY(); ++iy)
+        for (int ix = 0; ix < mean.sizeX(); ++ix)
+        {
+            if (std::isnan(mean.values(iy, ix))) continue;
+            const V2 c = mean.cellCentre(ix, iy);
+            EXPECT_NEAR(c.x(), synthetic::kWallX, 0.3);
+            out.z.push_back((mean.values(iy, ix) - (80.0 + 0.5 * c.y())) / sd.values(iy, ix));
+            out.stddev.push_back(sd.values(iy, ix));
+        }
+    return out;
+}
+
+TEST(PropertyLayerTest, NoisyIntensitiesAreRecoveredWithAnHonestShrinkingStd)
+{
+    // Intensity noise sigma 3 (plus the rounding to integers, variance 1/12), and the
+    // layer told sigma 3: each cell's std is 3 / sqrt(values fused).
+    constexpr double kSigma = 3.0;
+    synthetic::WallWorld w;
+    HybridMetricMap::Options o;
+    o.enable_points = o.enable_occupancy = false;
+    o.enable_property = true;
+    o.property.cell_size_m = 0.2;
+    o.property.default_value_std = kSigma;
+    HybridMetricMap map(o);
+    std::mt19937 rng(11);
+    const auto insert = [&](int scans)
+    {
+        for (int k = 0; k < scans; ++k)
+        {
+            const ScanPoints pts = ScanPoints::fromRangeScan(noisyWallScan(rng, kSigma));
+            ASSERT_EQ(pts.values.size(), static_cast<size_t>(synthetic::kBeams));
+            map.insertScan(pts, synthetic::kVehicle, w.partition);
+        }
+    };
+    insert(4);
+    const RenderedCells few = renderWall(map, w.partition);
+    insert(32);
+    const RenderedCells many = renderWall(map, w.partition);
+
+    // The same cells, each fusing 9 times as many values: a third of the std.
+    ASSERT_EQ(few.stddev.size(), many.stddev.size());
+    ASSERT_GT(many.stddev.size(), 30u);
+    for (size_t i = 0; i < many.stddev.size(); ++i)
+        EXPECT_NEAR(many.stddev[i], few.stddev[i] / 3, 1e-9);
+
+    // Errors against the true property, in units of the stated std: zero mean, unit
+    // RMS (sigma_eff / sigma = sqrt(1 + 1/(12 * 9)) = 1.005 from the rounding).
+    for (const RenderedCells* r : {&few, &many})
+    {
+        double mean = 0, ms = 0;
+        for (double z : r->z)
+        {
+            mean += z;
+            ms += z * z;
+        }
+        const double n = static_cast<double>(r->z.size());
+        mean /= n;
+        EXPECT_NEAR(mean, 0.0, 4 / std::sqrt(n));
+        EXPECT_NEAR(std::sqrt(ms / n), 1.0, 0.25);
+    }
 }
 
 }  // namespace

@@ -11,8 +11,14 @@
 #include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/system/datetime.h>
 
+#include <hymm/ltr/position_error.h>
+
+#include <Eigen/Eigenvalues>
+
 #include <cmath>
+#include <limits>
 #include <sstream>
+#include <unordered_map>
 
 namespace hymm::denseslam
 {
@@ -94,7 +100,7 @@ void DenseSlam::Options::loadFromConfigFile(const mrpt::config::CConfigFileBase&
                           "odometry_std_xy", "odometry_std_phi_deg", "sensor_std_range",
                           "sensor_std_bearing_deg", "min_range", "max_range", "enable_profiler",
                           "dense_layers", "classic_grid", "laser_std_range",
-                          "laser_std_bearing_deg"});
+                          "laser_std_bearing_deg", "max_local_std_m"});
     landmark_source = parseSource(core::readString(cfg, s, "landmark_source", sourceName(landmark_source)), s);
     use_landmark_ids = core::readBool(cfg, s, "use_landmark_ids", use_landmark_ids);
     odometry_cov_scale = core::readDoubleMin(cfg, s, "odometry_cov_scale", odometry_cov_scale, 0.0, true);
@@ -112,6 +118,7 @@ void DenseSlam::Options::loadFromConfigFile(const mrpt::config::CConfigFileBase&
     laser_std_range = core::readDoubleMin(cfg, s, "laser_std_range", laser_std_range, 0.0, true);
     laser_std_bearing = kDeg * core::readDoubleMin(cfg, s, "laser_std_bearing_deg",
                                                    laser_std_bearing / kDeg, 0.0, true);
+    max_local_std_m = core::readDoubleMin(cfg, s, "max_local_std_m", max_local_std_m, 0.0, false);
 }
 
 void DenseSlam::Options::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
@@ -131,6 +138,7 @@ void DenseSlam::Options::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
     cfg.write(s, "classic_grid", classic_grid);
     cfg.write(s, "laser_std_range", laser_std_range);
     cfg.write(s, "laser_std_bearing_deg", laser_std_bearing / kDeg);
+    cfg.write(s, "max_local_std_m", max_local_std_m);
 }
 
 void DenseSlam::DenseOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg)
@@ -274,6 +282,26 @@ void DenseSlam::processFrame(const mrpt::obs::CSensoryFrame& frame)
     if (partition_ || classic_) processDense(frame, s.t, updates_ != updates_before);
 }
 
+double DenseSlam::localFusionStd(const ltr::LandmarkCovarianceView& view, long region_id) const
+{
+    const auto& r = partition_->region(region_id);
+    // Evaluated at the centroid, brought within the dense range of the vehicle: the
+    // heading part of the error grows with the distance of the return.
+    const Eigen::Vector2d vxy = view.vehiclePose().head<2>();
+    Eigen::Vector2d x = (r.current[0] + r.current[1] + r.current[2]) / 3.0;
+    const double d = (x - vxy).norm(), reach = hybrid_->options().max_range_m;
+    if (d > reach) x = vxy + (x - vxy) * (reach / d);
+    try
+    {
+        const Eigen::Matrix2d p = ltr::localFusionCovariance(view, r.vertex_ids, x);
+        return std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(p).eigenvalues()(1)));
+    }
+    catch (const std::invalid_argument&)
+    {
+        return std::numeric_limits<double>::infinity();  // folded triangle: no frame to fuse into
+    }
+}
+
 void DenseSlam::refreshRegions()
 {
     if (!partition_) return;
@@ -320,6 +348,16 @@ void DenseSlam::processDense(const mrpt::obs::CSensoryFrame& frame, double t, bo
     // the frame's update is the best estimate of that pose.
     const Eigen::Vector3d v = ekf_.vehiclePose();
     const mrpt::math::TPose2D vehicle(v[0], v[1], v[2]);
+    // Sec. 3.6 / 3.7.3: fuse into a region only while the vehicle is known well relative
+    // to its vertices; the local coordinates written now are never corrected later.
+    std::unordered_map<long, bool> ready;
+    dense::HybridMetricMap::RegionFilter accept;
+    if (partition_ && options_.max_local_std_m > 0)
+        accept = [&](long id) {
+            const auto [it, fresh] = ready.try_emplace(id, false);
+            if (fresh) it->second = localFusionStd(view, id) <= options_.max_local_std_m;
+            return it->second;
+        };
     for (const auto& o : frame)
     {
         const auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(o);
@@ -337,9 +375,10 @@ void DenseSlam::processDense(const mrpt::obs::CSensoryFrame& frame, double t, bo
         }
         if (hybrid_)
         {
-            const auto st = hybrid_->insertScan(pts, vehicle, *partition_);
+            const auto st = hybrid_->insertScan(pts, vehicle, *partition_, accept);
             stats_.returns_stored += st.returns_stored;
             stats_.returns_outside += st.returns_outside;
+            stats_.returns_withheld += st.returns_withheld;
             ++stats_.dense_scans;
             if (virtual_options_.enabled) createVirtualLandmarks(st.unassigned, t);
             if (store_ && !st.unassigned.empty())

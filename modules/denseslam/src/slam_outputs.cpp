@@ -2,21 +2,28 @@
 
 #include <hymm/core/trajectory_io.h>
 #include <hymm/dense/map_images.h>
-#include <hymm/sim/ground_truth_io.h>
 #include <hymm/eval/LandmarkEvaluator.h>
 #include <hymm/eval/TrajectoryEvaluator.h>
 #include <hymm/eval/metrics_report.h>
 #include <hymm/eval/nees.h>
+#include <hymm/eval/se2_alignment.h>
+#include <hymm/sim/ground_truth_io.h>
 #include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/maps/CHeightGridMap2D.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
+#include <mrpt/maps/CPointsMapXYZI.h>
 #include <mrpt/maps/CSimplePointsMap.h>
+#include <mrpt/poses/CPointPDFSOG.h>
 #include <mrpt/serialization/CArchive.h>
 #include <mrpt/system/filesystem.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <iomanip>
+#include <limits>
 #include <stdexcept>
+#include <utility>
 
 namespace hymm::denseslam
 {
@@ -43,19 +50,61 @@ void writeSerialized(const T& obj, const std::string& file)
     mrpt::serialization::archiveFrom(f) << obj;
 }
 
-// Accuracy against every true surface (`surfaces`: object outlines and trunk circles),
-// coverage of the object outlines alone (trunks are landmarks, not dense content to cover).
-void setOutlineMetrics(eval::MetricsJson& j, const std::vector<Eigen::Vector2d>& points,
-                       const std::vector<dense::Polygon>& outlines,
-                       const std::vector<dense::Polygon>& surfaces)
+// The true surfaces the dense maps are scored against: object outlines and trunk circles
+// (`surfaces`) for accuracy, the object outlines alone for coverage (trunks are landmarks,
+// not dense content to cover). `*_est`: the same moved into the filter's frame by the
+// inverse of the landmark-map alignment (empty when there is none).
+struct TrueSurfaces
 {
-    const dense::OutlineMetrics acc = dense::evaluateOutlines(points, surfaces);
-    const dense::OutlineMetrics cov = dense::evaluateOutlines(points, outlines);
+    std::vector<dense::Polygon> outlines, surfaces, outlines_est, surfaces_est;
+};
+
+void setOutlineMetrics(eval::MetricsJson& j, const std::vector<Eigen::Vector2d>& points,
+                       const TrueSurfaces& truth)
+{
+    const dense::OutlineMetrics acc = dense::evaluateOutlines(points, truth.surfaces);
+    const dense::OutlineMetrics cov = dense::evaluateOutlines(points, truth.outlines);
     j.set("points", static_cast<unsigned long>(acc.points));
     j.set("mean_distance_m", acc.mean_distance_m);
     j.set("p95_distance_m", acc.p95_distance_m);
     j.set("coverage", cov.coverage);
     j.set("outline_samples", static_cast<unsigned long>(cov.outline_samples));
+    if (truth.surfaces_est.empty()) return;
+    const dense::OutlineMetrics acc_a = dense::evaluateOutlines(points, truth.surfaces_est);
+    const dense::OutlineMetrics cov_a = dense::evaluateOutlines(points, truth.outlines_est);
+    auto& a = j.object("aligned");
+    a.set("mean_distance_m", acc_a.mean_distance_m);
+    a.set("p95_distance_m", acc_a.p95_distance_m);
+    a.set("coverage", cov_a.coverage);
+}
+
+std::vector<dense::Polygon> transformed(const std::vector<dense::Polygon>& in, const eval::Se2Transform& t)
+{
+    std::vector<dense::Polygon> out = in;
+    for (auto& poly : out)
+        for (auto& p : poly) p = t.apply(p);
+    return out;
+}
+
+// Every estimated landmark paired with the nearest true one within `gate`.
+struct LandmarkPairs
+{
+    std::vector<Eigen::Vector2d> est, truth;
+};
+LandmarkPairs nearestPairs(const DenseSlam& slam, const std::vector<TrueTrunk>& truth, double gate)
+{
+    LandmarkPairs out;
+    for (const auto& e : estimatedLandmarks(slam.ekf()))
+    {
+        const TrueTrunk* best = nullptr;
+        double best_d = gate;
+        for (const auto& t : truth)
+            if (const double d = (t.centre - e.position).norm(); d <= best_d) best_d = d, best = &t;
+        if (!best) continue;
+        out.est.push_back(e.position);
+        out.truth.push_back(best->centre);
+    }
+    return out;
 }
 
 // A trunk of radius r as a closed polygon (a single point when r = 0); 32 sides keep
@@ -82,6 +131,230 @@ void renderOccupancy(const DenseSlam& slam, mrpt::maps::COccupancyGridMap2D& gri
 
 constexpr double kPointsPngResolution = 0.1;  //!< [m/pixel]
 constexpr double kOccupiedProbability = 0.8;  //!< occupied cells for the outline metrics
+constexpr double kAlignmentGate = 3.0;  //!< [m] estimated-true landmark pairs for the map alignment
+/** Particles with a weight above this are the occupied content (the P > 0.8 of the
+ *  occupancy maps, Fig. 4.3); the thesis (Sec. 4.2.3) reports the fractions of weights
+ *  above it and below kParticleLowWeight. */
+constexpr double kParticleOccupiedWeight = 0.8;
+constexpr double kParticleLowWeight = 0.5;
+constexpr double kSogSurfaceResolution = 0.1;    //!< [m/pixel] (thesis Fig. 4.12 b: 0.2 m)
+constexpr double kSogEllipsesResolution = 0.05;  //!< [m/pixel]: 1-sigma ellipses are ~0.1 m
+constexpr int kSogEllipsePoints = 24;            //!< vertices per ellipse
+
+bool particlesOn(const DenseSlam& slam)
+{
+    return slam.hybridMap() && slam.hybridMap()->options().enable_particles;
+}
+bool sogOn(const DenseSlam& slam)
+{
+    return slam.hybridMap() && slam.hybridMap()->options().enable_sog;
+}
+bool propertyOn(const DenseSlam& slam)
+{
+    return slam.hybridMap() && slam.hybridMap()->options().enable_property;
+}
+
+// Every particle at its current position, the weight P(occupied) as intensity.
+mrpt::maps::CPointsMapXYZI renderParticles(const DenseSlam& slam)
+{
+    mrpt::maps::CPointsMapXYZI pts;
+    slam.hybridMap()->renderLayer(dense::ParticlesLayer::kKind, *slam.partition(), pts);
+    return pts;
+}
+
+struct ParticleWeights
+{
+    size_t count = 0, above = 0, below = 0;  // w > kParticleOccupiedWeight, w < kParticleLowWeight
+    std::vector<Eigen::Vector2d> occupied;   // positions of the `above` particles
+    double fraction(size_t n) const
+    {
+        return count ? static_cast<double>(n) / count : std::nan("");
+    }
+};
+
+ParticleWeights particleWeights(const mrpt::maps::CPointsMapXYZI& pts)
+{
+    ParticleWeights w;
+    w.count = pts.size();
+    for (size_t i = 0; i < pts.size(); ++i)
+    {
+        const double v = pts.getPointIntensity(i);
+        if (v < kParticleLowWeight) ++w.below;
+        if (v > kParticleOccupiedWeight)
+        {
+            ++w.above;
+            w.occupied.emplace_back(pts.getPointsBufferRef_x()[i], pts.getPointsBufferRef_y()[i]);
+        }
+    }
+    return w;
+}
+
+// The Gaussians as an MRPT mixture in the plane (z = 0, zero z variance). Each weight is
+// 2 pi sqrt|P|, the scale that gives the Gaussian a peak of 1 (thesis Sec. 4.3.1), so
+// CPointPDFSOG::evaluatePDF(p, true) is the surface of Fig. 4.12 b; the map is not a
+// distribution (Sec. 4.3) and the weights are deliberately not normalised.
+mrpt::poses::CPointPDFSOG sogMixture(const std::vector<mrpt::poses::CPoint2DPDFGaussian>& gs)
+{
+    mrpt::poses::CPointPDFSOG sog(0);
+    for (const auto& g : gs)
+    {
+        mrpt::poses::CPointPDFSOG::TGaussianMode m;
+        m.val.mean = mrpt::poses::CPoint3D(g.mean.x(), g.mean.y(), 0.0);
+        m.val.cov.setZero();
+        for (int r = 0; r < 2; ++r)
+            for (int c = 0; c < 2; ++c) m.val.cov(r, c) = g.cov(r, c);
+        m.log_w = std::log(2 * M_PI) + 0.5 * std::log(g.cov.det());
+        sog.push_back(m);
+    }
+    return sog;
+}
+
+// Property mean / std at the layer's cell size, as images and as MRPT height grids
+// (h = mean or std, w = values fused; CHeightGridMap2D serialises h and w only, so the
+// std gets a grid of its own).
+struct PropertyMaps
+{
+    dense::ScalarField mean, stddev;
+    mrpt::maps::CHeightGridMap2D grid_mean, grid_std;
+    size_t cells_with_value = 0;
+    std::vector<Eigen::Vector2d> centres;  // of the grid cells with a value
+};
+
+PropertyMaps renderProperty(const DenseSlam& slam)
+{
+    PropertyMaps p;
+    const auto* hybrid = slam.hybridMap();
+    const double res = hybrid->options().property.cell_size_m;
+    hybrid->renderProperty(*slam.partition(), res, p.mean, p.stddev);
+    const Eigen::Vector2d hi =
+        p.mean.origin + res * Eigen::Vector2d(p.mean.sizeX(), p.mean.sizeY());
+    p.grid_mean.setSize(p.mean.origin.x(), hi.x(), p.mean.origin.y(), hi.y(), res);
+    hybrid->renderLayer(dense::PropertyLayer::kKind, *slam.partition(), p.grid_mean);
+    p.grid_std = p.grid_mean;
+    for (unsigned cy = 0; cy < p.grid_mean.getSizeY(); ++cy)
+        for (unsigned cx = 0; cx < p.grid_mean.getSizeX(); ++cx)
+        {
+            const auto* c = p.grid_mean.cellByIndex(cx, cy);
+            if (!c || c->w == 0) continue;
+            ++p.cells_with_value;
+            p.centres.emplace_back(p.grid_mean.idx2x(cx), p.grid_mean.idx2y(cy));
+            auto* s = p.grid_std.cellByIndex(cx, cy);
+            s->h = s->u = c->var;
+        }
+    return p;
+}
+
+// Colour range of a field's finite values ([0, 1] without any).
+std::pair<double, double> valueRange(const dense::ScalarField& f)
+{
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (Eigen::Index i = 0; i < f.values.size(); ++i)
+        if (std::isfinite(f.values(i)))
+            lo = std::min(lo, f.values(i)), hi = std::max(hi, f.values(i));
+    if (!(lo <= hi)) return {0.0, 1.0};
+    if (hi - lo < 1e-9) return {lo - 0.5, hi + 0.5};
+    return {lo, hi};
+}
+
+void writeParticles(const DenseSlam& slam, const std::string& d, bool png)
+{
+    const auto pts = renderParticles(slam);
+    writeSerialized(pts, d + "particles.bin");
+    std::ofstream f(d + "particles.txt");
+    if (!f) throw std::runtime_error("cannot write '" + d + "particles.txt'");
+    f << "# x y weight (P(occupied), thesis Eq. 4.9)\n" << std::setprecision(9);
+    for (size_t i = 0; i < pts.size(); ++i)
+        f << pts.getPointsBufferRef_x()[i] << ' ' << pts.getPointsBufferRef_y()[i] << ' '
+          << pts.getPointIntensity(i) << '\n';
+    if (!f) throw std::runtime_error("error writing '" + d + "particles.txt'");
+    if (png)
+        dense::savePointsByValuePng(pts, d + "particles.png", kPointsPngResolution, 0.0, 1.0,
+                                    slam.partition());
+}
+
+// The SOG surface as drawn: overlapping peak-1 Gaussians sum far above 1 where a
+// surface was seen on every lap (tens on landmark trunks), so the image shows
+// log(1 + surface) with the colour scale up to the 99th percentile of the covered cells;
+// single Gaussians (value 1) stay visible next to the heavily observed surfaces.
+void saveSurfacePng(dense::ScalarField surface, const std::string& file)
+{
+    constexpr double kCovered = 0.05;  // cells below are background
+    std::vector<double> covered;
+    for (Eigen::Index i = 0; i < surface.values.size(); ++i)
+    {
+        double& v = surface.values(i);
+        v = std::log1p(std::max(0.0, v));
+        if (v > std::log1p(kCovered)) covered.push_back(v);
+    }
+    double top = std::log1p(1.0);
+    if (!covered.empty())
+    {
+        const auto k = covered.begin() +
+                       static_cast<std::ptrdiff_t>(0.99 * static_cast<double>(covered.size() - 1));
+        std::nth_element(covered.begin(), k, covered.end());
+        top = std::max(top, *k);
+    }
+    dense::saveScalarFieldPng(surface, file, 0.0, top);
+}
+
+void writeSog(const DenseSlam& slam, const std::string& d, bool png)
+{
+    const auto& partition = *slam.partition();
+    writeSerialized(sogMixture(slam.hybridMap()->renderSogGaussians(partition)), d + "sog.bin");
+    if (!png) return;
+    dense::ScalarField surface;
+    slam.hybridMap()->renderSogSurface(partition, kSogSurfaceResolution, surface);
+    saveSurfacePng(std::move(surface), d + "sog_surface.png");
+    dense::savePolylinesPng(slam.hybridMap()->renderSogEllipses(partition, kSogEllipsePoints),
+                            d + "sog_ellipses.png", kSogEllipsesResolution, &partition);
+}
+
+void writeProperty(const DenseSlam& slam, const std::string& d, bool png)
+{
+    const PropertyMaps p = renderProperty(slam);
+    writeSerialized(p.grid_mean, d + "property.gridmap");
+    writeSerialized(p.grid_std, d + "property_std.gridmap");
+    if (!png) return;
+    const auto [m_lo, m_hi] = valueRange(p.mean);
+    dense::saveScalarFieldPng(p.mean, d + "property_mean.png", m_lo, m_hi, slam.partition());
+    const auto [s_lo, s_hi] = valueRange(p.stddev);
+    dense::saveScalarFieldPng(p.stddev, d + "property_std.png", std::min(0.0, s_lo), s_hi,
+                              slam.partition());
+}
+
+void writeOccupancyRegions(const DenseSlam& slam, const std::string& file)
+{
+    std::ofstream f(file);
+    if (!f) throw std::runtime_error("cannot write '" + file + "'");
+    f << "id,coarse,cell_size_m,cells,occupied,free,memory_bytes\n";
+    for (const auto& r : slam.hybridMap()->occupancyRegionStats(kOccupiedProbability))
+        f << r.id << ',' << (r.coarse ? 1 : 0) << ',' << r.cell_size_m << ',' << r.cells << ','
+          << r.occupied << ',' << r.free << ',' << r.memory_bytes << '\n';
+    if (!f) throw std::runtime_error("error writing '" + file + "'");
+}
+
+/** Number of occupancy regions at the coarse and at the fine cell size. Their content
+ *  is compared on occupancy_regions.csv of runs with and without coarsening
+ *  (benchmarks/dense_layers): a coarse cell is occupied when any fine cell it replaced
+ *  was, so occupied fractions in the current cells are not comparable across sizes. */
+struct CoarsenSummary
+{
+    size_t coarse = 0, fine = 0;
+};
+
+CoarsenSummary coarsenSummary(const DenseSlam& slam)
+{
+    CoarsenSummary c;
+    for (const auto& r : slam.hybridMap()->occupancyRegionStats(kOccupiedProbability))
+        (r.coarse ? c.coarse : c.fine) += 1;
+    return c;
+}
+
+size_t valueOr0(const std::map<std::string, size_t>& m, const std::string& key)
+{
+    const auto it = m.find(key);
+    return it == m.end() ? 0 : it->second;
+}
 }  // namespace
 
 std::vector<dense::Polygon> loadObjectOutlines(const std::string& file)
@@ -117,6 +390,11 @@ void writeDenseOutputs(const DenseSlam& slam, const std::string& dir, bool png)
         writeSerialized(grid, d + "occupancy.gridmap");
         if (png) dense::saveOccupancyPng(grid, d + "occupancy.png", partition);
     }
+    if (hybrid && hybrid->options().enable_occupancy)
+        writeOccupancyRegions(slam, d + "occupancy_regions.csv");
+    if (particlesOn(slam)) writeParticles(slam, d, png);
+    if (sogOn(slam)) writeSog(slam, d, png);
+    if (propertyOn(slam)) writeProperty(slam, d, png);
     if (const auto* classic = slam.classicGrid())
     {
         mrpt::maps::COccupancyGridMap2D grid;
@@ -125,6 +403,54 @@ void writeDenseOutputs(const DenseSlam& slam, const std::string& dir, bool png)
         if (png) dense::saveOccupancyPng(grid, d + "classic_grid.png");
     }
 }
+
+namespace
+{
+// Counts and memory of every layer (metrics.json "dense"; also without --gt-objects).
+void writeLayerCounts(eval::MetricsJson& dj, const DenseSlam& slam)
+{
+    const auto* hybrid = slam.hybridMap();
+    const auto items = hybrid->sizeByKind();
+    const auto bytes = hybrid->memoryBytesByKind();
+    auto& mj = dj.object("memory_bytes_by_kind");
+    for (const std::string& kind : hybrid->enabledKinds())
+    {
+        mj.set(kind, static_cast<unsigned long>(valueOr0(bytes, kind)));
+        auto& lj = dj.object(kind);
+        lj.set("items", static_cast<unsigned long>(valueOr0(items, kind)));
+        lj.set("memory_bytes", static_cast<unsigned long>(valueOr0(bytes, kind)));
+    }
+    if (hybrid->options().enable_occupancy)
+    {
+        const CoarsenSummary c = coarsenSummary(slam);
+        auto& oj = dj.object("occupancy");
+        oj.set("regions_coarse", static_cast<unsigned long>(c.coarse));
+        oj.set("regions_fine", static_cast<unsigned long>(c.fine));
+    }
+    if (particlesOn(slam))
+    {
+        const ParticleWeights w = particleWeights(renderParticles(slam));
+        auto& pj = dj.object("particles");
+        pj.set("particles", static_cast<unsigned long>(w.count));
+        pj.set("occupied_min_weight", kParticleOccupiedWeight);
+        pj.set("weight_fraction_above_0_8", w.fraction(w.above));
+        pj.set("weight_fraction_below_0_5", w.fraction(w.below));
+    }
+    if (sogOn(slam))
+        dj.object("sog").set(
+            "gaussians",
+            static_cast<unsigned long>(hybrid->renderSogGaussians(*slam.partition()).size()));
+    if (propertyOn(slam))
+    {
+        auto& pj = dj.object("property");
+        const size_t cells = valueOr0(items, dense::PropertyLayer::kKind);
+        pj.set("cells", static_cast<unsigned long>(cells));
+        pj.set("rendered_cells", static_cast<unsigned long>(renderProperty(slam).cells_with_value));
+        if (cells == 0 && slam.stats().returns_stored > 0)
+            pj.set("note", "empty: the laser scans carry no values (intensities) to map");
+    }
+}
+}  // namespace
 
 std::vector<TrueTrunk> trueTrunks(const std::vector<core::LandmarkRecord>& landmarks)
 {
@@ -150,32 +476,71 @@ void writeDenseMetrics(eval::MetricsJson& j, const DenseSlam& slam,
         dj.set("virtual_landmarks", static_cast<unsigned long>(slam.virtualLandmarkIds().size()));
         dj.set("returns_stored", static_cast<unsigned long>(st.returns_stored));
         dj.set("returns_outside", static_cast<unsigned long>(st.returns_outside));
+        dj.set("returns_withheld", static_cast<unsigned long>(st.returns_withheld));
         dj.set("memory_bytes", static_cast<unsigned long>(slam.hybridMap()->memoryBytes()));
+        writeLayerCounts(dj, slam);
     }
     if (outlines.empty()) return;
-    std::vector<dense::Polygon> surfaces = outlines;
-    for (const auto& t : true_landmarks) surfaces.push_back(circleOutline(t.centre, t.radius));
+    TrueSurfaces truth;
+    truth.outlines = outlines;
+    truth.surfaces = outlines;
+    for (const auto& t : true_landmarks) truth.surfaces.push_back(circleOutline(t.centre, t.radius));
+    // The filter's frame is fixed by the start pose, but heading error gathered before the
+    // first landmarks are mapped is never observable again: the whole map, landmarks and
+    // dense content alike, carries a common rigid error. Scoring the maps also after the
+    // least-squares SE(2) fit of the landmark map onto the true landmarks (one transform for
+    // every map, the classic grid included, since all share the filter's frame) separates
+    // that common part from the shape of each map.
+    const LandmarkPairs pairs = nearestPairs(slam, true_landmarks, kAlignmentGate);
+    if (const auto t = eval::alignSE2(pairs.est, pairs.truth); t && pairs.est.size() >= 3)
+    {
+        const eval::Se2Transform to_est = t->inverse();
+        truth.outlines_est = transformed(truth.outlines, to_est);
+        truth.surfaces_est = transformed(truth.surfaces, to_est);
+        double before = 0, after = 0;
+        for (size_t i = 0; i < pairs.est.size(); ++i)
+        {
+            before += (pairs.est[i] - pairs.truth[i]).norm();
+            after += (t->apply(pairs.est[i]) - pairs.truth[i]).norm();
+        }
+        auto& aj = dj.object("landmark_alignment");
+        aj.set("landmarks", static_cast<unsigned long>(pairs.est.size()));
+        aj.set("x", t->x);
+        aj.set("y", t->y);
+        aj.set("phi_deg", t->phi * 180.0 / M_PI);
+        aj.set("landmark_mean_error_m", before / static_cast<double>(pairs.est.size()));
+        aj.set("landmark_mean_error_aligned_m", after / static_cast<double>(pairs.est.size()));
+    }
     const auto* hybrid = slam.hybridMap();
     if (hybrid && hybrid->options().enable_points)
     {
         mrpt::maps::CSimplePointsMap pts;
         hybrid->renderPoints(*slam.partition(), pts);
-        setOutlineMetrics(dj.object("points"), dense::pointsOf(pts), outlines, surfaces);
+        setOutlineMetrics(dj.object("points"), dense::pointsOf(pts), truth);
     }
     if (hybrid && hybrid->options().enable_occupancy)
     {
         mrpt::maps::COccupancyGridMap2D grid;
         renderOccupancy(slam, grid);
-        setOutlineMetrics(dj.object("occupancy"), dense::occupiedCellCentres(grid, kOccupiedProbability),
-                          outlines, surfaces);
+        setOutlineMetrics(dj.object("occupancy"), dense::occupiedCellCentres(grid, kOccupiedProbability), truth);
     }
+    if (particlesOn(slam))
+        setOutlineMetrics(dj.object("particles"), particleWeights(renderParticles(slam)).occupied, truth);
+    if (sogOn(slam))
+    {
+        std::vector<Eigen::Vector2d> means;
+        for (const auto& g : hybrid->renderSogGaussians(*slam.partition()))
+            means.emplace_back(g.mean.x(), g.mean.y());
+        setOutlineMetrics(dj.object("sog"), means, truth);
+    }
+    if (propertyOn(slam))
+        setOutlineMetrics(dj.object("property"), renderProperty(slam).centres, truth);
     if (const auto* classic = slam.classicGrid())
     {
         mrpt::maps::COccupancyGridMap2D grid;
         classic->toOccupancyGridMap(grid);
         setOutlineMetrics(dj.object("classic_grid"),
-                          dense::occupiedCellCentres(grid, kOccupiedProbability), outlines,
-                          surfaces);
+                          dense::occupiedCellCentres(grid, kOccupiedProbability), truth);
     }
 }
 
@@ -364,6 +729,44 @@ void writeTiming(const std::vector<FrameTiming>& timing, const std::string& file
     if (!f) throw std::runtime_error("error writing '" + file + "'");
 }
 
+namespace
+{
+// One line per enabled layer: what it holds and its memory.
+void writeLayerSummary(std::ostream& f, const DenseSlam& slam)
+{
+    const auto* hybrid = slam.hybridMap();
+    const auto items = hybrid->sizeByKind();
+    const auto bytes = hybrid->memoryBytesByKind();
+    for (const std::string& kind : hybrid->enabledKinds())
+    {
+        const size_t n = valueOr0(items, kind);
+        f << std::setprecision(1) << "layer " << std::left << std::setw(15) << kind << std::right;
+        if (kind == dense::PointsLayer::kKind)
+            f << n << " points";
+        else if (kind == dense::OccupancyLayer::kKind)
+        {
+            const CoarsenSummary c = coarsenSummary(slam);
+            f << n << " cells updated, regions coarse " << c.coarse << " / fine " << c.fine;
+        }
+        else if (kind == dense::ParticlesLayer::kKind)
+        {
+            const ParticleWeights w = particleWeights(renderParticles(slam));
+            f << n << " particles (w > 0.8: " << 100 * w.fraction(w.above)
+              << "%, w < 0.5: " << 100 * w.fraction(w.below) << "%)";
+        }
+        else if (kind == dense::SogLayer::kKind)
+            f << n << " Gaussians";
+        else if (kind == dense::PropertyLayer::kKind)
+            f << n << " cells with a value"
+              << (n == 0 && slam.stats().returns_stored > 0 ? " (the scans carry no intensities)"
+                                                            : "");
+        else
+            f << n << " items";
+        f << ", " << valueOr0(bytes, kind) / 1024.0 << " KiB\n" << std::setprecision(3);
+    }
+}
+}  // namespace
+
 void writeSummary(const DenseSlam& slam, double run_seconds, size_t entries, const std::string& file)
 {
     std::ofstream f(file);
@@ -385,9 +788,10 @@ void writeSummary(const DenseSlam& slam, double run_seconds, size_t entries, con
         f << "regions (LTR)        " << p->size() << " (created " << s.regions_created << ", removed "
           << s.regions_removed << ", partition updates " << s.partition_updates << ")\n"
           << "dense scans          " << s.dense_scans << " (returns stored " << s.returns_stored
-          << ", outside regions " << s.returns_outside << ")\n"
+          << ", outside regions " << s.returns_outside << ", withheld " << s.returns_withheld << ")\n"
           << "virtual landmarks    " << slam.virtualLandmarkIds().size() << " (created "
           << s.virtual_landmarks << ", apexes rejected " << s.virtual_rejected << ")\n";
+    if (slam.hybridMap()) writeLayerSummary(f, slam);
     if (slam.classicGrid()) f << "classic grid         on\n";
     if (!f) throw std::runtime_error("error writing '" + file + "'");
 }

@@ -3,10 +3,14 @@
 // bit for bit), regions hang off the filter's landmarks, and the dense_layers key.
 #include <gtest/gtest.h>
 #include <hymm/denseslam/DenseSlam.h>
+#include <hymm/dense/outline_metrics.h>
 #include <hymm/denseslam/RawlogReader.h>
+#include <hymm/denseslam/slam_outputs.h>
 #include <mrpt/config/CConfigFile.h>
 #include <mrpt/config/CConfigFileMemory.h>
 
+#include <cmath>
+#include <iostream>
 #include <string>
 
 namespace
@@ -121,6 +125,7 @@ TEST(DenseSlamDense, DenseLayersKey)
     EXPECT_EQ(parse("points, occupancy"), std::make_pair(true, true));
     EXPECT_EQ(parse("occupancy,points"), std::make_pair(true, true));
     EXPECT_ANY_THROW(parse("points,grid"));
+    EXPECT_ANY_THROW(parse("sog,particles,sog"));
     EXPECT_ANY_THROW(parse("points,points"));
     EXPECT_ANY_THROW(parse(""));
 
@@ -130,6 +135,23 @@ TEST(DenseSlamDense, DenseLayersKey)
     EXPECT_FALSE(o.denseLayers());
     EXPECT_FALSE(o.classic_grid);
 
+    // The chapter-4 layers: any subset, written back in a canonical order.
+    {
+        mrpt::config::CConfigFileMemory cfg;
+        cfg.write("DenseSlam", "dense_layers", "property, sog,particles");
+        DenseSlam::Options p;
+        p.loadFromConfigFile(cfg, "DenseSlam");
+        EXPECT_TRUE(p.dense_particles && p.dense_sog && p.dense_property);
+        EXPECT_FALSE(p.dense_points || p.dense_occupancy);
+        EXPECT_TRUE(p.denseLayers());
+        mrpt::config::CConfigFileMemory back;
+        p.saveToConfigFile(back, "DenseSlam");
+        EXPECT_EQ(back.read_string("DenseSlam", "dense_layers", ""), "particles,sog,property");
+        const DenseSlam s(p, hymm::ekf::EkfSlam::Options(), hymm::extract::TreeExtractor::Options());
+        ASSERT_NE(s.hybridMap(), nullptr);
+        EXPECT_EQ(s.hybridMap()->enabledKinds(), (std::vector<std::string>{"particles", "sog", "property"}));
+    }
+
     // Only the layers named in [DenseSlam] are built.
     DenseSlam::Options only_points;
     only_points.dense_points = true;
@@ -138,6 +160,58 @@ TEST(DenseSlamDense, DenseLayersKey)
     EXPECT_TRUE(s.hybridMap()->options().enable_points);
     EXPECT_FALSE(s.hybridMap()->options().enable_occupancy);
     EXPECT_EQ(s.classicGrid(), nullptr);
+}
+
+// max_local_std_m (Sec. 3.6, 3.7.3): scans are fused into a region only while the vehicle
+// is known well relative to its vertices. The feature map does not change; what is
+// withheld is counted; what is fused is closer to the true outlines.
+TEST(DenseSlamDense, LocalUncertaintyGateWithholdsPoorlyLocalisedReturns)
+{
+    DenseSlam off = makeSlam(true, false, false);
+    mrpt::config::CConfigFile cfg(kConfig);
+    DenseSlam::Options o;
+    o.loadFromConfigFile(cfg, "DenseSlam");
+    o.dense_points = true;
+    o.dense_occupancy = o.classic_grid = false;
+    o.max_local_std_m = 0.15;
+    hymm::ekf::EkfSlam::Options e;
+    e.loadFromConfigFile(cfg, "EkfSlam");
+    DenseSlam::DenseOptions d;
+    d.loadFromConfigFile(cfg);
+    DenseSlam on(o, e, hymm::extract::TreeExtractor::Options(), hymm::extract::ReflectorExtractor::Options(), d);
+    runRawlog(off);
+    runRawlog(on);
+
+    ASSERT_EQ(on.path().size(), off.path().size());
+    for (size_t i = 0; i < on.path().size(); ++i) ASSERT_EQ(on.path()[i].pose, off.path()[i].pose);
+    EXPECT_EQ(off.stats().returns_withheld, 0u);
+    EXPECT_GT(on.stats().returns_withheld, 0u);
+    EXPECT_GT(on.stats().returns_stored, 0u);
+    // Every return is either stored, withheld or outside; the regions are the same.
+    EXPECT_EQ(on.stats().returns_stored + on.stats().returns_withheld, off.stats().returns_stored);
+    EXPECT_EQ(on.partition()->regionIds(), off.partition()->regionIds());
+
+    // True surfaces: object outlines and the trunks of the true landmarks.
+    auto surfaces =
+        hymm::denseslam::loadObjectOutlines(std::string(HYMM_SOURCE_DIR) + "/rawlogs/ch3_objects_gt_objects.txt");
+    const auto gt = hymm::denseslam::loadGroundTruth(
+        "", std::string(HYMM_SOURCE_DIR) + "/rawlogs/ch3_objects_gt_landmarks.csv");
+    for (const auto& t : hymm::denseslam::trueTrunks(gt.landmarks))
+    {
+        hymm::dense::Polygon c;
+        for (int k = 0; k < 32; ++k)
+            c.emplace_back(t.centre + t.radius * Eigen::Vector2d(std::cos(k * M_PI / 16), std::sin(k * M_PI / 16)));
+        surfaces.push_back(c);
+    }
+    const auto error = [&](DenseSlam& s) {
+        s.refreshRegions();
+        mrpt::maps::CSimplePointsMap pts;
+        s.hybridMap()->renderPoints(*s.partition(), pts);
+        return hymm::dense::evaluateOutlines(hymm::dense::pointsOf(pts), surfaces).mean_distance_m;
+    };
+    const double e_on = error(on), e_off = error(off);
+    EXPECT_LT(e_on, e_off) << "gate " << e_on << " m, no gate " << e_off << " m";
+    std::cout << "mean distance to the true surfaces: gate " << e_on << " m, no gate " << e_off << " m\n";
 }
 
 TEST(DenseSlamDense, UnknownKeyInADenseSectionIsAnError)

@@ -54,4 +54,21 @@ Eigen::Matrix2d localCoordinatesCovariance(
     return 0.5 * (p + p.transpose());
 }
 
+Eigen::Matrix2d localFusionCovariance(
+    const LandmarkCovarianceView& view, const std::array<long, 3>& ids, const Eigen::Vector2d& x)
+{
+    const TriangleFrame frame(view.mean(ids[0]), view.mean(ids[1]), view.mean(ids[2]));
+    const Eigen::Vector3d v = view.vehiclePose();
+    Eigen::Matrix<double, 2, 3> g;
+    g << 1, 0, -(x.y() - v.y()), 0, 1, x.x() - v.x();
+    const Eigen::Matrix2d p_xx = g * view.vehicleCov() * g.transpose();
+    Eigen::Matrix<double, 2, 6> p_xl;
+    for (int k = 0; k < 3; ++k)
+        p_xl.block<2, 2>(0, 2 * k) = g * view.crossVehicle(ids[static_cast<size_t>(k)]).transpose();
+    const Eigen::Matrix2d p_l =
+        localCoordinatesCovariance(frame, x, p_xx, p_xl, jointVertexCovariance(view, ids));
+    const Eigen::Matrix2d p = frame.axes() * p_l * frame.axes().transpose();
+    return 0.5 * (p + p.transpose());
+}
+
 }  // namespace hymm::ltr

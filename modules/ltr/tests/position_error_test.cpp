@@ -7,6 +7,8 @@
 #include "synthetic_map.h"
 
 #include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
 #include <random>
@@ -103,6 +105,54 @@ TEST(PositionErrorTest, ViewOverloadReadsTheJointCovariance)
     // Highly correlated vertices: the point's global error is close to the common error
     // and far below the sum of independent vertex errors.
     EXPECT_NEAR(globalPositionCovariance(view, ids, local)(0, 0), 1.0, 0.05);
+}
+
+// Sec. 3.6 / 3.7.3: a return x = v + Rot(dphi) (x - v) seen from a sampled vehicle pose,
+// its local coordinates in a triangle of sampled vertices; the spread of those local
+// coordinates (in metres at the mean axes) is what localFusionCovariance predicts.
+TEST(PositionErrorTest, LocalFusionCovarianceMatchesMonteCarlo)
+{
+    std::mt19937 rng(5);
+    const std::vector<V2> lms{V2(0, 0), V2(12, 1), V2(4, 10)};
+    const Eigen::Vector3d vehicle(3, -4, 0.3);
+    const auto view = synthetic::makeSyntheticView(lms, vehicle);
+    const std::array<long, 3> ids{100, 101, 102};
+    const V2 x(6, 4);
+    const Eigen::Matrix2d predicted = localFusionCovariance(view, ids, x);
+
+    const Eigen::MatrixXd& cov = view.stateCov();
+    const Eigen::MatrixXd l = cov.llt().matrixL();
+    const TriangleFrame mean_frame(lms[0], lms[1], lms[2]);
+    std::normal_distribution<double> n(0, 1);
+    const int samples = 20000;
+    std::vector<V2> errs;
+    V2 sum = V2::Zero();
+    for (int s = 0; s < samples; ++s)
+    {
+        Eigen::VectorXd e(cov.rows());
+        for (int i = 0; i < e.size(); ++i) e(i) = n(rng);
+        const Eigen::VectorXd d = l * e;
+        const V2 v = vehicle.head<2>() + d.head<2>();
+        const double dphi = d(2);
+        // The return is fixed relative to the vehicle: it moves and turns with it.
+        const V2 q = x - vehicle.head<2>();
+        const V2 xs = v + Eigen::Rotation2Dd(dphi) * q;
+        const TriangleFrame f(lms[0] + d.segment<2>(3), lms[1] + d.segment<2>(5), lms[2] + d.segment<2>(7));
+        const V2 err = mean_frame.axes() * (f.toLocal(xs) - mean_frame.toLocal(x));
+        errs.push_back(err);
+        sum += err;
+    }
+    const V2 mean = sum / samples;
+    Eigen::Matrix2d mc = Eigen::Matrix2d::Zero();
+    for (const auto& e : errs) mc += (e - mean) * (e - mean).transpose();
+    mc /= samples - 1;
+    EXPECT_LT(mean.norm(), 0.02);
+    for (int i = 0; i < 4; ++i) EXPECT_NEAR(predicted(i), mc(i), 0.05 * mc.diagonal().maxCoeff());
+
+    // The common error (sigma 1 m) cancels: the fusion error is far below the vehicle's
+    // global uncertainty, which is what lets a region take returns (Sec. 3.3).
+    EXPECT_LT(std::sqrt(predicted.eigenvalues().real().maxCoeff()), 0.4);
+    EXPECT_GT(view.vehicleCov()(0, 0), 1.0);
 }
 
 }  // namespace

@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 
 #include "config_text.h"
 
@@ -26,7 +28,7 @@ void LaserSimulator::Options::loadFromConfigFile(const mrpt::config::CConfigFile
                                                  const std::string& s)
 {
     auto keys = commonKeys();
-    keys.push_back("resolution_deg");
+    keys.insert(keys.end(), {"resolution_deg", "intensity", "std_intensity"});
     hymm::core::checkKnownKeys(cfg, s, keys);
     loadCommon(cfg, s);
     resolution = mrpt::DEG2RAD(
@@ -36,6 +38,8 @@ void LaserSimulator::Options::loadFromConfigFile(const mrpt::config::CConfigFile
         hymm::core::throwConfigError(s, "resolution_deg",
                                      detail::formatNumber(mrpt::RAD2DEG(resolution)),
                                      "gives more than 100000 beams");
+    intensity = hymm::core::readBool(cfg, s, "intensity", intensity);
+    std_intensity = hymm::core::readDoubleMin(cfg, s, "std_intensity", std_intensity, 0.0, false);
 }
 
 void LaserSimulator::Options::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
@@ -43,11 +47,26 @@ void LaserSimulator::Options::saveToConfigFile(mrpt::config::CConfigFileBase& cf
 {
     saveCommon(cfg, s);
     detail::writeNumber(cfg, s, "resolution_deg", mrpt::RAD2DEG(resolution));
+    if (intensity)
+    {
+        cfg.write(s, "intensity", std::string("true"));
+        detail::writeNumber(cfg, s, "std_intensity", std_intensity);
+    }
 }
 
-LaserSimulator::LaserSimulator(const Options& options, uint32_t seed)
-    : options_(options), rng_(seed)
+LaserSimulator::LaserSimulator(const Options& options, uint32_t seed, uint32_t intensity_seed)
+    : options_(options), rng_(seed), intensity_rng_(intensity_seed)
 {
+}
+
+int32_t LaserSimulator::intensityOf(double property)
+{
+    double v = property;
+    if (options_.std_intensity > 0)
+        v += options_.std_intensity * intensity_rng_.drawGaussian1D_normalized();
+    constexpr double kLo = std::numeric_limits<int32_t>::min();
+    constexpr double kHi = std::numeric_limits<int32_t>::max();
+    return static_cast<int32_t>(std::lround(std::clamp(v, kLo, kHi)));
 }
 
 mrpt::obs::CObservation2DRangeScan::Ptr LaserSimulator::observe(const World& world,
@@ -66,6 +85,7 @@ mrpt::obs::CObservation2DRangeScan::Ptr LaserSimulator::observe(const World& wor
     scan->beamAperture = static_cast<float>(o.resolution);
     scan->sensorPose = o.mountPose3D();
     scan->resizeScan(o.beamCount());
+    scan->setScanHasIntensity(o.intensity);
 
     const Eigen::Vector3d sensor = hymm::core::sensorGlobalPose(vehicle_pose, o.mountPose());
     const Vec2 origin(sensor[0], sensor[1]);
@@ -80,11 +100,17 @@ mrpt::obs::CObservation2DRangeScan::Ptr LaserSimulator::observe(const World& wor
             const double r = hit->range + o.std_range_m * rng_.drawGaussian1D_normalized();
             scan->setScanRange(i, static_cast<float>(std::clamp(r, 0.0, o.max_range_m)));
             scan->setScanRangeValidity(i, true);
+            if (o.intensity)
+            {
+                const Vec2 at = origin + hit->range * Vec2(std::cos(angle), std::sin(angle));
+                scan->setScanIntensity(i, intensityOf(world.propertyAt(*hit, at)));
+            }
         }
         else
         {
             scan->setScanRange(i, static_cast<float>(o.max_range_m));
             scan->setScanRangeValidity(i, false);
+            if (o.intensity) scan->setScanIntensity(i, 0);
         }
     }
     return scan;

@@ -13,7 +13,8 @@ enum Stream : uint64_t
 {
     kControls = 1,
     kLaser = 2,
-    kDetector = 3
+    kDetector = 3,
+    kIntensity = 4
 };
 
 // A run that has not finished its laps after this many times the nominal time is
@@ -53,7 +54,8 @@ Simulator::Simulator(const Scenario& scenario)
       dr_pose_(vehicle_.pose())
 {
     if (scenario.laser.enabled)
-        laser_.emplace(scenario.laser, streamSeed(scenario.run.seed, kLaser));
+        laser_.emplace(scenario.laser, streamSeed(scenario.run.seed, kLaser),
+                       streamSeed(scenario.run.seed, kIntensity));
     if (scenario.detector.enabled)
         detector_.emplace(scenario.detector, streamSeed(scenario.run.seed, kDetector));
 }

@@ -4,6 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <set>
+#include <stdexcept>
+#include <string>
 
 #include "world_generation.h"
 
@@ -46,9 +49,31 @@ std::optional<WorldSnapshot::Hit> WorldSnapshot::castRay(const Vec2& origin, dou
     return best;
 }
 
-World::World(std::vector<Landmark> landmarks, std::vector<WorldObject> objects)
+double SurfaceProperties::objectValue(long object_id, const Vec2& p) const
+{
+    const auto it = objects.find(object_id);
+    return it != objects.end() ? it->second : field.at(p);
+}
+
+World::World(std::vector<Landmark> landmarks, std::vector<WorldObject> objects,
+             std::optional<double> landmark_property, PropertyField field)
     : landmarks_(std::move(landmarks)), objects_(std::move(objects))
 {
+    properties_.field = field;
+    properties_.landmarks = landmark_property;
+    std::set<long> ids;
+    for (const auto& obj : objects_)
+    {
+        if (!ids.insert(obj.id).second)
+            throw std::invalid_argument("World: object id " + std::to_string(obj.id) +
+                                        " is used more than once");
+        if (obj.property) properties_.objects[obj.id] = *obj.property;
+    }
+}
+
+double World::propertyAt(const WorldSnapshot::Hit& hit, const Vec2& p) const
+{
+    return hit.landmark ? properties_.landmarkValue(p) : properties_.objectValue(hit.id, p);
 }
 
 World World::build(const Options& o, const ClosedPath* path)
@@ -64,7 +89,8 @@ World World::build(const Options& o, const ClosedPath* path)
     }
     for (size_t i = 0; i < objects.size(); ++i) objects[i].id = static_cast<long>(i);
     for (size_t i = 0; i < landmarks.size(); ++i) landmarks[i].id = static_cast<long>(i);
-    return World(std::move(landmarks), std::move(objects));
+    return World(std::move(landmarks), std::move(objects), o.landmark_property,
+                 o.property_field.value_or(PropertyField{}));
 }
 
 WorldSnapshot World::snapshot(double t, const Vec2& centre, double radius) const

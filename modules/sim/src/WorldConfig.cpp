@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "config_text.h"
 #include "hymm/sim/World.h"
@@ -15,13 +16,24 @@ using hymm::core::throwConfigError;
 
 namespace
 {
-const std::vector<std::string> kObjectKeys = {"kind", "shape",      "size",     "vertices",
-                                              "pose", "trajectory", "appear_s", "disappear_s"};
+const std::vector<std::string> kObjectKeys = {"kind",     "shape",       "size",
+                                              "vertices", "pose",        "trajectory",
+                                              "appear_s", "disappear_s", "property"};
 
 std::string raw(const mrpt::config::CConfigFileBase& cfg, const std::string& sec,
                 const std::string& key)
 {
     return hymm::core::readString(cfg, sec, key, "");
+}
+
+/** An optional finite number (surface properties); nullopt when the key is absent. */
+std::optional<double> optionalFinite(const mrpt::config::CConfigFileBase& cfg,
+                                     const std::string& sec, const std::string& key)
+{
+    if (!cfg.keyExists(sec, key)) return std::nullopt;
+    const double v = hymm::core::readDouble(cfg, sec, key, 0);
+    if (!std::isfinite(v)) throwConfigError(sec, key, raw(cfg, sec, key), "must be finite");
+    return v;
 }
 
 Polygon outlineFromConfig(const mrpt::config::CConfigFileBase& cfg, const std::string& sec)
@@ -99,6 +111,7 @@ WorldObject WorldObject::fromConfig(const mrpt::config::CConfigFileBase& cfg,
     if (!(obj.present_to > obj.present_from))
         throwConfigError(sec, "disappear_s", raw(cfg, sec, "disappear_s"),
                          "must be later than appear_s");
+    obj.property = optionalFinite(cfg, sec, "property");
     return obj;
 }
 
@@ -117,6 +130,7 @@ void WorldObject::toConfig(mrpt::config::CConfigFileBase& cfg, const std::string
         detail::writeNumbers(cfg, sec, "pose", {v[1], v[2], v[3]});
     if (!std::isinf(present_from)) detail::writeNumber(cfg, sec, "appear_s", present_from);
     if (!std::isinf(present_to)) detail::writeNumber(cfg, sec, "disappear_s", present_to);
+    if (property) detail::writeNumber(cfg, sec, "property", *property);
 }
 
 void World::Options::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
@@ -127,7 +141,8 @@ void World::Options::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg
         {"landmarks", "landmark_spacing_m", "landmark_offset_min_m", "landmark_offset_max_m",
          "landmark_radius_min_m", "landmark_radius_max_m", "landmark_separation_m",
          "object_spacing_m", "object_offset_min_m", "object_offset_max_m", "object_size_min_m",
-         "object_size_max_m", "object_separation_m", "clearance_m", "seed"});
+         "object_size_max_m", "object_separation_m", "clearance_m", "seed", "landmark_property",
+         "property_field"});
     landmarks.clear();
     const auto lm = detail::readGroups(cfg, s, "landmarks", 3, 1);
     for (size_t i = 0; i < lm.size(); i += 3)
@@ -153,6 +168,16 @@ void World::Options::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg
     rd("object_separation_m", object_separation_m);
     rd("clearance_m", clearance_m);
     seed = hymm::core::readInt(cfg, s, "seed", seed);
+    landmark_property = optionalFinite(cfg, s, "landmark_property");
+    property_field.reset();
+    if (cfg.keyExists(s, "property_field"))
+    {
+        const auto f = detail::readGroups(cfg, s, "property_field", 3, 1);
+        if (f.size() != 3 || !std::isfinite(f[0] + f[1] + f[2]))
+            throwConfigError(s, "property_field", detail::formatNumbers(f),
+                             "expected three finite numbers: v0 gx gy");
+        property_field = PropertyField{f[0], f[1], f[2]};
+    }
     const auto checkRange = [&](const char* lo_key, double lo, const char* hi_key, double hi)
     {
         if (hi < lo)
@@ -200,6 +225,11 @@ void World::Options::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
     wr("object_separation_m", object_separation_m);
     wr("clearance_m", clearance_m);
     cfg.write(s, "seed", std::to_string(seed));
+    // The property keys only when set: scenarios without them keep their saved text.
+    if (landmark_property) detail::writeNumber(cfg, s, "landmark_property", *landmark_property);
+    if (property_field)
+        detail::writeNumbers(cfg, s, "property_field",
+                             {property_field->v0, property_field->gx, property_field->gy});
     for (const auto& obj : objects) obj.toConfig(cfg, kObjectSectionPrefix + obj.name);
 }
 

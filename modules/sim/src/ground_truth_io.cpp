@@ -87,4 +87,56 @@ std::vector<ObjectOutlineRecord> readObjectOutlines(const std::string& path)
     return out;
 }
 
+void writeSurfaceProperties(const std::string& path, const World& world)
+{
+    std::ofstream f(path);
+    if (!f) throw std::runtime_error("cannot write surface property file '" + path + "'");
+    const SurfaceProperties& p = world.properties();
+    f << "# HYMM simulator: true surface properties (laser intensity before noise and rounding)\n"
+         "# field v0 gx gy: value(x, y) = v0 + gx x + gy y on every surface without its own\n"
+         "# landmarks v: every landmark trunk;  object id v: an object with its own value\n";
+    f << "field " << detail::formatNumber(p.field.v0) << ' ' << detail::formatNumber(p.field.gx)
+      << ' ' << detail::formatNumber(p.field.gy) << '\n';
+    if (p.landmarks) f << "landmarks " << detail::formatNumber(*p.landmarks) << '\n';
+    for (const auto& [id, v] : p.objects)
+        f << "object " << id << ' ' << detail::formatNumber(v) << '\n';
+    if (!f) throw std::runtime_error("error writing surface property file '" + path + "'");
+}
+
+SurfaceProperties readSurfaceProperties(const std::string& path)
+{
+    std::ifstream f(path);
+    if (!f) throw std::runtime_error("cannot open surface property file '" + path + "'");
+    SurfaceProperties p;
+    std::string line;
+    for (size_t lineno = 1; std::getline(f, line); ++lineno)
+    {
+        const auto first = line.find_first_not_of(" \t\r");
+        if (first == std::string::npos || line[first] == '#') continue;
+        const auto fail = [&](const std::string& what)
+        { throw std::runtime_error(path + ":" + std::to_string(lineno) + ": " + what); };
+        std::istringstream is(line);
+        std::string what;
+        is >> what;
+        std::vector<double> v;
+        long id = 0;
+        if (what == "object" && !(is >> id)) fail("expected 'object id value'");
+        double x = 0;
+        while (is >> x) v.push_back(x);
+        if (!is.eof()) fail("not a number in '" + line + "'");
+        if (what == "field" && v.size() == 3)
+            p.field = PropertyField{v[0], v[1], v[2]};
+        else if (what == "landmarks" && v.size() == 1)
+            p.landmarks = v[0];
+        else if (what == "object" && v.size() == 1)
+        {
+            if (!p.objects.emplace(id, v[0]).second)
+                fail("object " + std::to_string(id) + " listed twice");
+        }
+        else
+            fail("expected 'field v0 gx gy', 'landmarks v' or 'object id v'");
+    }
+    return p;
+}
+
 }  // namespace hymm::sim

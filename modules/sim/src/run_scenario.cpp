@@ -97,6 +97,11 @@ RunSummary runScenario(const Scenario& scenario, const std::string& out_dir, boo
     writeText(sum.files[5], "; Effective configuration of the HYMM simulator run '" +
                                 scenario.run.name + "' (hymm-simul --config this file)\n" +
                                 scenario.toIniText());
+    if (scenario.laser.enabled && scenario.laser.intensity)
+    {
+        sum.files.push_back(base + "_gt_properties.txt");
+        writeSurfaceProperties(sum.files.back(), sim.world());
+    }
     if (png)
     {
         sum.files.push_back(base + ".png");

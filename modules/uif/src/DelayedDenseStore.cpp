@@ -122,6 +122,49 @@ void DelayedDenseStore::releaseUnusedPotentialRegions()
     potential_.retainOnly(std::move(used));
 }
 
+void DelayedDenseStore::selectReturns(
+    const hymm::ekf::EkfSlam& ekf, const hymm::ltr::RegionPartition& partition,
+    const std::vector<Eigen::Vector2d>& z, const Eigen::Vector3d& sensor_on_vehicle,
+    const std::vector<long>* tags, StoredScan& scan, AddReport& rep)
+{
+    // Placed at the current vehicle estimate: the returns a region of the partition
+    // already covers (it was created after the caller assigned them, e.g. from a virtual
+    // apex: the next fuse() takes them), then those in a potential region, or with
+    // require_potential_region off all the others.
+    const Eigen::Vector3d vehicle = ekf.vehiclePose();
+    const auto keep = [&](size_t i, long potential) {
+        scan.points.push_back({z[i], potential, tags ? (*tags)[i] : static_cast<long>(i)});
+    };
+    std::vector<size_t> uncovered;
+    std::vector<Eigen::Vector2d> global;
+    for (size_t i = 0; i < z.size(); ++i)
+    {
+        if (!z[i].allFinite() || !(z[i].x() > 0)) continue;
+        const Eigen::Vector2d g = hymm::core::inverseRangeBearing(vehicle, sensor_on_vehicle, z[i]);
+        if (partition.findRegion(g))
+        {
+            keep(i, -1);
+            ++rep.in_region;
+            continue;
+        }
+        uncovered.push_back(i);
+        global.push_back(g);
+    }
+    if (options_.require_potential_region)
+    {
+        potential_.refresh(ekf, partition);
+        const std::vector<long> owner = potential_.assign(global, ekf, partition, vehicle.head<2>());
+        for (size_t k = 0; k < uncovered.size(); ++k)
+            if (owner[k] >= 0) keep(uncovered[k], owner[k]);
+    }
+    else
+    {
+        for (const size_t i : uncovered) keep(i, -1);
+        rep.without_potential = uncovered.size();
+    }
+    rep.outside_potential = z.size() - scan.points.size();
+}
+
 DelayedDenseStore::AddReport DelayedDenseStore::addScan(
     hymm::ekf::EkfSlam& ekf, const hymm::ltr::RegionPartition& partition,
     const std::vector<Eigen::Vector2d>& z, const Eigen::Matrix2d& R,
@@ -145,23 +188,9 @@ DelayedDenseStore::AddReport DelayedDenseStore::addScan(
     // 1. Forget scans the filter no longer carries, and scans that are too old.
     dropLostAndOld(ekf, time, rep);
 
-    // 2. Potential region of each return (Sec. 3.7.3), at the current vehicle estimate.
-    const Eigen::Vector3d vehicle = ekf.vehiclePose();
-    std::vector<size_t> valid;
-    std::vector<Eigen::Vector2d> global;
-    for (size_t i = 0; i < z.size(); ++i)
-    {
-        if (!z[i].allFinite() || !(z[i].x() > 0)) continue;
-        valid.push_back(i);
-        global.push_back(hymm::core::inverseRangeBearing(vehicle, sensor_on_vehicle, z[i]));
-    }
-    potential_.refresh(ekf, partition);
-    const std::vector<long> owner = potential_.assign(global, ekf, partition, vehicle.head<2>());
+    // 2. Which returns wait here (Sec. 3.7.3).
     StoredScan scan;
-    for (size_t k = 0; k < valid.size(); ++k)
-        if (owner[k] >= 0)
-            scan.points.push_back({z[valid[k]], owner[k], tags ? (*tags)[valid[k]] : static_cast<long>(valid[k])});
-    rep.outside_potential = z.size() - scan.points.size();
+    selectReturns(ekf, partition, z, sensor_on_vehicle, tags, scan, rep);
 
     // 3. A scan larger than the whole budget is thinned evenly (keeps its coverage).
     if (scan.points.size() > options_.max_stored_points)
@@ -194,7 +223,8 @@ DelayedDenseStore::AddReport DelayedDenseStore::addScan(
     scan.time = time;
     scan.sensor = sensor_on_vehicle;
     scan.R = 0.5 * (R + R.transpose());
-    ekf.addPassiveFromVehicle(scan.passive_id, vehicle, Eigen::Matrix3d::Identity(), Eigen::Matrix3d::Zero());
+    ekf.addPassiveFromVehicle(scan.passive_id, ekf.vehiclePose(), Eigen::Matrix3d::Identity(),
+                              Eigen::Matrix3d::Zero());
     rep.stored = scan.points.size();
     rep.scan_id = scan.scan_id;
     num_points_ += scan.points.size();

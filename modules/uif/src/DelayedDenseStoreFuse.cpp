@@ -14,6 +14,7 @@
 #include <hymm/ltr/AffineRegionMap.h>
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <optional>
 #include <unordered_map>
@@ -140,7 +141,13 @@ DelayedDenseStore::FuseReport DelayedDenseStore::fuse(
         }
         for (auto& [rid, rs] : out)
         {
-            rs.sensor = regions.at(rid).to_current->inverseMapPoint(sensor);
+            const hymm::ltr::AffineRegionMap& to_current = *regions.at(rid).to_current;
+            rs.sensor = to_current.inverseMapPoint(sensor);
+            // What HybridMetricMap::insertScan gives a direct scan: the layers that model
+            // the beam (SOG, particles) need the noise and the frame's linear part.
+            rs.range_std_m = std::sqrt(scan.R(0, 0));
+            rs.bearing_std_rad = std::sqrt(scan.R(1, 1));
+            rs.to_reference_linear = to_current.inverse().linear();
             rep.fused += rs.hits.size();
             rep.regions.push_back(rid);
             sink(rid, rs);

@@ -29,9 +29,11 @@ void DelayedDenseStore::Options::loadFromConfigFile(
     using namespace hymm::core;
     checkKnownKeys(
         cfg, s,
-        {"enabled", "max_stored_points", "max_stored_scans", "max_age_s", "search_radius_m",
-         "max_candidate_landmarks", "fuse_free_space", "first_passive_id", "enable_profiler"});
+        {"enabled", "require_potential_region", "max_stored_points", "max_stored_scans", "max_age_s",
+         "search_radius_m", "max_candidate_landmarks", "fuse_free_space", "first_passive_id",
+         "enable_profiler"});
     enabled = readBool(cfg, s, "enabled", enabled);
+    require_potential_region = readBool(cfg, s, "require_potential_region", require_potential_region);
     const long pts = readInt(cfg, s, "max_stored_points", static_cast<long>(max_stored_points));
     if (pts < 1) throwConfigError(s, "max_stored_points", std::to_string(pts), "must be >= 1");
     max_stored_points = static_cast<size_t>(pts);
@@ -52,6 +54,7 @@ void DelayedDenseStore::Options::saveToConfigFile(
     mrpt::config::CConfigFileBase& cfg, const std::string& s) const
 {
     cfg.write(s, "enabled", enabled);
+    cfg.write(s, "require_potential_region", require_potential_region);
     cfg.write(s, "max_stored_points", static_cast<int>(max_stored_points));
     cfg.write(s, "max_stored_scans", static_cast<int>(max_stored_scans));
     cfg.write(s, "max_age_s", max_age_s);

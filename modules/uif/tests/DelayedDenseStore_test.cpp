@@ -3,6 +3,8 @@
  * @brief DelayedDenseStore on a hand-built filter state: what is stored, where it is
  *        fused, the passive blocks it owns, the budget policy and the error paths.
  */
+#include <hymm/core/RangeBearingModel.h>
+#include <hymm/dense/HybridMetricMap.h>
 #include <hymm/dense/LocalDenseMap.h>
 #include <hymm/dense/PointsLayer.h>
 #include <hymm/ltr/DenseCovarianceView.h>
@@ -12,6 +14,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <memory>
 
@@ -149,6 +152,117 @@ TEST(DelayedDenseStoreTest, FusesCoveredReturnsIntoTheRegionAndReleasesThePassiv
             EXPECT_LT((fp.local.cov - fp.local.cov.transpose()).norm(), 1e-18);
         }
     }
+}
+
+TEST(DelayedDenseStoreTest, FusedRegionScansCarryTheScanNoiseAndTheRegionMap)
+{
+    Fixture f;
+    DelayedDenseStore store(enabled());
+    store.addGlobalPoints(f.ekf, *f.partition, {{12, 0}, {13, 1}, {15, -1}}, kR, kSensor, 1.0);
+    long rid = -1;
+    ASSERT_TRUE(f.partition->tryAddRegion({10, 11, 12}, f.view(), 2.0, &rid).accepted());
+    // An observation of landmark 12 away from its estimate moves and deforms the triangle
+    // (the passive block follows through the UIF).
+    hymm::ekf::RangeBearingObs o;
+    o.id = 12;
+    o.R = Eigen::Vector2d(0.05 * 0.05, 0.01 * 0.01).asDiagonal();
+    o.z = hymm::core::observeRangeBearing(f.ekf.vehiclePose(), kSensor, f.lm[12] + Eigen::Vector2d(0.5, 0.4));
+    f.ekf.updateRangeBearing({o}, mrpt::poses::CPose3D(kSensor.x(), kSensor.y(), 0, kSensor.z(), 0, 0));
+    f.partition->updateVertexPositions(f.view());
+    const Eigen::Matrix2d expected = f.partition->referenceToCurrent(rid).inverse().linear();
+    ASSERT_GT((expected - Eigen::Matrix2d::Identity()).norm(), 1e-4) << "the region did not deform";
+
+    std::vector<hymm::dense::RegionScan> received;
+    store.fuse(f.ekf, *f.partition, [&](long, const hymm::dense::RegionScan& rs) { received.push_back(rs); });
+    ASSERT_EQ(received.size(), 1u);
+    // What HybridMetricMap::insertScan gives a direct scan (the SOG and particle layers
+    // read them); before, a delayed scan carried 0 ("unknown") and the identity.
+    EXPECT_DOUBLE_EQ(received[0].range_std_m, std::sqrt(kR(0, 0)));
+    EXPECT_DOUBLE_EQ(received[0].bearing_std_rad, std::sqrt(kR(1, 1)));
+    EXPECT_LT((received[0].to_reference_linear - expected).norm(), 1e-12);
+}
+
+TEST(DelayedDenseStoreTest, DelayedReturnsBecomeTheSameSogGaussiansAsDirectOnes)
+{
+    // The same three returns seen from the same pose: inserted directly into an existing
+    // region, or stored first and fused once the region exists. The sum-of-Gaussians
+    // layer must model both with the scan's noise (not its own default).
+    const std::vector<Eigen::Vector2d> global{{12, 0}, {13, 1.5}, {15, -1}};
+    const double sr = std::sqrt(kR(0, 0)), sb = std::sqrt(kR(1, 1));
+    hymm::dense::HybridMetricMap::Options mo;
+    mo.enable_occupancy = false;
+    mo.enable_sog = true;
+    mo.sog.range_std_m = 0.3;  // far from the scan's noise: a fallback would show
+    mo.sog.bearing_std_deg = 3.0;
+
+    Fixture direct;
+    hymm::dense::HybridMetricMap direct_map(mo);
+    ASSERT_TRUE(direct.partition->tryAddRegion({10, 11, 12}, direct.view(), 1.0).accepted());
+    hymm::dense::ScanPoints scan;
+    scan.sensor_on_vehicle = mrpt::math::TPose2D(kSensor.x(), kSensor.y(), kSensor.z());
+    scan.range_std_m = sr;
+    scan.bearing_std_rad = sb;
+    std::vector<Eigen::Vector2d> z;
+    for (const auto& g : global)
+    {
+        z.push_back(hymm::core::observeRangeBearing(direct.ekf.vehiclePose(), kSensor, g));
+        scan.points.emplace_back(z.back().x() * std::cos(z.back().y()), z.back().x() * std::sin(z.back().y()));
+    }
+    const Eigen::Vector3d v = direct.ekf.vehiclePose();
+    ASSERT_EQ(direct_map.insertScan(scan, mrpt::math::TPose2D(v.x(), v.y(), v.z()), *direct.partition).returns_stored, 3u);
+
+    Fixture delayed;
+    hymm::dense::HybridMetricMap delayed_map(mo);
+    DelayedDenseStore store(enabled());
+    ASSERT_EQ(store.addScan(delayed.ekf, *delayed.partition, z, kR, kSensor, 1.0).stored, 3u);
+    long rid = -1;
+    ASSERT_TRUE(delayed.partition->tryAddRegion({10, 11, 12}, delayed.view(), 2.0, &rid).accepted());
+    EXPECT_EQ(store.fuse(delayed.ekf, *delayed.partition,
+                         [&](long id, const hymm::dense::RegionScan& rs)
+                         { delayed_map.insertRegionScan(id, rs, *delayed.partition); })
+                  .fused,
+              3u);
+
+    const auto* a = direct_map.localMap(rid)->layerAs<hymm::dense::SogLayer>("sog");
+    const auto* b = delayed_map.localMap(rid)->layerAs<hymm::dense::SogLayer>("sog");
+    ASSERT_TRUE(a && b);
+    ASSERT_EQ(a->gaussians().size(), 3u);
+    ASSERT_EQ(b->gaussians().size(), 3u);
+    for (size_t i = 0; i < 3; ++i)
+    {
+        EXPECT_LT((a->gaussians()[i].mean - b->gaussians()[i].mean).norm(), 1e-9);
+        EXPECT_LT((a->gaussians()[i].cov - b->gaussians()[i].cov).norm(), 1e-12);
+        // The scan's 1 cm range noise, not the layer's 0.3 m: the along-beam variance.
+        const Eigen::Vector2d along = (global[i] - Eigen::Vector2d(5.3, 0.0)).normalized();
+        EXPECT_NEAR(along.dot(b->gaussians()[i].cov * along), sr * sr, 0.2 * sr * sr);
+    }
+}
+
+TEST(DelayedDenseStoreTest, ReturnsAlreadyInARegionOrOutsidePotentialRegionsCanWait)
+{
+    // A region created after the caller assigned the returns (e.g. from a virtual apex):
+    // its returns wait for the next fuse() instead of being discarded.
+    Fixture f;
+    ASSERT_TRUE(f.partition->tryAddRegion({10, 11, 12}, f.view(), 1.0).accepted());
+    DelayedDenseStore store(enabled());
+    const std::vector<Eigen::Vector2d> pts{{12, 0}, {-40, 0}};
+    auto rep = store.addGlobalPoints(f.ekf, *f.partition, pts, kR, kSensor, 1.0);
+    EXPECT_EQ(rep.stored, 1u);
+    EXPECT_EQ(rep.in_region, 1u);
+    EXPECT_EQ(rep.outside_potential, 1u);  // (-40, 0): no landmark triangle near it
+    EXPECT_EQ(store.fuse(f.ekf, *f.partition, [](long, const hymm::dense::RegionScan&) {}).fused, 1u);
+
+    // Without the potential-region condition every return in no region waits.
+    auto o = enabled();
+    o.require_potential_region = false;
+    DelayedDenseStore all(o);
+    Fixture g;
+    rep = all.addGlobalPoints(g.ekf, *g.partition, pts, kR, kSensor, 1.0);
+    EXPECT_EQ(rep.stored, 2u);
+    EXPECT_EQ(rep.without_potential, 2u);
+    EXPECT_EQ(rep.outside_potential, 0u);
+    EXPECT_EQ(all.potentialRegions().size(), 0u);
+    for (const auto& p : all.scans().front().points) EXPECT_EQ(p.potential_region, -1);
 }
 
 TEST(DelayedDenseStoreTest, BudgetDropsOldestScansFirstAndThinsOversizedScans)

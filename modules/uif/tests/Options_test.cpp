@@ -15,18 +15,21 @@ TEST(DelayedDenseStoreOptionsTest, DefaultsAreOffAndValid)
 {
     DelayedDenseStore::Options o;
     EXPECT_FALSE(o.enabled);
+    EXPECT_TRUE(o.require_potential_region);  // thesis Sec. 3.7.3
     EXPECT_NO_THROW(o.validate());
 }
 
 TEST(DelayedDenseStoreOptionsTest, LoadsEveryKeyAndRoundTrips)
 {
     mrpt::config::CConfigFileMemory cfg(
-        "[DelayedDenseStore]\nenabled = true\nmax_stored_points = 123\nmax_stored_scans = 7\n"
+        "[DelayedDenseStore]\nenabled = true\nrequire_potential_region = false\n"
+        "max_stored_points = 123\nmax_stored_scans = 7\n"
         "max_age_s = 12.5\nsearch_radius_m = 30\nmax_candidate_landmarks = 6\n"
         "fuse_free_space = false\nfirst_passive_id = 5000\nenable_profiler = false\n");
     DelayedDenseStore::Options o;
     o.loadFromConfigFile(cfg, "DelayedDenseStore");
     EXPECT_TRUE(o.enabled);
+    EXPECT_FALSE(o.require_potential_region);
     EXPECT_EQ(o.max_stored_points, 123u);
     EXPECT_EQ(o.max_stored_scans, 7u);
     EXPECT_DOUBLE_EQ(o.max_age_s, 12.5);
@@ -40,6 +43,7 @@ TEST(DelayedDenseStoreOptionsTest, LoadsEveryKeyAndRoundTrips)
     DelayedDenseStore::Options back;
     back.loadFromConfigFile(out, "DelayedDenseStore");
     EXPECT_EQ(back.enabled, o.enabled);
+    EXPECT_EQ(back.require_potential_region, o.require_potential_region);
     EXPECT_EQ(back.max_stored_points, o.max_stored_points);
     EXPECT_EQ(back.max_stored_scans, o.max_stored_scans);
     EXPECT_DOUBLE_EQ(back.max_age_s, o.max_age_s);
@@ -56,7 +60,8 @@ TEST(DelayedDenseStoreOptionsTest, UnknownKeysAndBadValuesAreErrors)
     EXPECT_THROW(o.loadFromConfigFile(typo, "DelayedDenseStore"), std::invalid_argument);
     for (const char* bad :
          {"max_stored_points = 0", "max_stored_scans = -1", "max_age_s = -2", "search_radius_m = 0",
-          "max_candidate_landmarks = 2", "enabled = maybe", "first_passive_id = -4"})
+          "max_candidate_landmarks = 2", "enabled = maybe", "first_passive_id = -4",
+          "require_potential_region = 2"})
     {
         mrpt::config::CConfigFileMemory cfg(std::string("[DelayedDenseStore]\n") + bad + "\n");
         DelayedDenseStore::Options p;

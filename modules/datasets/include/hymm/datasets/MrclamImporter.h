@@ -55,6 +55,15 @@ class MrclamImporter
         double max_range_m = 10.0;     //!< measurements farther are dropped [m]
         double std_range_m = 0.1;      //!< range noise written to the observations [m]
         double std_bearing_deg = 2.0;  //!< bearing noise written to the observations [deg]
+        /** Corrections of Barcodes.dat, "barcode:listed:actual" (space separated):
+         *  where the file maps `barcode` to subject `listed`, subject `actual` is used
+         *  instead; a file that maps the barcode otherwise is left alone, so the key is
+         *  safe for every dataset folder. */
+        struct BarcodeFix
+        {
+            int barcode = 0, listed = 0, actual = 0;
+        };
+        std::vector<BarcodeFix> barcode_fixes;
         OdometryIntegrator::Options odometry;
 
         void loadFromConfigFile(
@@ -78,6 +87,25 @@ class MrclamImporter
 
     /** Barcodes.dat as barcode -> subject. Throws on a duplicated barcode. */
     static std::map<int, int> readBarcodes(const std::string& path);
+
+    /** readBarcodes with Options::barcode_fixes applied (each applied fix counted as
+     *  repaired "barcode_subject_fix"). */
+    std::map<int, int> barcodeMap(const std::string& path, ImportSummary& summary) const;
+
+    /** Robot<r>_Odometry.dat as (v, omega) samples: times rebuilt from
+     *  `sample_period_s`, then OdometryIntegrator::sanitize (skips counted). */
+    std::vector<OdometryIntegrator::ControlSample> readOdometry(const std::string& path,
+                                                                ImportSummary& summary) const;
+
+    /** Robot<r>_Groundtruth.dat (Vicon): times rebuilt from `sample_period_s`; rows with
+     *  a non-finite value ("groundtruth_nan") or a time not after the last kept one
+     *  ("groundtruth_non_monotonic") are skipped. Headings wrapped to (-pi, pi]. */
+    std::vector<hymm::core::StampedPose2D> readGroundTruth(const std::string& path,
+                                                           ImportSummary& summary) const;
+
+    /** Landmark_Groundtruth.dat as records (id = subject, extra = {std_x, std_y}). */
+    static std::vector<hymm::core::LandmarkRecord> readLandmarks(const std::string& path,
+                                                                 ImportSummary& summary);
 
     /** Robot<r>_Measurement.dat as observations (one per time stamp), sorted by time. */
     std::vector<mrpt::obs::CObservation::Ptr> readMeasurements(

@@ -49,8 +49,10 @@
 #include <mrpt/config/CLoadableOptions.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/maps/CSimplePointsMap.h>
+#include <mrpt/poses/CPoint2DPDFGaussian.h>
 #include <mrpt/system/CTimeLogger.h>
 
+#include <functional>
 #include <iosfwd>
 #include <map>
 #include <memory>
@@ -107,7 +109,13 @@ public:
         size_t regions_degenerate = 0;  //!< skipped: current triangle no longer a valid frame
         std::vector<Eigen::Vector2d> unassigned;  //!< global positions of returns in no region
         size_t regions_coarsened = 0;  //!< by the periodic coarsenIdleRegions() (if due)
+        size_t regions_withheld = 0;   //!< regions the `accept` filter of insertScan() refused
+        size_t returns_withheld = 0;   //!< returns owned by a refused region (see `withheld`)
+        std::vector<Eigen::Vector2d> withheld;  //!< global positions of those returns
     };
+
+    /** Decides, per region id, whether a scan may be fused into it now (see insertScan). */
+    using RegionFilter = std::function<bool(long region_id)>;
 
     /** Outcome of one coarsenIdleRegions(): memory of the occupancy layers before and
      *  after, per coarsened region. */
@@ -134,10 +142,15 @@ public:
 
     /** Fuses one scan taken at `vehicle_pose` (estimate at observation time) into the
      *  regions of `partition`, whose current vertices must be up to date
-     *  (RegionPartition::updateVertexPositions after the filter update). */
+     *  (RegionPartition::updateVertexPositions after the filter update).
+     *  `accept` (optional) refuses regions whose local frame is not known well enough
+     *  relative to the vehicle at this moment (Sec. 3.6, 3.7.3): a refused region gets
+     *  neither returns nor free space from this scan, so a vehicle pose that is wrong
+     *  relative to its vertices cannot write wrong local coordinates that no later
+     *  correction would move. Its returns are handed back in InsertStats::withheld. */
     InsertStats insertScan(
         const ScanPoints& scan, const mrpt::math::TPose2D& vehicle_pose,
-        const hymm::ltr::RegionPartition& partition);
+        const hymm::ltr::RegionPartition& partition, const RegionFilter& accept = {});
 
     /** Coarsens (OccupancyLayer::coarsen) the grid of every region that the last
      *  insertScan() did not update (Sec. 4.1.3 background function). */
@@ -179,6 +192,10 @@ public:
     void renderLayer(
         const std::string& kind, const hymm::ltr::RegionPartition& partition,
         mrpt::maps::CMetricMap& out) const;
+    /** Every Gaussian of the SOG layers at the current region positions (the means and
+     *  covariances renderSogEllipses draws), as MRPT PDFs. */
+    std::vector<mrpt::poses::CPoint2DPDFGaussian> renderSogGaussians(
+        const hymm::ltr::RegionPartition& partition) const;
 
     // --- access ------------------------------------------------------------------
     size_t size() const { return maps_.size(); }
@@ -188,6 +205,23 @@ public:
     size_t memoryBytes() const;
     /** memoryBytes() of all layers of each kind, summed over regions. */
     std::map<std::string, size_t> memoryBytesByKind() const;
+    /** DenseLayer::size() of all layers of each kind, summed over regions (points,
+     *  occupancy cells ever updated, particles, Gaussians, property cells). */
+    std::map<std::string, size_t> sizeByKind() const;
+
+    /** State of one region's occupancy layer (Sec. 4.1.3 per-region resolution). */
+    struct OccupancyRegionStats
+    {
+        long id = 0;
+        bool coarse = false;       //!< OccupancyLayer::isCoarse()
+        double cell_size_m = 0;    //!< current local cell size
+        size_t cells = 0;          //!< cells meeting the triangle (updatable)
+        size_t occupied = 0;       //!< of those, P(occupied) > occupied_prob
+        size_t free = 0;           //!< of those, P(occupied) < [OccupancyLayer] coarsen_min_prob
+        size_t memory_bytes = 0;   //!< OccupancyLayer::memoryBytes()
+    };
+    /** One entry per region holding an occupancy layer, by region id. */
+    std::vector<OccupancyRegionStats> occupancyRegionStats(double occupied_prob) const;
     /** Layer kinds this map builds, in construction order. */
     std::vector<std::string> enabledKinds() const;
     /** Empty layer of `kind` for a region (nullptr if the kind is unknown/disabled). */

@@ -80,6 +80,11 @@ public:
         bool classic_grid = false;     //!< also build the classic occupancy-grid baseline
         double laser_std_range = 0.1;    //!< [m] laser range noise (delayed store covariances)
         double laser_std_bearing = 0.017453292519943295;  //!< [rad] (ini: laser_std_bearing_deg)
+        /** [m] a scan is fused into a region only while the error its returns would keep
+         *  in that region's local coordinates (1-sigma, largest axis, from the vehicle's
+         *  uncertainty relative to the vertices: ltr::localFusionCovariance at the
+         *  triangle's centroid) is at most this (Sec. 3.6, 3.7.3); 0 = always fuse. */
+        double max_local_std_m = 0.0;
 
         /** True if a layer of the HYMM is on (regions are grown only then; the classic
          *  grid does not need them). */
@@ -134,6 +139,7 @@ public:
         size_t dense_scans = 0;         //!< scans fused into the dense layers
         size_t returns_stored = 0;      //!< returns assigned to a region
         size_t returns_outside = 0;     //!< returns in no region (not stored)
+        size_t returns_withheld = 0;    //!< returns in a region not fused (max_local_std_m)
         size_t virtual_landmarks = 0;   //!< virtual landmarks created with their region
         size_t virtual_rejected = 0;    //!< virtual apexes whose region failed a condition
         size_t delayed_stored = 0;      //!< returns kept by the delayed-initialisation store
@@ -191,6 +197,9 @@ private:
     Eigen::Matrix2d sensorNoise(double std_range, double std_bearing) const;
     /** Step 6: virtual landmarks for returns no region holds (Sec. 3.5.1). */
     void createVirtualLandmarks(const std::vector<Eigen::Vector2d>& unassigned, double t);
+    /** 1-sigma error (largest axis) a return fused now into `region_id` would keep
+     *  (Options::max_local_std_m). */
+    double localFusionStd(const ltr::LandmarkCovarianceView& view, long region_id) const;
     /** Removes the passive blocks of virtual landmarks no region uses any more. */
     void dropUnusedVirtualLandmarks();
     /** Steps 4-5 of the class comment for one frame. */

@@ -12,10 +12,13 @@
  *  - summary.txt     counters (associations, rejections, skipped readings) and timing
  *  - timing.csv      processing time of every sensory frame against map size
  * and with dense layers / the classic grid on ([DenseSlam] dense_layers, classic_grid):
- *  - regions.txt, points.{png,bin,txt}, occupancy.{png,gridmap},
- *    classic_grid.{png,gridmap} (see writeDenseOutputs);
- *  - metrics.json gains "dense": outline accuracy and coverage of every dense map
- *    against the true object outlines given with --gt-objects.
+ *  - regions.txt, points.{png,bin,txt}, occupancy.{png,gridmap}, occupancy_regions.csv,
+ *    particles.{png,bin,txt}, sog.bin, sog_surface.png, sog_ellipses.png,
+ *    property{,_std}.gridmap, property_{mean,std}.png, classic_grid.{png,gridmap}: each
+ *    enabled layer's files (see writeDenseOutputs);
+ *  - metrics.json gains "dense": counts and memory per layer, and with --gt-objects the
+ *    outline accuracy and coverage of every dense map against the true object outlines;
+ *  - summary.txt gains one line per enabled layer.
  */
 #pragma once
 

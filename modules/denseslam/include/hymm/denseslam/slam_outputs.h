@@ -93,9 +93,26 @@ std::vector<dense::Polygon> loadObjectOutlines(const std::string& file);
  *  - occupancy.png (with the triangle edges) and occupancy.gridmap (COccupancyGridMap2D,
  *    MRPT-serialised, gzip, as MRPT's map tools read it): the occupancy layer rendered
  *    at its cell size;
+ *  - occupancy_regions.csv: per region with an occupancy layer "id,coarse,cell_size_m,
+ *    cells,occupied,free,memory_bytes" (cells meeting the triangle; occupied: P > 0.8;
+ *    free: P < [OccupancyLayer] coarsen_min_prob; Sec. 4.1.3 per-region resolution);
+ *  - particles.bin (mrpt::maps::CPointsMapXYZI, MRPT-serialised, gzip: every particle at
+ *    its current position, intensity = weight P(occupied)), particles.txt ("x y weight"
+ *    per line after a '#' header) and particles.png (coloured by weight, Fig. 4.10);
+ *  - sog.bin (mrpt::poses::CPointPDFSOG, gzip: one mode per Gaussian at z = 0 with zero
+ *    z variance; weight 2 pi sqrt|P| so evaluatePDF(p, true) gives the peak-1 surface
+ *    of Fig. 4.12 b, not a normalised PDF), sog_surface.png (that surface, 0.1 m cells,
+ *    drawn as log(1 + value): sums of tens of Gaussians next to single ones) and
+ *    sog_ellipses.png (1-sigma ellipses and the triangles, 0.05 m pixels, Fig. 4.13);
+ *  - property.gridmap and property_std.gridmap (mrpt::maps::CHeightGridMap2D, gzip, at
+ *    [PropertyLayer] cell_size_m: h = mean resp. standard deviation, w = values fused;
+ *    MRPT serialises only h and w of a cell, hence two files), property_mean.png and
+ *    property_std.png (colour maps, cells without a value white). Written also when the
+ *    layer is empty (scans without intensities);
  *  - classic_grid.png and classic_grid.gridmap: the classic baseline;
  *  - regions.txt: RegionPartition::save.
- * `png` = false skips the images. Throws if a file cannot be written.
+ * Each layer's files are written only when the layer is enabled. `png` = false skips the
+ * images. Throws if a file cannot be written.
  */
 void writeDenseOutputs(const DenseSlam& slam, const std::string& dir, bool png = true);
 
@@ -113,17 +130,27 @@ std::vector<TrueTrunk> trueTrunks(const std::vector<core::LandmarkRecord>& landm
 /**
  * Accuracy and coverage of every dense map the run built (dense module's
  * evaluateOutlines), into `j` under "dense": "points" (every rendered point),
- * "occupancy" and "classic_grid" (centres of cells with P(occupied) > 0.8), each with
- * points, mean_distance_m and p95_distance_m (distance of each map point to the nearest
- * true surface: the object outlines and the trunks of `true_landmarks`, since the laser
- * sees both), coverage and outline_samples (of the object outlines only: a sample is
- * covered with a map point within 0.3 m); plus region and return counters.
+ * "occupancy" and "classic_grid" (centres of cells with P(occupied) > 0.8), "particles"
+ * (particles with weight > 0.8), "sog" (the Gaussian means) and "property" (centres of
+ * the rendered cells holding a value: where the layer has content, not its values),
+ * each with points, mean_distance_m and p95_distance_m (distance of each map point to
+ * the nearest true surface: the object outlines and the trunks of `true_landmarks`,
+ * since the laser sees both), coverage and outline_samples (of the object outlines
+ * only: a sample is covered with a map point within 0.3 m). Outline metrics need
+ * `outlines`; always written (with dense layers on): region and return counters,
+ * "memory_bytes_by_kind", and per enabled layer "items" (DenseLayer::size() summed) and
+ * "memory_bytes"; occupancy: regions_coarse / regions_fine (occupancy_regions.csv
+ * has the content of each region); particles: particles (rendered),
+ * occupied_min_weight (0.8), weight_fraction_above_0_8, weight_fraction_below_0_5
+ * (thesis Sec. 4.2.3 reports 87% / 2%); sog: gaussians; property: cells (local),
+ * rendered_cells and, when empty although returns were stored, a "note" saying so.
  */
 void writeDenseMetrics(eval::MetricsJson& j, const DenseSlam& slam,
                        const std::vector<dense::Polygon>& outlines,
                        const std::vector<TrueTrunk>& true_landmarks = {});
 
-/** Human-readable counters and timing. */
+/** Human-readable counters and timing; with dense layers one line per enabled layer
+ *  (what it holds and its memory). */
 void writeSummary(const DenseSlam& slam, double run_seconds, size_t entries,
                   const std::string& file);
 

@@ -54,4 +54,15 @@ Eigen::Matrix2d localCoordinatesCovariance(
     const TriangleFrame& frame, const Eigen::Vector2d& x, const Eigen::Matrix2d& p_xx,
     const Eigen::Matrix<double, 2, 6>& p_xl, const Eigen::Matrix<double, 6, 6>& vertex_cov);
 
+/** Error that a return at global position `x`, seen now from the vehicle, would carry
+ *  for ever in its local coordinates if it were fused into the triangle `ids` now (Sec.
+ *  3.6, 3.7.3: the local vehicle uncertainty). The return is x = g(x_v, z) with z held
+ *  fixed, so P_xx = G P_vv G^T and P_xL = G P_vL with G = dx/dx_v = [I, (-(x_y - v_y),
+ *  x_x - v_x)^T]; then localCoordinatesCovariance, mapped back to metres with the
+ *  current axes (D P_l D^T). The sensor noise of the return is left out: it does not
+ *  depend on the region. Throws std::invalid_argument if the current triangle is
+ *  degenerate. */
+Eigen::Matrix2d localFusionCovariance(
+    const LandmarkCovarianceView& view, const std::array<long, 3>& ids, const Eigen::Vector2d& x);
+
 }  // namespace hymm::ltr

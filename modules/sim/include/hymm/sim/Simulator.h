@@ -12,10 +12,10 @@
  * at t = 0 with an identity increment. The run ends after duration_s or when the
  * tracked point has driven `laps` times round the loop.
  *
- * Noise streams are independent: controls, laser and detector each draw from their own
- * mrpt::random::CRandomGenerator seeded from [Scenario] seed, so turning a sensor on or
- * off leaves the others' noise unchanged. Nothing reads the wall clock: the frame
- * timestamps are start_time_s + k dt_s.
+ * Noise streams are independent: controls, laser ranges, laser intensities and detector
+ * each draw from their own mrpt::random::CRandomGenerator seeded from [Scenario] seed,
+ * so turning a sensor (or the intensities) on or off leaves the others' noise unchanged.
+ * Nothing reads the wall clock: the frame timestamps are start_time_s + k dt_s.
  */
 #pragma once
 

@@ -16,6 +16,7 @@
 #include <Eigen/Core>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -33,6 +34,32 @@ struct Landmark
     long id = 0;
     Vec2 position = Vec2::Zero();  //!< centre [m]
     double radius = 0.2;           //!< [m]
+};
+
+/** A smooth scalar field over the plane: v0 + gx x + gy y. */
+struct PropertyField
+{
+    double v0 = 0;  //!< value at the origin [property units]
+    double gx = 0;  //!< gradient along x [units/m]
+    double gy = 0;  //!< gradient along y [units/m]
+    double at(const Vec2& p) const { return v0 + gx * p.x() + gy * p.y(); }
+};
+
+/**
+ * The true scalar property of every surface (thesis Sec. 4.5: a multi-layer map holds
+ * any property of the environment, not only occupancy), which the laser reports as
+ * the intensity of each return (LaserSimulator::Options::intensity). An object with
+ * its own `property` has that value all over its outline; landmark trunks share
+ * [World] landmark_property; every other surface takes the field at the point hit.
+ */
+struct SurfaceProperties
+{
+    PropertyField field;              //!< surfaces without their own value
+    std::optional<double> landmarks;  //!< every landmark trunk; nullopt: the field
+    std::map<long, double> objects;   //!< object id -> its own value
+
+    double objectValue(long object_id, const Vec2& p) const;
+    double landmarkValue(const Vec2& p) const { return landmarks ? *landmarks : field.at(p); }
 };
 
 /** Pose of an object at time `t` [s since the start of the run]; phi in radians. */
@@ -68,6 +95,7 @@ struct WorldObject
     std::vector<PoseKey> trajectory;  //!< at least one key, strictly increasing times
     double present_from = -std::numeric_limits<double>::infinity();
     double present_to = std::numeric_limits<double>::infinity();
+    std::optional<double> property;  //!< own surface property (SurfaceProperties)
 
     bool moves() const { return trajectory.size() > 1; }
     bool presentAt(double t) const { return t >= present_from && t < present_to; }
@@ -124,6 +152,12 @@ public:
         double object_separation_m = 4;  //!< min gap between objects [m]
         double clearance_m = 3;          //!< min gap between generated items and path [m]
         long seed = 1;                   //!< seed of the generation (not of the noise)
+        /** Surface property of every landmark trunk (`landmark_property`); nullopt:
+         *  the field. Written back only when set. */
+        std::optional<double> landmark_property;
+        /** `property_field = v0 gx gy` for surfaces without their own value; nullopt
+         *  (the default): 0 everywhere. Written back only when set. */
+        std::optional<PropertyField> property_field;
 
         /** Reads [World] and every [Object_<name>] section (ids in name order). */
         void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
@@ -135,7 +169,10 @@ public:
     /** Prefix of the object sections. */
     static constexpr const char* kObjectSectionPrefix = "Object_";
 
-    World(std::vector<Landmark> landmarks, std::vector<WorldObject> objects);
+    /** Objects need distinct ids; `landmark_property` and `field` complete the
+     *  surface properties (the objects bring their own). */
+    World(std::vector<Landmark> landmarks, std::vector<WorldObject> objects,
+          std::optional<double> landmark_property = std::nullopt, PropertyField field = {});
 
     /** The configured landmarks and objects plus those generated along `path` (none
      *  when `path` is null). Landmark ids are 0..n-1, object ids 0..m-1. */
@@ -147,10 +184,16 @@ public:
 
     const std::vector<Landmark>& landmarks() const { return landmarks_; }
     const std::vector<WorldObject>& objects() const { return objects_; }
+    const SurfaceProperties& properties() const { return properties_; }
+
+    /** True property of the surface `hit` (a ray cast on this world) at the global
+     *  point `p` where the ray met it. */
+    double propertyAt(const WorldSnapshot::Hit& hit, const Vec2& p) const;
 
 private:
     std::vector<Landmark> landmarks_;
     std::vector<WorldObject> objects_;
+    SurfaceProperties properties_;
 };
 
 }  // namespace hymm::sim

@@ -10,6 +10,13 @@
  * one line spanning the run; a moving object has one line per frame, and an object
  * moved, added or removed between visits one line per stretch it stayed put. Header
  * lines "# object <id> <name> <kind>" name the objects.
+ *
+ * Surface properties (written when the laser reports intensities), a second text file
+ * with '#' comments and one record per line:
+ *     field v0 gx gy     value(x, y) = v0 + gx x + gy y on surfaces without their own
+ *     landmarks v        every landmark trunk (line absent: the field)
+ *     object id v        an object with its own value (objects not listed: the field)
+ * The values are the true ones, before the laser's intensity noise and rounding.
  */
 #pragma once
 
@@ -39,5 +46,13 @@ void writeObjectOutlines(const std::string& path, const World& world,
 
 /** Reads the format above; throws naming the line on malformed content. */
 std::vector<ObjectOutlineRecord> readObjectOutlines(const std::string& path);
+
+/** Writes the surface properties of `world` (format above). Throws if the file cannot
+ *  be written. */
+void writeSurfaceProperties(const std::string& path, const World& world);
+
+/** Reads the surface-property format; throws naming the line on malformed content
+ *  (unknown record, wrong count, not a number, an object id twice). */
+SurfaceProperties readSurfaceProperties(const std::string& path);
 
 }  // namespace hymm::sim

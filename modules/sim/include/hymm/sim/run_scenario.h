@@ -9,6 +9,8 @@
  *   <name>_gt_landmarks.csv   id,x,y,radius
  *   <name>_gt_objects.txt     true object outlines over time (ground_truth_io.h)
  *   <name>_config.ini         the effective configuration (reloads to the same run)
+ *   <name>_gt_properties.txt  with [LaserSimulator] intensity = true: the true surface
+ *                             properties the intensities report (ground_truth_io.h)
  *   <name>.png                with `png`: world, true path, laser returns (WorldPlot.h)
  */
 #pragma once

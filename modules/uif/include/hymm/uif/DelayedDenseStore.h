@@ -79,7 +79,9 @@ namespace hymm::uif
 struct StoredPoint
 {
     Eigen::Vector2d z = Eigen::Vector2d::Zero();  //!< (range [m], bearing [rad])
-    long potential_region = -1;  //!< potential region it was stored relative to
+    /** Potential region it was stored relative to; -1 when it was stored without one
+     *  (already inside a region of the partition, or require_potential_region off). */
+    long potential_region = -1;
     long tag = -1;               //!< caller's label (e.g. beam index), returned at fusion
 };
 
@@ -112,6 +114,14 @@ public:
         /** Off: addScan() stores nothing and fuse() does nothing (the pipeline behaves as
          *  without the store: unassigned returns are discarded). */
         bool enabled = false;
+        /** On (thesis Sec. 3.7.3): a return in no region is stored only inside a potential
+         *  region (a triangle of real landmarks near the vehicle, PotentialRegionSet).
+         *  Off: every return in no region is stored ("sensor information cannot be
+         *  discarded"), so it can also reach regions no potential region predicted
+         *  (virtual apexes, Sec. 3.5.1; landmarks confirmed later; triangles beyond the
+         *  max_candidate_landmarks nearest). The representation does not need the
+         *  potential region: each return hangs off its scan's passive global pose. */
+        bool require_potential_region = true;
         size_t max_stored_points = 20000;  //!< returns kept at most (>= 1)
         size_t max_stored_scans = 50;      //!< passive EKF blocks at most (>= 1)
         double max_age_s = 0.0;            //!< [s] older scans are dropped; 0 = no limit
@@ -137,6 +147,13 @@ public:
         size_t offered = 0;
         size_t stored = 0;
         size_t outside_potential = 0;  //!< in no potential region: discarded (Sec. 3.7.3)
+        /** Stored although in no potential region because a region of the partition
+         *  already covers them (created after the returns were assigned, e.g. from a
+         *  virtual apex): fused by the next fuse(). Included in `stored`. */
+        size_t in_region = 0;
+        /** Stored outside every potential region (require_potential_region off).
+         *  Included in `stored`. */
+        size_t without_potential = 0;
         size_t thinned = 0;            //!< dropped because the scan alone exceeds the budget
         size_t evicted_points = 0;     //!< older returns dropped for the budget / age
         size_t evicted_scans = 0;
@@ -179,8 +196,10 @@ public:
     /**
      * Stores returns of one scan seen from the CURRENT vehicle estimate of `ekf` (call
      * right after the update of the frame). `z` are raw (range, bearing) in the sensor
-     * frame, `R` their noise (PD), `sensor_on_vehicle` = (x, y, yaw). Returns outside
-     * every potential region are discarded. `tags`, if given, has one entry per return.
+     * frame, `R` their noise (PD), `sensor_on_vehicle` = (x, y, yaw). Returns inside a
+     * region of `partition` are kept for the next fuse(); with require_potential_region,
+     * returns outside every potential region are discarded. `tags`, if given, has one
+     * entry per return.
      * Enforces the budget, adds one passive block. Throws on invalid R, sizes or
      * non-monotonic time; non-finite or non-positive-range returns are skipped
      * (counted as outside_potential).
@@ -203,9 +222,13 @@ public:
      * mapped into the region's reference frame (the inverse of referenceToCurrent, as
      * HybridMetricMap does) and handed to `sink` as RegionScan hits (plus the beam as a
      * FreeRay ending at the hit, clipped to the reference triangle, if fuse_free_space
-     * and the region was created after the scan). Fused returns leave the store; scans
-     * left empty release their passive block. If `fused` is given, each fused return's
-     * local coordinates and full covariance (including the vertices) are appended.
+     * and the region was created after the scan). Each RegionScan carries the scan's
+     * range / bearing noise (square roots of the diagonal of its R) and the region's
+     * current -> reference linear map, as HybridMetricMap::insertScan fills them, so the
+     * SOG and particle layers model a delayed return like a direct one. Fused returns
+     * leave the store; scans left empty release their passive block. If `fused` is
+     * given, each fused return's local coordinates and full covariance (including the
+     * vertices) are appended.
      */
     FuseReport fuse(
         hymm::ekf::EkfSlam& ekf, const hymm::ltr::RegionPartition& partition, const RegionSink& sink,
@@ -240,6 +263,11 @@ private:
     void dropFront(hymm::ekf::EkfSlam& ekf);
     long nextPassiveId(const hymm::ekf::EkfSlam& ekf);
     void releaseUnusedPotentialRegions();
+    /** Step 2 of addScan(): the returns of `z` that wait in the store, into `scan`. */
+    void selectReturns(
+        const hymm::ekf::EkfSlam& ekf, const hymm::ltr::RegionPartition& partition,
+        const std::vector<Eigen::Vector2d>& z, const Eigen::Vector3d& sensor_on_vehicle,
+        const std::vector<long>* tags, StoredScan& scan, AddReport& rep);
 
     const Options options_;
     std::deque<StoredScan> scans_;  //!< oldest first
