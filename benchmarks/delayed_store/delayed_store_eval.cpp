@@ -105,17 +105,6 @@ std::string readFile(const std::string& path)
     return ss.str();
 }
 
-hymm::dense::Polygon circle(const V2& c, double r)
-{
-    hymm::dense::Polygon p;
-    for (int k = 0; k < kTrunkSides; ++k)
-    {
-        const double a = 2 * M_PI * k / kTrunkSides;
-        p.emplace_back(c + r * V2(std::cos(a), std::sin(a)));
-    }
-    return p;
-}
-
 /** One sensory frame as the pipeline receives it. */
 struct Frame
 {
@@ -157,7 +146,7 @@ std::vector<Frame> simulate(const hymm::sim::Scenario& scenario, Truth& t)
     }
     t.surfaces = t.outlines;
     for (const auto& tr : hymm::denseslam::trueTrunks(t.landmarks))
-        t.surfaces.push_back(circle(tr.centre, tr.radius));
+        t.surfaces.push_back(hymm::dense::circlePolygon(tr.centre, tr.radius, kTrunkSides));
     return frames;
 }
 

@@ -32,15 +32,6 @@ namespace
 {
 using hymm::dense::Polygon;
 
-Polygon circle(const Eigen::Vector2d& c, double r)
-{
-    if (!(r > 0)) return {c, c};
-    Polygon p;
-    for (int k = 0; k < 32; ++k)
-        p.emplace_back(c + r * Eigen::Vector2d(std::cos(2 * M_PI * k / 32), std::sin(2 * M_PI * k / 32)));
-    return p;
-}
-
 void print(const char* what, const hymm::dense::OutlineMetrics& m)
 {
     std::cout << std::left << std::setw(34) << what << std::right << std::fixed << std::setprecision(3)
@@ -68,7 +59,7 @@ int run(int argc, char** argv)
     const auto gt = hymm::denseslam::loadGroundTruth("", gtl.getValue());
     const auto outlines = hymm::denseslam::loadObjectOutlines(gto.getValue());
     std::vector<Polygon> surfaces = outlines;
-    for (const auto& t : hymm::denseslam::trueTrunks(gt.landmarks)) surfaces.push_back(circle(t.centre, t.radius));
+    for (const auto& t : hymm::denseslam::trueTrunks(gt.landmarks)) surfaces.push_back(hymm::dense::circlePolygon(t.centre, t.radius));
 
     // Estimated landmark -> true position (ids when the run used them, else nearest).
     const auto est = hymm::denseslam::estimatedLandmarks(slam.ekf());

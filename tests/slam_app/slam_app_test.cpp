@@ -74,16 +74,8 @@ std::vector<hymm::dense::Polygon> trueOutlines()
 std::vector<hymm::dense::Polygon> trueSurfaces()
 {
     auto out = trueOutlines();
-    constexpr int kSides = 32;
     for (const auto& l : hymm::core::readLandmarksCsv(kGt + "landmarks.csv"))
-    {
-        const double r = l.extra.empty() ? 0.0 : l.extra[0];
-        hymm::dense::Polygon p;
-        for (int k = 0; k < kSides; ++k)
-            p.emplace_back(l.x + r * std::cos(2 * M_PI * k / kSides),
-                           l.y + r * std::sin(2 * M_PI * k / kSides));
-        out.push_back(p);
-    }
+        out.push_back(hymm::dense::circlePolygon(Eigen::Vector2d(l.x, l.y), l.extra.empty() ? 0.0 : l.extra[0]));
     return out;
 }
 

@@ -63,6 +63,18 @@ private:
 };
 }  // namespace
 
+Polygon circlePolygon(const Eigen::Vector2d& centre, double radius, int sides)
+{
+    if (!(radius > 0)) return {centre, centre};
+    Polygon p;
+    for (int k = 0; k < sides; ++k)
+    {
+        const double a = 2 * M_PI * k / sides;
+        p.emplace_back(centre + radius * Eigen::Vector2d(std::cos(a), std::sin(a)));
+    }
+    return p;
+}
+
 OutlineMetrics evaluateOutlines(
     const std::vector<Eigen::Vector2d>& points, const std::vector<Polygon>& outlines,
     const OutlineMetricsOptions& options)

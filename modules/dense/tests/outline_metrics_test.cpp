@@ -60,3 +60,21 @@ TEST(OutlineMetricsTest, OccupiedCellsAboveThreshold)
 }
 
 }  // namespace
+
+namespace
+{
+// A trunk polygon: every vertex on the circle, the distance of a point outside it within
+// 0.5% of r of the exact circle; r = 0 is the centre itself.
+TEST(CirclePolygonTest, VerticesOnTheCircleAndPointForZeroRadius)
+{
+    const Eigen::Vector2d c(3, -2);
+    const auto p = hymm::dense::circlePolygon(c, 0.4);
+    ASSERT_EQ(p.size(), 32u);
+    for (const auto& v : p) EXPECT_NEAR((v - c).norm(), 0.4, 1e-12);
+    const auto m = hymm::dense::evaluateOutlines({c + Eigen::Vector2d(1.4, 0.3)}, {p});
+    EXPECT_NEAR(m.mean_distance_m, std::hypot(1.4, 0.3) - 0.4, 0.005 * 0.4);
+    const auto z = hymm::dense::circlePolygon(c, 0);
+    ASSERT_EQ(z.size(), 2u);
+    EXPECT_NEAR(hymm::dense::evaluateOutlines({c + Eigen::Vector2d(0, 2)}, {z}).mean_distance_m, 2.0, 1e-12);
+}
+}  // namespace

@@ -107,21 +107,6 @@ LandmarkPairs nearestPairs(const DenseSlam& slam, const std::vector<TrueTrunk>& 
     return out;
 }
 
-// A trunk of radius r as a closed polygon (a single point when r = 0); 32 sides keep
-// the polygon within r (1 - cos(pi/32)) = 0.5% of r of the circle.
-dense::Polygon circleOutline(const Eigen::Vector2d& c, double r)
-{
-    if (!(r > 0)) return {c, c};
-    constexpr int kSides = 32;
-    dense::Polygon p;
-    for (int k = 0; k < kSides; ++k)
-    {
-        const double a = 2 * M_PI * k / kSides;
-        p.emplace_back(c + r * Eigen::Vector2d(std::cos(a), std::sin(a)));
-    }
-    return p;
-}
-
 // Occupancy layer rendered at its own cell size.
 void renderOccupancy(const DenseSlam& slam, mrpt::maps::COccupancyGridMap2D& grid)
 {
@@ -484,7 +469,7 @@ void writeDenseMetrics(eval::MetricsJson& j, const DenseSlam& slam,
     TrueSurfaces truth;
     truth.outlines = outlines;
     truth.surfaces = outlines;
-    for (const auto& t : true_landmarks) truth.surfaces.push_back(circleOutline(t.centre, t.radius));
+    for (const auto& t : true_landmarks) truth.surfaces.push_back(dense::circlePolygon(t.centre, t.radius));
     // The filter's frame is fixed by the start pose, but heading error gathered before the
     // first landmarks are mapped is never observable again: the whole map, landmarks and
     // dense content alike, carries a common rigid error. Scoring the maps also after the

@@ -197,12 +197,7 @@ TEST(DenseSlamDense, LocalUncertaintyGateWithholdsPoorlyLocalisedReturns)
     const auto gt = hymm::denseslam::loadGroundTruth(
         "", std::string(HYMM_SOURCE_DIR) + "/rawlogs/ch3_objects_gt_landmarks.csv");
     for (const auto& t : hymm::denseslam::trueTrunks(gt.landmarks))
-    {
-        hymm::dense::Polygon c;
-        for (int k = 0; k < 32; ++k)
-            c.emplace_back(t.centre + t.radius * Eigen::Vector2d(std::cos(k * M_PI / 16), std::sin(k * M_PI / 16)));
-        surfaces.push_back(c);
-    }
+        surfaces.push_back(hymm::dense::circlePolygon(t.centre, t.radius));
     const auto error = [&](DenseSlam& s) {
         s.refreshRegions();
         mrpt::maps::CSimplePointsMap pts;

@@ -110,14 +110,7 @@ TEST(SinglePassTest, TheStoreMapsWhatTheLaserSawBeforeRegionsExisted)
         outlines.emplace_back(poly.begin(), poly.end());
     }
     surfaces = outlines;
-    for (const auto& l : sim.world().landmarks())
-    {
-        hymm::dense::Polygon c;
-        for (int k = 0; k < 32; ++k)
-            c.push_back(l.position +
-                        l.radius * V2(std::cos(k * M_PI / 16), std::sin(k * M_PI / 16)));
-        surfaces.push_back(c);
-    }
+    for (const auto& l : sim.world().landmarks()) surfaces.push_back(hymm::dense::circlePolygon(l.position, l.radius));
     hymm::eval::LaserCoverageOptions lo;
     lo.max_range_m = on->hybridMap()->options().max_range_m;
     const auto seen = hymm::eval::laserSeenOutline(scans, true_path, outlines, lo);

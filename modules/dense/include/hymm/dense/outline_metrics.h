@@ -43,6 +43,11 @@ struct OutlineMetrics
     double coverage = 0;  //!< covered_samples / outline_samples
 };
 
+/** A circle (e.g. a true trunk) as a closed polygon of `sides` sides; 32 keep it within
+ *  r (1 - cos(pi/32)) = 0.5% of r of the circle. r <= 0 gives the centre (a degenerate
+ *  segment, so distances to it are distances to the point). */
+Polygon circlePolygon(const Eigen::Vector2d& centre, double radius, int sides = 32);
+
 /** Throws std::invalid_argument for non-positive step/radius or no outline segment. */
 OutlineMetrics evaluateOutlines(
     const std::vector<Eigen::Vector2d>& points, const std::vector<Polygon>& outlines,
