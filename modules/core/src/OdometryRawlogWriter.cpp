@@ -29,7 +29,12 @@ void OdometryRawlogWriter::writeFrame(mrpt::Clock::time_point stamp,
     if (!out_) throw std::logic_error("rawlog '" + path_ + "' is already closed");
     mrpt::obs::CActionRobotMovement2D mov;
     mov.timestamp = stamp;
-    mov.estimationMethod = mrpt::obs::CActionRobotMovement2D::emOdometry;
+    // MRPT serialises an emOdometry action as the raw increment plus its own motion-model
+    // parameters and rebuilds poseChange from that model on reading, which would replace
+    // the covariance propagated from the control noise. Any other method stores the PDF
+    // as given; emScan2DMatching is the one MRPT readers (getBestMovementEstimation,
+    // RawLogViewer, kf-slam) accept as a pose-change estimate.
+    mov.estimationMethod = mrpt::obs::CActionRobotMovement2D::emScan2DMatching;
     mov.rawOdometryIncrementReading = increment;
     mov.poseChange = mrpt::poses::CPosePDFGaussian::Create(increment, mrpt::math::CMatrixDouble33(cov));
     mrpt::obs::CActionCollection acts;

@@ -2,9 +2,11 @@
  * @file OdometryRawlogWriter.h
  * @brief Writes MRPT rawlogs in the actions/sensory-frames format (what RawlogViewer,
  *        MRPT's kf-slam and mrpt::obs::CRawlog read): per frame one CActionCollection
- *        holding a CActionRobotMovement2D (estimationMethod = emOdometry, poseChange a
- *        CPosePDFGaussian), then one CSensoryFrame, gzip-compressed. Shared by the
- *        simulator and the dataset converters.
+ *        holding a CActionRobotMovement2D (poseChange a CPosePDFGaussian), then one
+ *        CSensoryFrame, gzip-compressed. Shared by the simulator and the dataset
+ *        converters. The action is marked emScan2DMatching, not emOdometry: MRPT
+ *        rebuilds the covariance of an emOdometry action from its default motion model
+ *        when reading it, so the covariance written here would be lost.
  */
 #pragma once
 
