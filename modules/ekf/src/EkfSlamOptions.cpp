@@ -30,7 +30,8 @@ void EkfSlam::Options::loadFromConfigFile(
     using namespace hymm::core;
     checkKnownKeys(
         cfg, s,
-        {"association_method", "association_gate_prob", "creation_gate_prob", "jcbb_max_nodes",
+        {"association_method", "association_gate_prob", "creation_gate_prob", "known_id_gate_prob",
+         "jcbb_max_nodes",
          "prune_tentative", "confirm_min_observations", "confirm_window_steps",
          "stabilising_std_xy", "stabilising_std_phi_deg", "enable_profiler", "jacobians"});
     const std::string m = readString(cfg, s, "association_method", methodName(association_method));
@@ -42,6 +43,7 @@ void EkfSlam::Options::loadFromConfigFile(
         throwConfigError(s, "association_method", m, "must be nn or jcbb");
     association_gate_prob = readDouble(cfg, s, "association_gate_prob", association_gate_prob);
     creation_gate_prob = readDouble(cfg, s, "creation_gate_prob", creation_gate_prob);
+    known_id_gate_prob = readDouble(cfg, s, "known_id_gate_prob", known_id_gate_prob);
     const long nodes = readInt(cfg, s, "jcbb_max_nodes", static_cast<long>(jcbb_max_nodes));
     if (nodes < 0) throwConfigError(s, "jcbb_max_nodes", std::to_string(nodes), "must be >= 0");
     jcbb_max_nodes = static_cast<size_t>(nodes);
@@ -70,6 +72,7 @@ void EkfSlam::Options::saveToConfigFile(
     cfg.write(s, "association_method", methodName(association_method));
     cfg.write(s, "association_gate_prob", association_gate_prob);
     cfg.write(s, "creation_gate_prob", creation_gate_prob);
+    cfg.write(s, "known_id_gate_prob", known_id_gate_prob);
     cfg.write(s, "jcbb_max_nodes", static_cast<int>(jcbb_max_nodes));
     cfg.write(s, "prune_tentative", prune_tentative);
     cfg.write(s, "confirm_min_observations", confirm_min_observations);
@@ -88,6 +91,9 @@ void EkfSlam::Options::validate(const std::string& s) const
     if (!(creation_gate_prob > association_gate_prob && creation_gate_prob < 1.0))
         throwConfigError(s, "creation_gate_prob", str(creation_gate_prob),
                          "must be in (association_gate_prob, 1)");
+    if (!(known_id_gate_prob >= 0.0 && known_id_gate_prob < 1.0))
+        throwConfigError(s, "known_id_gate_prob", str(known_id_gate_prob),
+                         "must be in [0, 1) (0: off)");
     if (confirm_min_observations < 1)
         throwConfigError(s, "confirm_min_observations", std::to_string(confirm_min_observations),
                          "must be >= 1");

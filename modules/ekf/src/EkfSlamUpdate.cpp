@@ -107,6 +107,9 @@ void EkfSlam::associateBatch(
     std::vector<bool> taken(layout_.numLandmarks(), false);  // by block position
     std::vector<size_t> unknown;
     std::vector<long> claimed_new;
+    const double known_gate = options_.known_id_gate_prob > 0.0
+                                  ? mrpt::math::chi2inv(options_.known_id_gate_prob, 2)
+                                  : 0.0;
     for (size_t i = 0; i < obs.size(); ++i)
     {
         if (!valid[i]) continue;
@@ -135,7 +138,23 @@ void EkfSlam::associateBatch(
             ++report.rejected_gate;
             continue;
         }
-        pairs.push_back(makePairing(i, b, sensor));
+        Pairing pr = makePairing(i, b, sensor);
+        if (known_gate > 0.0)
+        {
+            // Individual NIS with the marginal S of this landmark (Eq. 2.58).
+            const auto o = static_cast<Eigen::Index>(b.offset);
+            const Eigen::Matrix2d cross = pr.Hv * P_.block<3, 2>(0, o) * pr.Hl.transpose();
+            const Eigen::Matrix2d S = pr.Hv * P_.topLeftCorner<3, 3>() * pr.Hv.transpose() +
+                                      cross + cross.transpose() +
+                                      pr.Hl * P_.block<2, 2>(o, o) * pr.Hl.transpose() + obs[i].R;
+            const Eigen::Vector2d nu = rangeBearingInnovation(obs[i].z, pr.h);
+            if (!(nu.dot(S.ldlt().solve(nu)) < known_gate))
+            {
+                ++report.rejected_gate;
+                continue;
+            }
+        }
+        pairs.push_back(pr);
         for (size_t k = 0; k < layout_.blocks().size(); ++k)
             if (layout_.blocks()[k].id == id) taken[k] = true;
     }

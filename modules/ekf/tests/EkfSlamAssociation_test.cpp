@@ -119,4 +119,42 @@ TEST(EkfSlamAssociationTest, KnownIdsCreateAndUpdateAndFreshIdsNeverCollide)
     EXPECT_EQ(r.assigned_ids, (std::vector<long>{41, 42}));
 }
 
+// A known id does not protect against a gross error: with the outlier gate on, a range
+// 3 m off (NIS ~ 2e4) is rejected and counted while consistent ones are fused; with the
+// gate off (default) the same observation drags the landmark.
+TEST(EkfSlamAssociationTest, KnownIdOutlierGateRejectsGrossErrorsOnly)
+{
+    for (const double gate : {0.0, 0.999})
+    {
+        EkfSlam::Options o;
+        o.known_id_gate_prob = gate;
+        EkfSlam f(o);
+        f.reset(Eigen::Vector3d::Zero(), 1e-6 * Eigen::Matrix3d::Identity());
+        RangeBearingObs good = observe(Eigen::Vector3d::Zero(), Eigen::Vector2d(10, 0));
+        good.id = 7;
+        f.updateRangeBearing({good}, kSensor);
+        UpdateReport r = f.updateRangeBearing({good}, kSensor);
+        EXPECT_EQ(r.associated, 1u);
+        EXPECT_EQ(r.rejected_gate, 0u);
+        RangeBearingObs bad = good;
+        bad.z[0] += 3.0;
+        r = f.updateRangeBearing({bad}, kSensor);
+        const double x = f.landmarkMean(7)[0];
+        if (gate > 0.0)
+        {
+            EXPECT_EQ(r.associated, 0u);
+            EXPECT_EQ(r.rejected_gate, 1u);
+            EXPECT_NEAR(x, 10.0, 1e-3);
+        }
+        else
+        {
+            EXPECT_EQ(r.associated, 1u);
+            EXPECT_GT(x, 10.5);
+        }
+    }
+    EkfSlam::Options bad;
+    bad.known_id_gate_prob = 1.0;
+    EXPECT_THROW(bad.validate(), std::invalid_argument);
+}
+
 }  // namespace

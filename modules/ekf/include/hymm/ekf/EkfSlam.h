@@ -50,7 +50,8 @@ struct UpdateReport
     size_t associated = 0;        //!< used to update an existing landmark
     size_t created = 0;           //!< started a new (tentative) landmark
     /** Inside the association gate of some landmark but not paired (lost a NN conflict
-     *  or excluded by JCBB's joint test), or a known id of a block that is not a point. */
+     *  or excluded by JCBB's joint test), a known id of a block that is not a point, or
+     *  a known-id observation outside the known_id_gate_prob gate. */
     size_t rejected_gate = 0;
     size_t ambiguous = 0;         //!< outside the association gate of every landmark but
                                   //!< inside the creation gate of one: discarded
@@ -95,6 +96,11 @@ public:
         /** Chi-square probability of the creation gate (> association_gate_prob): an
          *  observation inside it for some landmark but associated with none is ambiguous. */
         double creation_gate_prob = 0.9999;
+        /** Outlier gate for observations with a known id (0: off, every one is fused):
+         *  one whose innovation NIS exceeds chi2inv(p, 2) is rejected and counted in
+         *  UpdateReport::rejected_gate. Real sensors have heavy-tailed errors (wrong
+         *  ranges, mislabelled barcodes) that an identity does not protect against. */
+        double known_id_gate_prob = 0.0;
         size_t jcbb_max_nodes = 100000;  //!< JCBB node budget per step (0: unlimited)
         bool prune_tentative = true;     //!< remove landmarks that are never confirmed
         /** A landmark is confirmed once used by this many observations (creation counts). */
