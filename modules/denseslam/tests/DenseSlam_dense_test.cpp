@@ -167,18 +167,19 @@ TEST(DenseSlamDense, DenseLayersKey)
 // withheld is counted; what is fused is closer to the true outlines.
 TEST(DenseSlamDense, LocalUncertaintyGateWithholdsPoorlyLocalisedReturns)
 {
-    DenseSlam off = makeSlam(true, false, false);
+    DenseSlam on = makeSlam(true, false, false);
+    ASSERT_DOUBLE_EQ(on.options().max_local_std_m, 0.15);  // configs/ch3_slam.ini
     mrpt::config::CConfigFile cfg(kConfig);
     DenseSlam::Options o;
     o.loadFromConfigFile(cfg, "DenseSlam");
     o.dense_points = true;
     o.dense_occupancy = o.classic_grid = false;
-    o.max_local_std_m = 0.15;
+    o.max_local_std_m = 0.0;
     hymm::ekf::EkfSlam::Options e;
     e.loadFromConfigFile(cfg, "EkfSlam");
     DenseSlam::DenseOptions d;
     d.loadFromConfigFile(cfg);
-    DenseSlam on(o, e, hymm::extract::TreeExtractor::Options(), hymm::extract::ReflectorExtractor::Options(), d);
+    DenseSlam off(o, e, hymm::extract::TreeExtractor::Options(), hymm::extract::ReflectorExtractor::Options(), d);
     runRawlog(off);
     runRawlog(on);
 
