@@ -15,6 +15,7 @@
 
 #include <Eigen/Eigenvalues>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -32,8 +33,11 @@ DenseSlam::LandmarkSource parseSource(const std::string& s, const std::string& s
     if (s == "laser_trees") return DenseSlam::LandmarkSource::LaserTrees;
     if (s == "both") return DenseSlam::LandmarkSource::Both;
     if (s == "laser_reflectors") return DenseSlam::LandmarkSource::LaserReflectors;
+    if (s == "laser_reflectors_and_trees")
+        return DenseSlam::LandmarkSource::LaserReflectorsAndTrees;
     core::throwConfigError(section, "landmark_source", s,
-                           "must be one of bearing_range, laser_trees, both, laser_reflectors");
+                           "must be one of bearing_range, laser_trees, both, laser_reflectors, "
+                           "laser_reflectors_and_trees");
 }
 
 const char* sourceName(DenseSlam::LandmarkSource s)
@@ -43,8 +47,38 @@ const char* sourceName(DenseSlam::LandmarkSource s)
         case DenseSlam::LandmarkSource::BearingRange: return "bearing_range";
         case DenseSlam::LandmarkSource::LaserTrees: return "laser_trees";
         case DenseSlam::LandmarkSource::LaserReflectors: return "laser_reflectors";
+        case DenseSlam::LandmarkSource::LaserReflectorsAndTrees:
+            return "laser_reflectors_and_trees";
         default: return "both";
     }
+}
+
+bool usesReflectors(DenseSlam::LandmarkSource s)
+{
+    return s == DenseSlam::LandmarkSource::LaserReflectors ||
+           s == DenseSlam::LandmarkSource::LaserReflectorsAndTrees;
+}
+
+bool usesTrees(DenseSlam::LandmarkSource s)
+{
+    return s == DenseSlam::LandmarkSource::LaserTrees || s == DenseSlam::LandmarkSource::Both ||
+           s == DenseSlam::LandmarkSource::LaserReflectorsAndTrees;
+}
+
+Eigen::Vector2d featurePoint(const extract::ScanFeature& f)
+{
+    return f.range * Eigen::Vector2d(std::cos(f.bearing), std::sin(f.bearing));
+}
+
+// A tree is a reflector's object when their beams overlap (tape on the trunk or pole the
+// tree extractor saw) or their centres are within `distance` (a cluster split by a
+// dropout, tape on a post against a trunk: one place for the filter either way).
+bool sameObject(const extract::ScanFeature& tree, const extract::ScanFeature& reflector,
+                double distance)
+{
+    if (tree.first_beam <= reflector.last_beam && reflector.first_beam <= tree.last_beam)
+        return true;
+    return (featurePoint(tree) - featurePoint(reflector)).norm() <= distance;
 }
 
 // dense_layers = none | comma-separated list of points, occupancy, particles, sog,
@@ -100,7 +134,7 @@ void DenseSlam::Options::loadFromConfigFile(const mrpt::config::CConfigFileBase&
                           "odometry_std_xy", "odometry_std_phi_deg", "sensor_std_range",
                           "sensor_std_bearing_deg", "min_range", "max_range", "enable_profiler",
                           "dense_layers", "classic_grid", "laser_std_range",
-                          "laser_std_bearing_deg", "max_local_std_m"});
+                          "laser_std_bearing_deg", "max_local_std_m", "same_object_distance_m"});
     landmark_source = parseSource(core::readString(cfg, s, "landmark_source", sourceName(landmark_source)), s);
     use_landmark_ids = core::readBool(cfg, s, "use_landmark_ids", use_landmark_ids);
     odometry_cov_scale = core::readDoubleMin(cfg, s, "odometry_cov_scale", odometry_cov_scale, 0.0, true);
@@ -119,6 +153,8 @@ void DenseSlam::Options::loadFromConfigFile(const mrpt::config::CConfigFileBase&
     laser_std_bearing = kDeg * core::readDoubleMin(cfg, s, "laser_std_bearing_deg",
                                                    laser_std_bearing / kDeg, 0.0, true);
     max_local_std_m = core::readDoubleMin(cfg, s, "max_local_std_m", max_local_std_m, 0.0, false);
+    same_object_distance =
+        core::readDoubleMin(cfg, s, "same_object_distance_m", same_object_distance, 0.0, false);
 }
 
 void DenseSlam::Options::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
@@ -139,6 +175,7 @@ void DenseSlam::Options::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
     cfg.write(s, "laser_std_range", laser_std_range);
     cfg.write(s, "laser_std_bearing_deg", laser_std_bearing / kDeg);
     cfg.write(s, "max_local_std_m", max_local_std_m);
+    cfg.write(s, "same_object_distance_m", same_object_distance);
 }
 
 void DenseSlam::DenseOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg)
@@ -490,42 +527,90 @@ void DenseSlam::processBearingRange(const mrpt::obs::CObservationBearingRange& o
 void DenseSlam::processScan(const mrpt::obs::CObservation2DRangeScan& scan)
 {
     std::vector<ekf::RangeBearingObs> z;
+    std::vector<FeatureKind> kinds;
     {
         mrpt::system::CTimeLoggerEntry tle(profiler_, "denseslam.2_extract");
-        std::vector<extract::ScanFeature> features;
-        Eigen::Matrix2d R;
-        if (options_.landmark_source == LandmarkSource::LaserReflectors)
+        std::vector<extract::ScanFeature> reflectors, trees;
+        size_t skipped = 0;
+        // Scans without intensities carry no beacons (the extractor would throw).
+        if (usesReflectors(options_.landmark_source) && scan.hasIntensity())
         {
-            // Scans without intensities carry no beacons (the extractor would throw).
-            if (!scan.hasIntensity()) return;
             auto res = reflectors_.extract(scan);
-            stats_.skipped_invalid += res.skipped_invalid;
-            features = std::move(res.reflectors);
-            R = sensorNoise(reflectors_.options().std_range, reflectors_.options().std_bearing);
+            skipped = res.skipped_invalid;
+            reflectors = std::move(res.reflectors);
+            stats_.reflectors_extracted += reflectors.size();
         }
-        else
+        if (usesTrees(options_.landmark_source))
         {
             auto res = trees_.extract(scan);
-            stats_.skipped_invalid += res.skipped_invalid;
-            features = std::move(res.trees);
-            R = sensorNoise(trees_.options().std_range, trees_.options().std_bearing);
+            // Both extractors classify the same beams: counted once, as the trees see them.
+            skipped = res.skipped_invalid;
+            stats_.trees_extracted += res.trees.size();
+            // One object, one observation: the reflector stays (its intensity marks the
+            // beacon the map is built on), the tree seen on the same pole or trunk goes.
+            for (const auto& tr : res.trees)
+            {
+                const bool duplicate =
+                    std::any_of(reflectors.begin(), reflectors.end(), [&](const auto& rf) {
+                        return sameObject(tr, rf, options_.same_object_distance);
+                    });
+                if (duplicate)
+                    ++stats_.trees_duplicate;
+                else
+                    trees.push_back(tr);
+            }
         }
-        for (const auto& tr : features)
-        {
-            if (tr.range < options_.min_range || tr.range > options_.max_range) continue;
-            ekf::RangeBearingObs o;
-            o.z = Eigen::Vector2d(tr.range, tr.bearing);
-            o.R = R;
-            z.push_back(o);
-        }
+        stats_.skipped_invalid += skipped;
+        auto add = [&](const std::vector<extract::ScanFeature>& features, FeatureKind kind,
+                       const Eigen::Matrix2d& R) {
+            for (const auto& f : features)
+            {
+                if (f.range < options_.min_range || f.range > options_.max_range) continue;
+                ekf::RangeBearingObs o;
+                o.z = Eigen::Vector2d(f.range, f.bearing);
+                o.R = R;
+                z.push_back(o);
+                kinds.push_back(kind);
+            }
+        };
+        // Each feature with the noise of its own extractor's section.
+        add(reflectors, FeatureKind::Reflector,
+            sensorNoise(reflectors_.options().std_range, reflectors_.options().std_bearing));
+        add(trees, FeatureKind::Tree,
+            sensorNoise(trees_.options().std_range, trees_.options().std_bearing));
         stats_.extracted += z.size();
     }
-    update(z, scan.sensorPose);
+    const double t = scan.timestamp != INVALID_TIMESTAMP ? mrpt::Clock::toDouble(scan.timestamp)
+                                                         : static_cast<double>(stats_.frames);
+    recordFeatures(update(z, scan.sensorPose), kinds, t);
 }
 
-void DenseSlam::update(const std::vector<ekf::RangeBearingObs>& obs, const mrpt::poses::CPose3D& sensor)
+void DenseSlam::recordFeatures(const ekf::UpdateReport& report,
+                               const std::vector<FeatureKind>& kinds, double t)
 {
-    if (obs.empty()) return;
+    for (size_t i = 0; i < report.assigned_ids.size() && i < kinds.size(); ++i)
+    {
+        const long id = report.assigned_ids[i];
+        if (id < 0) continue;
+        const auto [it, fresh] = features_.try_emplace(id);
+        if (fresh)
+        {
+            it->second.created_by = kinds[i];
+            it->second.first_t = t;
+        }
+        it->second.last_t = t;
+        ++(kinds[i] == FeatureKind::Tree ? it->second.tree : it->second.reflector);
+    }
+    // Tentative landmarks the filter pruned leave the bookkeeping with it.
+    if (report.pruned > 0)
+        for (auto it = features_.begin(); it != features_.end();)
+            it = ekf_.hasLandmark(it->first) ? std::next(it) : features_.erase(it);
+}
+
+ekf::UpdateReport DenseSlam::update(const std::vector<ekf::RangeBearingObs>& obs,
+                                    const mrpt::poses::CPose3D& sensor)
+{
+    if (obs.empty()) return {};
     mrpt::system::CTimeLoggerEntry tle(profiler_, "denseslam.3_update");
     stats_.observations += obs.size();
     const auto r = ekf_.updateRangeBearing(obs, sensor);
@@ -535,6 +620,7 @@ void DenseSlam::update(const std::vector<ekf::RangeBearingObs>& obs, const mrpt:
     stats_.rejected_gate += r.rejected_gate;
     stats_.ambiguous += r.ambiguous;
     stats_.rejected_numeric += r.rejected_numeric;
+    return r;
 }
 
 }  // namespace hymm::denseslam

@@ -435,6 +435,20 @@ void writeLayerCounts(eval::MetricsJson& dj, const DenseSlam& slam)
             pj.set("note", "empty: the laser scans carry no values (intensities) to map");
     }
 }
+
+/** Landmarks in the filter by the feature kinds their observations came from. */
+struct LandmarksByFeature
+{
+    size_t reflector_only = 0, tree_only = 0, both = 0;
+};
+
+LandmarksByFeature landmarksByFeature(const DenseSlam& slam)
+{
+    LandmarksByFeature n;
+    for (const auto& [id, lf] : slam.landmarkFeatures())
+        ++(lf.reflector > 0 ? (lf.tree > 0 ? n.both : n.reflector_only) : n.tree_only);
+    return n;
+}
 }  // namespace
 
 std::vector<TrueTrunk> trueTrunks(const std::vector<core::LandmarkRecord>& landmarks)
@@ -640,6 +654,20 @@ eval::MetricsJson computeMetrics(const DenseSlam& slam, const GroundTruth& gt, d
     j.set("run_seconds", run_seconds);
     j.set("steps", static_cast<unsigned long>(slam.path().size()));
     j.set("landmarks_estimated", static_cast<unsigned long>(slam.ekf().numLandmarks()));
+    if (slam.options().landmark_source != DenseSlam::LandmarkSource::BearingRange)
+    {
+        const auto& st = slam.stats();
+        const auto by = landmarksByFeature(slam);
+        auto& ej = j.object("extraction");
+        ej.set("scans", static_cast<unsigned long>(st.scans));
+        ej.set("observations", static_cast<unsigned long>(st.extracted));
+        ej.set("reflectors", static_cast<unsigned long>(st.reflectors_extracted));
+        ej.set("trees", static_cast<unsigned long>(st.trees_extracted));
+        ej.set("trees_duplicate", static_cast<unsigned long>(st.trees_duplicate));
+        ej.set("landmarks_reflector_only", static_cast<unsigned long>(by.reflector_only));
+        ej.set("landmarks_tree_only", static_cast<unsigned long>(by.tree_only));
+        ej.set("landmarks_reflector_and_tree", static_cast<unsigned long>(by.both));
+    }
 
     if (!gt.path.empty())
     {
@@ -765,8 +793,19 @@ void writeSummary(const DenseSlam& slam, double run_seconds, size_t entries, con
       << ", created " << s.created << ", gate rejects " << s.rejected_gate << ", ambiguous "
       << s.ambiguous << ", numeric rejects " << s.rejected_numeric << ")\n"
       << "skipped readings     " << s.skipped_invalid << "\n"
-      << "laser scans          " << s.scans << " (landmarks extracted " << s.extracted << ")\n"
-      << "landmarks in map     " << slam.ekf().numLandmarks() << "\n"
+      << "laser scans          " << s.scans << " (landmarks extracted " << s.extracted;
+    if (s.reflectors_extracted + s.trees_extracted > 0)
+        f << "; reflectors " << s.reflectors_extracted << ", trees " << s.trees_extracted
+          << ", trees dropped as a reflector's object " << s.trees_duplicate;
+    f << ")\n"
+      << "landmarks in map     " << slam.ekf().numLandmarks();
+    if (!slam.landmarkFeatures().empty())
+    {
+        const auto by = landmarksByFeature(slam);
+        f << " (observed as reflector only " << by.reflector_only << ", as tree only "
+          << by.tree_only << ", as both " << by.both << ")";
+    }
+    f << "\n"
       << "final pose           " << pose[0] << " " << pose[1] << " " << pose[2] << "\n"
       << "run time [s]         " << run_seconds << "\n";
     if (const auto* p = slam.partition())

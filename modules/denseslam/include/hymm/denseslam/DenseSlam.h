@@ -4,7 +4,7 @@
  *        Fig. 3.3 — motion prediction, landmark extraction, data association and EKF
  *        update/augmentation — with the dense layers hanging off the feature map.
  *
- * The pipeline owns the feature EKF and the landmark extractor; it knows nothing about
+ * The pipeline owns the feature EKF and the landmark extractors; it knows nothing about
  * files or command lines (SlamApp does that), so a robot program can feed it rawlog
  * entries or live observations directly.
  *
@@ -40,6 +40,7 @@
 #include <mrpt/poses/CPose2D.h>
 #include <mrpt/system/CTimeLogger.h>
 
+#include <map>
 #include <memory>
 #include <optional>
 #include <set>
@@ -54,10 +55,33 @@ public:
     /** Where landmark observations come from. */
     enum class LandmarkSource
     {
-        BearingRange,  //!< CObservationBearingRange in the rawlog (e.g. MRPT simul-landmarks)
-        LaserTrees,    //!< trunks extracted from CObservation2DRangeScan (e.g. Victoria Park)
-        Both,
-        LaserReflectors  //!< retro-reflective beacons from the scans' intensities (car park)
+        BearingRange,     //!< CObservationBearingRange in the rawlog (e.g. MRPT simul-landmarks)
+        LaserTrees,       //!< trunks extracted from CObservation2DRangeScan (e.g. Victoria Park)
+        Both,             //!< BearingRange and LaserTrees
+        LaserReflectors,  //!< retro-reflective beacons from the scans' intensities (car park)
+        /** Both extractors on every scan, each feature with its own extractor's noise; a
+         *  tree that is the object of a reflector of the same scan (Options::
+         *  same_object_distance) is dropped in favour of the reflector. */
+        LaserReflectorsAndTrees
+    };
+
+    /** The extractor an observation of a scan came from. */
+    enum class FeatureKind
+    {
+        Reflector,
+        Tree
+    };
+
+    /** Per landmark: the extractor whose scan observation created it (or first observed
+     *  it), how many scan observations of each kind the filter used for it (creation
+     *  counts) and when. */
+    struct LandmarkFeatures
+    {
+        FeatureKind created_by = FeatureKind::Reflector;
+        size_t reflector = 0;
+        size_t tree = 0;
+        double first_t = 0;  //!< [s] time of the first observation used (the scan's)
+        double last_t = 0;   //!< [s] time of the latest observation used
     };
 
     struct Options : public mrpt::config::CLoadableOptions
@@ -71,6 +95,11 @@ public:
         double sensor_std_bearing = 0.0;  //!< [rad] > 0 overrides (ini: sensor_std_bearing_deg)
         double min_range = 0.0;           //!< [m] observations closer than this are skipped
         double max_range = 1e9;           //!< [m] observations farther than this are skipped
+        /** [m] laser_reflectors_and_trees: a tree whose beams overlap those of a reflector
+         *  of the same scan, or whose centre lies within this distance of the reflector's,
+         *  is the same object (a beacon on a pole or trunk) and is dropped; 0 = beam
+         *  overlap only. (ini: same_object_distance_m) */
+        double same_object_distance = 1.0;
         bool enable_profiler = false;
         bool dense_points = false;     //!< raw-returns layer (ini: dense_layers)
         bool dense_occupancy = false;  //!< occupancy layer (ini: dense_layers)
@@ -130,8 +159,14 @@ public:
         size_t entries = 0, predictions = 0, frames = 0, observations = 0;
         size_t associated = 0, created = 0, rejected_gate = 0, ambiguous = 0,
                rejected_numeric = 0;
-        size_t skipped_invalid = 0;   //!< NaN / non-finite / out-of-range readings
-        size_t scans = 0, extracted = 0;
+        /** NaN / non-finite / out-of-range readings (laser_reflectors_and_trees: the
+         *  beams the tree extractor skipped; both classify the same beams). */
+        size_t skipped_invalid = 0;
+        size_t scans = 0;
+        size_t extracted = 0;             //!< observations of the scans given to the filter
+        size_t reflectors_extracted = 0;  //!< features the reflector extractor returned
+        size_t trees_extracted = 0;       //!< features the tree extractor returned
+        size_t trees_duplicate = 0;       //!< trees dropped as a reflector's object (same scan)
         size_t observations_with_id = 0;  //!< used with the landmark ID the rawlog carried
         // dense part
         size_t partition_updates = 0;   //!< calls of RegionPartition::update()
@@ -169,6 +204,9 @@ public:
     const Stats& stats() const { return stats_; }
     const Options& options() const { return options_; }
     mrpt::system::CTimeLogger& profiler() { return profiler_; }
+    /** The scan observations (reflectors, trees) behind every landmark now in the filter;
+     *  landmarks never observed in a scan are absent (all of them with bearing_range). */
+    const std::map<long, LandmarkFeatures>& landmarkFeatures() const { return features_; }
 
     /** Brings the current vertices of every region to the latest landmark estimates
      *  (RegionPartition::updateVertexPositions, O(regions)). With [LtrPartition]
@@ -193,7 +231,13 @@ private:
     void processBearingRange(const mrpt::obs::CObservationBearingRange& obs);
     void processScan(const mrpt::obs::CObservation2DRangeScan& scan);
     void processOdometryObservation(const mrpt::obs::CObservation& obs);
-    void update(const std::vector<ekf::RangeBearingObs>& obs, const mrpt::poses::CPose3D& sensor);
+    /** EKF update with the observations of one sensor (an empty report when `obs` is
+     *  empty). */
+    ekf::UpdateReport update(const std::vector<ekf::RangeBearingObs>& obs,
+                             const mrpt::poses::CPose3D& sensor);
+    /** Bookkeeping of landmarkFeatures() after an update with observations of `kinds`. */
+    void recordFeatures(const ekf::UpdateReport& report, const std::vector<FeatureKind>& kinds,
+                        double t);
     Eigen::Matrix2d sensorNoise(double std_range, double std_bearing) const;
     /** Step 6: virtual landmarks for returns no region holds (Sec. 3.5.1). */
     void createVirtualLandmarks(const std::vector<Eigen::Vector2d>& unassigned, double t);
@@ -211,6 +255,7 @@ private:
     extract::ReflectorExtractor reflectors_;
     std::vector<PathSample> path_;
     Stats stats_;
+    std::map<long, LandmarkFeatures> features_;
     std::optional<mrpt::poses::CPose2D> last_odometry_;  //!< for observation-only rawlogs
     size_t updates_ = 0;  //!< EKF updates applied so far
     std::unique_ptr<ltr::RegionPartition> partition_;
