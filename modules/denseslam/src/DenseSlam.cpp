@@ -409,6 +409,7 @@ void DenseSlam::processDense(const mrpt::obs::CSensoryFrame& frame, double t, bo
                 hybrid_->insertRegionScan(rid, rs, *partition_);
             });
             stats_.delayed_fused += rep.fused;
+            stats_.delayed_lost += rep.lost_points;
         }
         if (hybrid_)
         {
@@ -428,6 +429,10 @@ void DenseSlam::processDense(const mrpt::obs::CSensoryFrame& frame, double t, bo
                 const auto rep = store_->addGlobalPoints(ekf_, *partition_, st.unassigned, R,
                                                          Eigen::Vector3d(sv.x, sv.y, sv.phi), t);
                 stats_.delayed_stored += rep.stored;
+                stats_.delayed_outside_potential += rep.outside_potential;
+                stats_.delayed_thinned += rep.thinned;
+                stats_.delayed_evicted += rep.evicted_points;
+                stats_.delayed_lost += rep.lost_points;
             }
         }
         if (classic_) classic_->insertScan(pts, vehicle);

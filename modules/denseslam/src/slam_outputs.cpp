@@ -476,6 +476,17 @@ void writeDenseMetrics(eval::MetricsJson& j, const DenseSlam& slam,
         dj.set("returns_stored", static_cast<unsigned long>(st.returns_stored));
         dj.set("returns_outside", static_cast<unsigned long>(st.returns_outside));
         dj.set("returns_withheld", static_cast<unsigned long>(st.returns_withheld));
+        if (slam.delayedStore())
+        {
+            auto& sj = dj.object("delayed_store");
+            sj.set("stored", static_cast<unsigned long>(st.delayed_stored));
+            sj.set("fused", static_cast<unsigned long>(st.delayed_fused));
+            sj.set("waiting", static_cast<unsigned long>(slam.delayedStore()->numStoredPoints()));
+            sj.set("outside_potential", static_cast<unsigned long>(st.delayed_outside_potential));
+            sj.set("thinned", static_cast<unsigned long>(st.delayed_thinned));
+            sj.set("evicted", static_cast<unsigned long>(st.delayed_evicted));
+            sj.set("lost", static_cast<unsigned long>(st.delayed_lost));
+        }
         dj.set("memory_bytes", static_cast<unsigned long>(slam.hybridMap()->memoryBytes()));
         writeLayerCounts(dj, slam);
     }
@@ -815,6 +826,11 @@ void writeSummary(const DenseSlam& slam, double run_seconds, size_t entries, con
           << ", outside regions " << s.returns_outside << ", withheld " << s.returns_withheld << ")\n"
           << "virtual landmarks    " << slam.virtualLandmarkIds().size() << " (created "
           << s.virtual_landmarks << ", apexes rejected " << s.virtual_rejected << ")\n";
+    if (const auto* store = slam.delayedStore())
+        f << "delayed store        stored " << s.delayed_stored << ", fused " << s.delayed_fused
+          << ", waiting " << store->numStoredPoints() << "; not stored: outside potential regions "
+          << s.delayed_outside_potential << ", over budget " << s.delayed_thinned
+          << "; evicted " << s.delayed_evicted << ", lost " << s.delayed_lost << "\n";
     if (slam.hybridMap()) writeLayerSummary(f, slam);
     if (slam.classicGrid()) f << "classic grid         on\n";
     if (!f) throw std::runtime_error("error writing '" + file + "'");

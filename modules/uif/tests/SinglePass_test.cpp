@@ -20,6 +20,7 @@
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/poses/CPosePDFGaussian.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -148,6 +149,51 @@ TEST(SinglePassTest, TheStoreMapsWhatTheLaserSawBeforeRegionsExisted)
     const double sigma_b = scenario.laser.std_bearing, r_max = scenario.laser.max_range_m;
     EXPECT_LT(acc.mean_distance_m, std::sqrt(2.0 / M_PI) * r_max * sigma_b);
     EXPECT_GT(acc.mean_distance_m, 0.5 * sensor.mean_distance_m);  // not better than the sensor
+
+    // Every stored return is accounted for: fused, evicted, lost or still waiting.
+    const auto& st = on->stats();
+    EXPECT_EQ(st.delayed_stored,
+              st.delayed_fused + st.delayed_evicted + st.delayed_lost +
+                  on->delayedStore()->numStoredPoints());
+    EXPECT_EQ(off->stats().delayed_stored + off->stats().delayed_outside_potential, 0u);
+}
+
+// A small budget binds: the pipeline counts what the store turned away or evicted, and
+// the books still balance.
+TEST(SinglePassTest, StoreBudgetDropsAreCountedInThePipelineStats)
+{
+    const auto scenario = hymm::sim::Scenario::fromFile(std::string(HYMM_SOURCE_DIR) +
+                                                        "/configs/sim/ch3_single_pass.ini");
+    hymm::sim::Simulator sim(scenario);
+    const std::string path = std::string(HYMM_SOURCE_DIR) + "/configs/ch3_single_pass_slam.ini";
+    std::ifstream in(path);
+    std::stringstream text;
+    text << in.rdbuf();
+    ASSERT_TRUE(in) << path;
+    mrpt::config::CConfigFileMemory cfg(text.str());
+    cfg.write("DelayedDenseStore", "enabled", true);
+    cfg.write("DelayedDenseStore", "max_stored_points", 150);
+    cfg.write("DelayedDenseStore", "max_stored_scans", 3);
+    std::unique_ptr<DenseSlam> slam(new DenseSlam(DenseSlam::fromConfig(cfg)));
+    hymm::sim::SimFrame f;
+    size_t max_waiting = 0;
+    while (sim.next(f))
+    {
+        slam->processOdometry(mrpt::poses::CPosePDFGaussian(
+            mrpt::poses::CPose2D(f.odometry_mean[0], f.odometry_mean[1], f.odometry_mean[2]),
+            mrpt::math::CMatrixDouble33(f.odometry_cov)));
+        mrpt::obs::CSensoryFrame sf;
+        if (f.scan) sf.insert(f.scan);
+        if (f.detections) sf.insert(f.detections);
+        slam->processFrame(sf);
+        max_waiting = std::max(max_waiting, slam->delayedStore()->numStoredPoints());
+    }
+    const auto& st = slam->stats();
+    EXPECT_LE(max_waiting, 150u);
+    EXPECT_GT(st.delayed_evicted + st.delayed_thinned, 0u) << "the budget never bound";
+    EXPECT_GT(st.delayed_fused, 0u);
+    EXPECT_EQ(st.delayed_stored, st.delayed_fused + st.delayed_evicted + st.delayed_lost +
+                                     slam->delayedStore()->numStoredPoints());
 }
 
 }  // namespace

@@ -179,6 +179,14 @@ public:
         size_t virtual_rejected = 0;    //!< virtual apexes whose region failed a condition
         size_t delayed_stored = 0;      //!< returns kept by the delayed-initialisation store
         size_t delayed_fused = 0;       //!< stored returns later fused into a region
+        /** Returns the store turned away or lost (uif::DelayedDenseStore::AddReport):
+         *  in no potential region (require_potential_region), over the budget as a single
+         *  scan, evicted (oldest first, budget or max_age_s), or whose passive block was
+         *  gone. delayed_stored - delayed_fused - evicted - lost are still waiting. */
+        size_t delayed_outside_potential = 0;
+        size_t delayed_thinned = 0;
+        size_t delayed_evicted = 0;
+        size_t delayed_lost = 0;
     };
 
     /** Builds the pipeline from an .ini: sections [DenseSlam], [EkfSlam], [TreeExtractor],
