@@ -17,10 +17,18 @@
  *  - mean and p95 distance of the points to the true surfaces (outlines and trunks), of
  *    all points and of the points fused from the store alone;
  *  - returns stored, fused, still waiting and dropped by the store.
- * Each map is scored twice: as rendered (regions on their estimated vertices, so the
- * points carry the feature map's drift, which the store cannot change), and in the
+ * Each map is scored three times: as rendered (regions on their estimated vertices, so the
+ * points carry the feature map's drift, which the store cannot change); as rendered,
+ * aligned (the same points after the least-squares SE(2) fit, eval::alignSE2, of the
+ * estimated real landmarks onto their true positions, paired as the landmark frame pairs
+ * them and virtual landmarks left out: one rigid transform for the whole map, which
+ * removes the common rigid error of the feature map but not its shape); and in the
  * landmark frame (eval::pointsAtTrueVertices: regions on the true vertex positions, so
- * the points carry only their error relative to the landmarks). The feature map and the
+ * the points carry only their error relative to the landmarks). The landmark errors
+ * before and after the fit are reported by where along the true path each landmark was
+ * first detected, per 20 m, with the rotation a fit of that stretch alone needs (a map
+ * that is bent, not just rotated, needs different ones) and the vehicle's heading error
+ * there. The feature map and the
  * path are the same bit for bit with and without the store (UIF), so the regions and
  * every directly inserted point are too: the points of the "on" map that the "off" map
  * lacks are exactly the fused ones (checked against the pipeline's count).
@@ -37,12 +45,16 @@
 #include <hymm/eval/LandmarkEvaluator.h>
 #include <hymm/eval/MetricsJson.h>
 #include <hymm/eval/laser_coverage.h>
+#include <hymm/eval/se2_alignment.h>
 #include <hymm/sim/Simulator.h>
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/core/exceptions.h>
 #include <mrpt/maps/CSimplePointsMap.h>
+#include <mrpt/math/wrap2pi.h>
 #include <mrpt/obs/CSensoryFrame.h>
+#include <mrpt/poses/CPoint2D.h>
+#include <mrpt/poses/CPose2D.h>
 #include <mrpt/poses/CPosePDFGaussian.h>
 #include <mrpt/system/filesystem.h>
 
@@ -51,7 +63,9 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <map>
+#include <optional>
 #include <sstream>
 
 #include "single_pass_figure.h"
@@ -63,6 +77,9 @@ using V2 = Eigen::Vector2d;
 
 constexpr double kRequiredSeenCoverage = 0.95;  //!< the store must map this much of what was seen
 constexpr int kTrunkSides = 32;                 //!< polygon of a trunk circle (0.5 % of r)
+constexpr double kStretchM = 20;                //!< [m] of true path per row of the drift table
+constexpr double kStampTolerance = 1e-6;        //!< [s] estimated and true path samples match
+constexpr double kDetectionGate = 2.0;          //!< [m] detection (at the true pose) to landmark
 
 /** Everything the runs are scored against. */
 struct Truth
@@ -73,6 +90,9 @@ struct Truth
     std::vector<std::string> names;              //!< per outline
     std::vector<hymm::dense::Polygon> surfaces;  //!< outlines + trunk circles
     std::vector<hymm::eval::TimedScan> scans;
+    /** Per landmark: length of the true path [m] when a detection first fell within
+     *  kDetectionGate of it (NaN if never), where the filter first met it. */
+    std::vector<double> first_detected;
 };
 
 /** One point map scored against the truth. */
@@ -86,14 +106,34 @@ struct MapScore
     std::vector<hymm::ltr::TriangleFrame::Vertices> triangles;
 };
 
+/** One real landmark of the filter paired with its true position. */
+struct LandmarkError
+{
+    long id = 0;
+    V2 estimate, truth;
+    double along_path = 0;  //!< [m] length of the true path when first detected (NaN: never)
+    double error = 0;       //!< [m] |estimate - truth|
+    double aligned = 0;     //!< [m] after the map's SE(2) fit
+};
+
+/** The least-squares SE(2) fit of the estimated real landmarks onto the true ones. */
+struct LandmarkAlignment
+{
+    hymm::eval::Se2Transform transform;
+    std::vector<LandmarkError> landmarks;
+    double mean_error = 0, max_error = 0, mean_aligned = 0, max_aligned = 0;  //!< [m]
+};
+
 /** One DenseSlam run. */
 struct ModeResult
 {
     bool store = false;
     DenseSlam::Stats stats;
     size_t waiting = 0;  //!< returns still in the store at the end
-    MapScore global, local;
-    size_t regions_skipped = 0;  //!< regions not drawn in the landmark frame
+    MapScore global, aligned, local;
+    LandmarkAlignment alignment;
+    std::vector<double> heading_error;  //!< [rad] filter - truth per true path sample
+    size_t regions_skipped = 0;         //!< regions not drawn in the landmark frame
 };
 
 std::string readFile(const std::string& path)
@@ -112,16 +152,46 @@ struct Frame
     mrpt::obs::CSensoryFrame observations;
 };
 
+/** Records where along the true path each landmark was first detected: every reading
+ *  placed from the true pose, given to the nearest true landmark within kDetectionGate
+ *  (no reported ids needed). */
+void markDetected(const mrpt::obs::CObservationBearingRange& obs, const Eigen::Vector3d& pose,
+                  double along, Truth& t)
+{
+    const mrpt::poses::CPose2D sensor = mrpt::poses::CPose2D(pose[0], pose[1], pose[2]) +
+                                        mrpt::poses::CPose2D(obs.sensorLocationOnRobot);
+    for (const auto& m : obs.sensedData)
+    {
+        const auto p =
+            sensor + mrpt::poses::CPoint2D(m.range * std::cos(m.yaw), m.range * std::sin(m.yaw));
+        size_t best = t.landmarks.size();
+        double best_d = kDetectionGate;
+        for (size_t k = 0; k < t.landmarks.size(); ++k)
+            if (const double d = std::hypot(t.landmarks[k].x - p.x(), t.landmarks[k].y - p.y());
+                d <= best_d)
+                best_d = d, best = k;
+        if (best < t.landmarks.size() && std::isnan(t.first_detected[best]))
+            t.first_detected[best] = along;
+    }
+}
+
 /** Runs the scenario in memory: the frames for the pipeline and the ground truth. The
  *  pipeline gets exactly what the rawlog would carry (odometry increment with its
  *  covariance, the laser scan, the landmark readings), without a file in between. */
 std::vector<Frame> simulate(const hymm::sim::Scenario& scenario, Truth& t)
 {
     hymm::sim::Simulator sim(scenario);
+    for (const auto& l : sim.world().landmarks())
+        t.landmarks.push_back({l.id, l.position.x(), l.position.y(), {l.radius}});
+    t.first_detected.assign(t.landmarks.size(), std::nan(""));
     std::vector<Frame> frames;
     hymm::sim::SimFrame f;
+    double along = 0;
     while (sim.next(f))
     {
+        if (!t.path.empty())
+            along += std::hypot(f.true_pose[0] - t.path.back().x, f.true_pose[1] - t.path.back().y);
+        if (f.detections) markDetected(*f.detections, f.true_pose, along, t);
         Frame fr;
         fr.odometry = mrpt::poses::CPosePDFGaussian(
             mrpt::poses::CPose2D(f.odometry_mean[0], f.odometry_mean[1], f.odometry_mean[2]),
@@ -133,8 +203,6 @@ std::vector<Frame> simulate(const hymm::sim::Scenario& scenario, Truth& t)
         t.path.push_back({stamp, f.true_pose[0], f.true_pose[1], f.true_pose[2]});
         if (f.scan) t.scans.push_back({stamp, hymm::dense::ScanPoints::fromRangeScan(*f.scan)});
     }
-    for (const auto& l : sim.world().landmarks())
-        t.landmarks.push_back({l.id, l.position.x(), l.position.y(), {l.radius}});
     for (const auto& o : sim.world().objects())
     {
         if (!o.isStatic())
@@ -187,6 +255,75 @@ std::map<long, V2> associatedTruth(const DenseSlam& slam, const Truth& truth)
     return out;
 }
 
+/** Cumulative length of the true path at each of its samples. */
+std::vector<double> arcLength(const Truth& t)
+{
+    std::vector<double> s(t.path.size(), 0.0);
+    for (size_t i = 1; i < t.path.size(); ++i)
+        s[i] = s[i - 1] + std::hypot(t.path[i].x - t.path[i - 1].x, t.path[i].y - t.path[i - 1].y);
+    return s;
+}
+
+/** The SE(2) fit of the filter's real landmarks (`truth_of`: filter id -> true position;
+ *  virtual landmarks, which stand on an edge rather than on a true landmark, left out). */
+LandmarkAlignment alignLandmarks(const DenseSlam& slam, const std::map<long, V2>& truth_of,
+                                 const Truth& truth)
+{
+    LandmarkAlignment a;
+    std::vector<V2> est, tru;
+    for (const auto& [id, p] : truth_of)
+    {
+        if (slam.virtualLandmarkIds().count(id)) continue;
+        LandmarkError e;
+        e.id = id;
+        e.estimate = slam.ekf().landmarkMean(id);
+        e.truth = p;
+        // truth_of holds the true positions themselves: the landmark at distance 0.
+        double best = std::numeric_limits<double>::infinity();
+        for (size_t k = 0; k < truth.landmarks.size(); ++k)
+            if (const double d =
+                    std::hypot(truth.landmarks[k].x - p.x(), truth.landmarks[k].y - p.y());
+                d < best)
+                best = d, e.along_path = truth.first_detected[k];
+        a.landmarks.push_back(e);
+        est.push_back(e.estimate);
+        tru.push_back(e.truth);
+    }
+    const auto t = hymm::eval::alignSE2(est, tru);
+    if (!t || est.size() < 3)
+        throw std::runtime_error(
+            "cannot align the feature map with the truth: " + std::to_string(est.size()) +
+            " real landmarks associated with the truth (at least 3 needed)");
+    a.transform = *t;
+    for (auto& e : a.landmarks)
+    {
+        e.error = (e.estimate - e.truth).norm();
+        e.aligned = (t->apply(e.estimate) - e.truth).norm();
+        a.mean_error += e.error;
+        a.mean_aligned += e.aligned;
+        a.max_error = std::max(a.max_error, e.error);
+        a.max_aligned = std::max(a.max_aligned, e.aligned);
+    }
+    a.mean_error /= static_cast<double>(a.landmarks.size());
+    a.mean_aligned /= static_cast<double>(a.landmarks.size());
+    return a;
+}
+
+/** The filter's heading error at every true path sample with an estimate of the same stamp. */
+std::vector<double> headingErrors(const DenseSlam& slam, const Truth& truth)
+{
+    std::vector<double> out(truth.path.size(), std::nan(""));
+    size_t j = 0;
+    for (const auto& p : slam.path())
+    {
+        while (j < truth.path.size() && truth.path[j].t < p.t - kStampTolerance) ++j;
+        if (j == truth.path.size()) break;
+        if (std::abs(truth.path[j].t - p.t) <= kStampTolerance)
+            out[j] = mrpt::math::wrapToPi(p.pose.z() - truth.path[j].phi);
+    }
+    return out;
+}
+
 void score(MapScore& m, const std::vector<V2>* baseline, const Truth& truth,
            const hymm::eval::SeenOutline& seen)
 {
@@ -235,8 +372,20 @@ ModeResult runMode(const std::string& slam_ini, bool store, const std::vector<Fr
     r.global.points = hymm::dense::pointsOf(pts);
     for (long id : part.regionIds()) r.global.triangles.push_back(part.region(id).current);
     score(r.global, baseline ? &baseline->global.points : nullptr, truth, seen);
+    const auto truth_of = associatedTruth(slam, truth);
+    // As rendered, aligned: one rigid transform for the whole map.
+    r.alignment = alignLandmarks(slam, truth_of, truth);
+    const auto& tf = r.alignment.transform;
+    for (const V2& p : r.global.points) r.aligned.points.push_back(tf.apply(p));
+    for (auto v : r.global.triangles)
+    {
+        for (auto& p : v) p = tf.apply(p);
+        r.aligned.triangles.push_back(v);
+    }
+    score(r.aligned, baseline ? &baseline->aligned.points : nullptr, truth, seen);
+    r.heading_error = headingErrors(slam, truth);
     // In the landmark frame.
-    const auto vertices = hymm::eval::trueRegionVertices(part, associatedTruth(slam, truth));
+    const auto vertices = hymm::eval::trueRegionVertices(part, truth_of);
     const auto lf = hymm::eval::pointsAtTrueVertices(*slam.hybridMap(), part, vertices);
     r.local.points = lf.points;
     r.regions_skipped = lf.regions_skipped;
@@ -296,7 +445,18 @@ void writeScore(hymm::eval::MetricsJson& j, const MapScore& m, bool store)
 void writeMode(hymm::eval::MetricsJson& j, const ModeResult& r)
 {
     writeScore(j.object("rendered"), r.global, r.store);
+    writeScore(j.object("rendered_aligned"), r.aligned, r.store);
     writeScore(j.object("landmark_frame"), r.local, r.store);
+    const auto& a = r.alignment;
+    auto& aj = j.object("landmark_alignment");
+    aj.set("landmarks", static_cast<unsigned long>(a.landmarks.size()));
+    aj.set("x", a.transform.x);
+    aj.set("y", a.transform.y);
+    aj.set("phi_deg", a.transform.phi * 180.0 / M_PI);
+    aj.set("landmark_mean_error_m", a.mean_error);
+    aj.set("landmark_max_error_m", a.max_error);
+    aj.set("landmark_mean_error_aligned_m", a.mean_aligned);
+    aj.set("landmark_max_error_aligned_m", a.max_aligned);
     j.set("regions", static_cast<unsigned long>(r.stats.regions_created - r.stats.regions_removed));
     j.set("regions_not_drawn_in_landmark_frame", static_cast<unsigned long>(r.regions_skipped));
     j.set("returns_in_regions", static_cast<unsigned long>(r.stats.returns_stored));
@@ -338,14 +498,17 @@ void printTable(const hymm::eval::SeenOutline& seen, const ModeResult& off, cons
         "all [m] | "
         "fused points | mean / p95 dist. fused [m] | seen outline in a final region |\n"
         "|---|---|---|---|---|---|---|---|---|\n");
-    for (const bool local : {true, false})
+    const std::pair<const char*, MapScore ModeResult::*> maps[] = {
+        {"landmark frame", &ModeResult::local},
+        {"as rendered", &ModeResult::global},
+        {"as rendered, aligned", &ModeResult::aligned}};
+    for (const auto& [name, member] : maps)
         for (const ModeResult* r : {&off, &on})
         {
-            const MapScore& m = local ? r->local : r->global;
-            std::printf("| %s | %s | %zu | %.1f %% | %.1f %% | %s | %zu | %s | %.1f %% |\n",
-                        local ? "landmark frame" : "as rendered", r->store ? "on" : "off",
-                        m.points.size(), pc(m.coverage.seen_coverage), pc(m.coverage.coverage),
-                        meanP95(m.accuracy).c_str(), m.fused.size(),
+            const MapScore& m = r->*member;
+            std::printf("| %s | %s | %zu | %.1f %% | %.1f %% | %s | %zu | %s | %.1f %% |\n", name,
+                        r->store ? "on" : "off", m.points.size(), pc(m.coverage.seen_coverage),
+                        pc(m.coverage.coverage), meanP95(m.accuracy).c_str(), m.fused.size(),
                         meanP95(m.fused_accuracy).c_str(), of(m.seen_in_regions));
         }
     const auto& s = on.stats;
@@ -395,6 +558,130 @@ void printTable(const hymm::eval::SeenOutline& seen, const ModeResult& off, cons
                     pc(static_cast<double>(v) / static_cast<double>(n)), frac(in), frac(c_off),
                     frac(c_on));
     }
+}
+/** Landmark errors and the vehicle's heading error over one stretch of the true path. */
+struct Stretch
+{
+    double from = 0;  //!< [m] along the true path
+    size_t landmarks = 0;
+    double mean_error = 0, max_error = 0, mean_aligned = 0, max_aligned = 0;  //!< [m]
+    double local_phi = std::nan("");       //!< [rad] rotation of a fit of this stretch alone
+    double local_residual = std::nan("");  //!< [m] mean landmark error after that fit
+    double heading_error = std::nan("");   //!< [rad] mean |filter - truth| of the vehicle
+};
+
+std::vector<Stretch> stretches(const ModeResult& r, const Truth& truth)
+{
+    const auto s = arcLength(truth);
+    const double length = s.empty() ? 0.0 : s.back();
+    std::vector<Stretch> out(static_cast<size_t>(std::floor(length / kStretchM)) + 1);
+    std::vector<std::vector<V2>> est(out.size()), tru(out.size());
+    const auto bin = [&](double along)
+    { return std::min(out.size() - 1, static_cast<size_t>(std::max(0.0, along) / kStretchM)); };
+    for (size_t k = 0; k < out.size(); ++k) out[k].from = kStretchM * static_cast<double>(k);
+    for (const auto& e : r.alignment.landmarks)
+    {
+        if (std::isnan(e.along_path)) continue;  // paired with a true landmark never detected
+        Stretch& b = out[bin(e.along_path)];
+        ++b.landmarks;
+        b.mean_error += e.error;
+        b.mean_aligned += e.aligned;
+        b.max_error = std::max(b.max_error, e.error);
+        b.max_aligned = std::max(b.max_aligned, e.aligned);
+        est[bin(e.along_path)].push_back(e.estimate);
+        tru[bin(e.along_path)].push_back(e.truth);
+    }
+    std::vector<double> heading_sum(out.size(), 0.0);
+    std::vector<size_t> heading_n(out.size(), 0);
+    for (size_t i = 0; i < s.size(); ++i)
+        if (!std::isnan(r.heading_error[i]))
+        {
+            heading_sum[bin(s[i])] += std::abs(r.heading_error[i]);
+            ++heading_n[bin(s[i])];
+        }
+    for (size_t k = 0; k < out.size(); ++k)
+    {
+        Stretch& b = out[k];
+        if (heading_n[k]) b.heading_error = heading_sum[k] / static_cast<double>(heading_n[k]);
+        if (!b.landmarks) continue;
+        b.mean_error /= static_cast<double>(b.landmarks);
+        b.mean_aligned /= static_cast<double>(b.landmarks);
+        if (est[k].size() < 3) continue;
+        if (const auto t = hymm::eval::alignSE2(est[k], tru[k]))
+        {
+            b.local_phi = t->phi;
+            double sum = 0;
+            for (size_t i = 0; i < est[k].size(); ++i)
+                sum += (t->apply(est[k][i]) - tru[k][i]).norm();
+            b.local_residual = sum / static_cast<double>(est[k].size());
+        }
+    }
+    return out;
+}
+
+void printAlignment(const ModeResult& off, const ModeResult& on, const Truth& truth)
+{
+    const auto deg = [](double rad) { return rad * 180.0 / M_PI; };
+    const auto& a = on.alignment;
+    const auto &t = a.transform, &t_off = off.alignment.transform;
+    const bool same = t.x == t_off.x && t.y == t_off.y && t.phi == t_off.phi;
+    std::printf(
+        "\nalignment of the feature map (%zu real landmarks, paired by %s): x %.3f m, y %.3f m, "
+        "phi %.3f deg (store off: %s); landmark error mean / max %.3f / %.3f m before the fit, "
+        "%.3f / %.3f m after (store off: %.3f / %.3f m before, %.3f / %.3f m after)\n",
+        a.landmarks.size(), on.stats.observations_with_id > 0 ? "id" : "nearest true landmark", t.x,
+        t.y, deg(t.phi), same ? "the same transform" : "a different transform", a.mean_error,
+        a.max_error, a.mean_aligned, a.max_aligned, off.alignment.mean_error,
+        off.alignment.max_error, off.alignment.mean_aligned, off.alignment.max_aligned);
+    std::printf(
+        "\nlandmark errors by where along the true path the landmark was first detected, and the "
+        "vehicle's heading error there (store on; a fit of a stretch alone "
+        "rotates by the same angle as the whole map's fit if the map is only rotated, by "
+        "different ones if it is bent):\n\n"
+        "| along the path [m] | landmarks | error mean / max [m] | after the map's fit mean / max "
+        "[m] | fit of the stretch alone: phi [deg], mean error [m] | vehicle heading error, mean "
+        "abs [deg] |\n|---|---|---|---|---|---|\n");
+    for (const Stretch& b : stretches(on, truth))
+    {
+        char local[64] = "-";
+        if (!std::isnan(b.local_phi))
+            std::snprintf(local, sizeof local, "%.2f, %.3f", deg(b.local_phi), b.local_residual);
+        if (b.landmarks)
+            std::printf("| %.0f-%.0f | %zu | %.3f / %.3f | %.3f / %.3f | %s | %.2f |\n", b.from,
+                        b.from + kStretchM, b.landmarks, b.mean_error, b.max_error, b.mean_aligned,
+                        b.max_aligned, local, deg(b.heading_error));
+        else
+            std::printf("| %.0f-%.0f | 0 | - | - | - | %.2f |\n", b.from, b.from + kStretchM,
+                        deg(b.heading_error));
+    }
+}
+
+void writeStretches(hymm::eval::MetricsJson& j, const ModeResult& r, const Truth& truth)
+{
+    std::vector<double> from, n, mean, max, mean_al, max_al, phi, resid, heading;
+    for (const Stretch& b : stretches(r, truth))
+    {
+        from.push_back(b.from);
+        n.push_back(static_cast<double>(b.landmarks));
+        const double none = std::nan("");
+        mean.push_back(b.landmarks ? b.mean_error : none);
+        max.push_back(b.landmarks ? b.max_error : none);
+        mean_al.push_back(b.landmarks ? b.mean_aligned : none);
+        max_al.push_back(b.landmarks ? b.max_aligned : none);
+        phi.push_back(b.local_phi * 180.0 / M_PI);
+        resid.push_back(b.local_residual);
+        heading.push_back(b.heading_error * 180.0 / M_PI);
+    }
+    j.set("stretch_m", kStretchM);
+    j.set("from_m", from);
+    j.set("landmarks", n);
+    j.set("mean_error_m", mean);
+    j.set("max_error_m", max);
+    j.set("mean_error_aligned_m", mean_al);
+    j.set("max_error_aligned_m", max_al);
+    j.set("stretch_fit_phi_deg", phi);
+    j.set("stretch_fit_mean_error_m", resid);
+    j.set("vehicle_mean_abs_heading_error_deg", heading);
 }
 }  // namespace
 
@@ -466,6 +753,7 @@ int main(int argc, char** argv)
         }
 
         printTable(seen, off, on, truth);
+        printAlignment(off, on, truth);
         hymm::eval::MetricsJson j;
         j.set("outline_samples", static_cast<unsigned long>(seen.samples.points.size()));
         j.set("seen_samples", static_cast<unsigned long>(seen.seen_samples));
@@ -475,6 +763,7 @@ int main(int argc, char** argv)
         j.set("true_pose_returns_p95_distance_m", sensor_only.p95_distance_m);
         writeMode(j.object("store_off"), off);
         writeMode(j.object("store_on"), on);
+        writeStretches(j.object("landmark_error_along_path"), on, truth);
         j.save(dir + "result.json");
 
         const double got = on.local.coverage.seen_coverage,
