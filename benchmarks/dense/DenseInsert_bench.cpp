@@ -3,8 +3,9 @@
  * @brief Cost of the dense layers: one 361-beam scan into points + occupancy against
  *        the number of regions and landmarks (must stay flat), the same per layer
  *        (points, occupancy, particles, SOG, property, all five) against the number of
- *        regions (thesis Sec. 4.5 multi-layer maps), and global rendering against map
- *        area.
+ *        regions (thesis Sec. 4.5 multi-layer maps), the same with a share of beams
+ *        that return nothing (HybridMetricMap no_return_free_range_m off / on), and
+ *        global rendering against map area.
  *
  * Landmarks sit on an 8 m lattice; the regions are the lattice triangles nearest the
  * scan, so every configuration covers the scanned area the same way and only the size
@@ -21,6 +22,7 @@
 #include <cmath>
 #include <memory>
 #include <random>
+#include <string>
 #include <vector>
 
 namespace
@@ -193,6 +195,79 @@ void BM_InsertScanLayer(benchmark::State& state)
 }
 BENCHMARK(BM_InsertScanLayer)
     ->ArgsProduct({{0, 1, 2, 3, 4, 5}, {10, 100, 1000, 2000}})
+    ->Unit(benchmark::kMicrosecond);
+
+// --- beams with no return ----------------------------------------------------------
+
+// The room with a doorway: the beams within +-kDoorwayHalfDeg of the room's axis see
+// through it and return nothing (81 of the 361 beams, 22%).
+constexpr double kDoorwayHalfDeg = 20.0;
+constexpr double kNoReturnRange = 15.0;  // [m] no_return_free_range_m when on
+
+std::vector<ScanPoints> doorwayScans()
+{
+    std::vector<ScanPoints> scans = noisyRoomScans();
+    for (ScanPoints& s : scans)
+    {
+        ScanPoints d;
+        d.sensor_on_vehicle = s.sensor_on_vehicle;
+        for (size_t k = 0; k < s.points.size(); ++k)
+        {
+            const double a = std::atan2(s.points[k].y(), s.points[k].x());
+            if (std::abs(a) <= kDoorwayHalfDeg * M_PI / 180)
+                d.no_return_bearings.push_back(a);
+            else
+            {
+                d.points.push_back(s.points[k]);
+                d.values.push_back(s.values[k]);
+            }
+        }
+        s = std::move(d);
+    }
+    return scans;
+}
+
+/** Args: layer (index into kLayerNames); mode: 0 = no-return beams ignored (the
+ *  default, no_return_free_range_m = 0), 1 = free space up to kNoReturnRange, 2 = as
+ *  1 with the particle layer's free-space protection off, 3 = as 0 with it off (the
+ *  free-space step before no-return beams and protection). 100 regions, as
+ *  BM_InsertScanLayer otherwise. */
+void BM_InsertScanNoReturn(benchmark::State& state)
+{
+    const auto layer = static_cast<size_t>(state.range(0));
+    const auto mode = state.range(1);
+    const int mid = kLatticeSide / 2;
+    const V2 vehicle = kSpacing * (V2(mid, mid) + kLayerVehicleOffset);
+    World w(kLatticeSide, 100, vehicle + V2(3.5, 0), kLocalRegions);
+    HybridMetricMap::Options o = layerOptions(layer);
+    const bool no_return_on = mode == 1 || mode == 2;
+    o.no_return_free_range_m = no_return_on ? kNoReturnRange : 0.0;
+    o.particles.free_space_protection = mode < 2;
+    HybridMetricMap map(o);
+    const std::vector<ScanPoints> scans = doorwayScans();
+    const mrpt::math::TPose2D pose{vehicle.x(), vehicle.y(), 0.0};
+    for (int i = 0; i < kWarmUpScans; ++i)
+        map.insertScan(scans[i % kScanVariants], pose, *w.partition);
+    HybridMetricMap::InsertStats st;
+    size_t i = 0;
+    for (auto _ : state)
+    {
+        st = map.insertScan(scans[i++ % kScanVariants], pose, *w.partition);
+        benchmark::DoNotOptimize(st.returns_stored);
+    }
+    const size_t no_return = scans[0].no_return_bearings.size();
+    if (st.returns_stored != kBeams - no_return || st.no_return != (no_return_on ? no_return : 0))
+        state.SkipWithError("the scan does not hold the expected returns / no-return beams");
+    const char* modes[] = {" off", " on", " on, unprotected", " off, unprotected"};
+    state.SetLabel(std::string(kLayerNames.at(layer)) + modes[mode]);
+    state.counters["no_return_beams"] = static_cast<double>(no_return);
+    state.counters["regions_updated"] = static_cast<double>(st.regions_updated);
+}
+BENCHMARK(BM_InsertScanNoReturn)
+    ->ArgsProduct({{0, 1, 2, 3, 4, 5}, {0, 1}})
+    ->ArgsProduct({{2, 5}, {2, 3}})
+    ->Repetitions(5)
+    ->ReportAggregatesOnly(true)
     ->Unit(benchmark::kMicrosecond);
 
 /** Arg: lattice side (landmarks per row); every triangle is a region and holds data. */

@@ -3,6 +3,7 @@
 #include "hymm/dense/geometry.h"
 
 #include <algorithm>
+#include <cmath>
 #include <istream>
 #include <limits>
 #include <ostream>
@@ -38,24 +39,43 @@ bool boxesOverlap(
     return alo.x() <= bhi.x() && blo.x() <= ahi.x() && alo.y() <= bhi.y() && blo.y() <= ahi.y();
 }
 
-/** Beam pieces of `w` inside candidate `c`, in its reference frame. */
-void clipBeams(const WorldScan& w, const Candidate& c, RegionScan& rs)
+/** Beam pieces of `w` inside candidate `c`, in its reference frame. With
+ *  `shadow_margin` >= 0 also the returns of beams that end before the region but whose
+ *  line goes on into its bounding box grown by the margin (RegionScan::shadow_returns). */
+void clipBeams(const WorldScan& w, const Candidate& c, RegionScan& rs, double shadow_margin)
 {
     const Vertices& ref = c.region->reference;
     rs.sensor = c.to_current.inverseMapPoint(w.sensor);
+    const bool shadows = shadow_margin >= 0;
+    const Eigen::Vector2d glo = c.lo.array() - shadow_margin, ghi = c.hi.array() + shadow_margin;
+    // Farthest the grown box gets from the sensor: a beam line is followed up to there.
+    const Eigen::Vector2d far_corner = (glo - w.sensor).cwiseAbs().cwiseMax((ghi - w.sensor).cwiseAbs());
+    const double reach = far_corner.norm();
     for (const WorldBeam& b : w.beams)
     {
-        if (!boxesOverlap(w.sensor.cwiseMin(b.end), w.sensor.cwiseMax(b.end), c.lo, c.hi)) continue;
-        const Eigen::Vector2d e_ref = c.to_current.inverseMapPoint(b.end);
-        const auto iv = clipSegmentToTriangle(rs.sensor, e_ref, ref);
-        if (!iv) continue;
-        const Eigen::Vector2d d = e_ref - rs.sensor;
-        const bool to_end = iv->t1 >= 1.0 - kEndParamTol;
-        FreeRay ray{rs.sensor + iv->t0 * d, to_end ? e_ref : Eigen::Vector2d(rs.sensor + iv->t1 * d),
-                    b.hit && to_end};
-        ray.beam_end = e_ref;  // the layers' beam model needs the whole beam's range
-        ray.beam_hit = b.hit;
-        rs.rays.push_back(ray);
+        if (boxesOverlap(w.sensor.cwiseMin(b.end), w.sensor.cwiseMax(b.end), c.lo, c.hi))
+        {
+            const Eigen::Vector2d e_ref = c.to_current.inverseMapPoint(b.end);
+            const auto iv = clipSegmentToTriangle(rs.sensor, e_ref, ref);
+            if (iv)
+            {
+                const Eigen::Vector2d d = e_ref - rs.sensor;
+                const bool to_end = iv->t1 >= 1.0 - kEndParamTol;
+                FreeRay ray{rs.sensor + iv->t0 * d, to_end ? e_ref : Eigen::Vector2d(rs.sensor + iv->t1 * d),
+                            b.hit && to_end};
+                ray.beam_end = e_ref;  // the layers' beam model needs the whole beam's range
+                ray.beam_hit = b.hit;
+                rs.rays.push_back(ray);
+                continue;
+            }
+        }
+        if (!shadows || !b.hit) continue;
+        // Does the beam's line, past its return, go on into the region (grown box)?
+        const Eigen::Vector2d d = b.end - w.sensor;
+        const double len = d.norm();
+        if (!(len > 0) || reach <= len) continue;
+        if (clipSegmentToBox(b.end, w.sensor + d * (reach / len), glo, ghi))
+            rs.shadow_returns.push_back(c.to_current.inverseMapPoint(b.end));
     }
 }
 }  // namespace
@@ -112,9 +132,10 @@ HybridMetricMap::InsertStats HybridMetricMap::insertScan(
     mrpt::system::CTimeLoggerEntry tle(profiler_, "dense.insertScan");
     scan.validate();  // values / noise: bad input is rejected before anything changes
     InsertStats st;
-    const WorldScan w = scan.toWorld(vehicle_pose, options_.max_range_m);
+    const WorldScan w = scan.toWorld(vehicle_pose, options_.max_range_m, options_.no_return_free_range_m);
     st.beams = w.beams.size();
     st.beyond_range = w.beyond_range;
+    st.no_return = w.no_return;
 
     // 1. Regions near the scan, with their reference -> current maps.
     std::vector<Candidate> cands;
@@ -178,11 +199,17 @@ HybridMetricMap::InsertStats HybridMetricMap::insertScan(
     {
         mrpt::system::CTimeLoggerEntry t3(profiler_, "dense.insertScan.3_clip_fuse");
         last_scan_regions_.clear();
+        // The particle layer's free-space protection needs the returns a region hides
+        // behind (ParticlesLayer step 4); no other layer reads them.
+        const double shadow_margin =
+            options_.enable_particles && options_.particles.free_space_update && options_.particles.free_space_protection
+                ? options_.particles.d_min_m
+                : -1.0;
         for (size_t k = 0; k < cands.size(); ++k)
         {
             if (cands[k].withheld) continue;
             RegionScan& rs = per_region[k];
-            clipBeams(w, cands[k], rs);
+            clipBeams(w, cands[k], rs, shadow_margin);
             if (rs.empty()) continue;
             rs.range_std_m = scan.range_std_m;
             rs.bearing_std_rad = scan.bearing_std_rad;

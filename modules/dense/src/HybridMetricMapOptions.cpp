@@ -2,6 +2,8 @@
 
 #include <hymm/core/config_utils.h>
 
+#include <cmath>
+
 namespace hymm::dense
 {
 void HybridMetricMap::Options::loadFromConfigFile(
@@ -11,13 +13,14 @@ void HybridMetricMap::Options::loadFromConfigFile(
     checkKnownKeys(
         cfg, s,
         {"enable_points", "enable_occupancy", "enable_particles", "enable_sog", "enable_property", "max_range_m",
-         "coarsen_every_n_scans", "enable_profiler"});
+         "no_return_free_range_m", "coarsen_every_n_scans", "enable_profiler"});
     enable_points = readBool(cfg, s, "enable_points", enable_points);
     enable_occupancy = readBool(cfg, s, "enable_occupancy", enable_occupancy);
     enable_particles = readBool(cfg, s, "enable_particles", enable_particles);
     enable_sog = readBool(cfg, s, "enable_sog", enable_sog);
     enable_property = readBool(cfg, s, "enable_property", enable_property);
     max_range_m = readDoubleMin(cfg, s, "max_range_m", max_range_m, 0.0, true);
+    no_return_free_range_m = readDoubleMin(cfg, s, "no_return_free_range_m", no_return_free_range_m, 0.0, false);
     coarsen_every_n_scans = static_cast<int>(readInt(cfg, s, "coarsen_every_n_scans", coarsen_every_n_scans));
     enable_profiler = readBool(cfg, s, "enable_profiler", enable_profiler);
     validate(s);
@@ -32,6 +35,7 @@ void HybridMetricMap::Options::saveToConfigFile(
     cfg.write(s, "enable_sog", enable_sog);
     cfg.write(s, "enable_property", enable_property);
     cfg.write(s, "max_range_m", max_range_m);
+    cfg.write(s, "no_return_free_range_m", no_return_free_range_m);
     cfg.write(s, "coarsen_every_n_scans", coarsen_every_n_scans);
     cfg.write(s, "enable_profiler", enable_profiler);
 }
@@ -65,6 +69,10 @@ void HybridMetricMap::Options::validate(const std::string& s) const
             s, "enable_points", "false",
             "at least one of enable_points, enable_occupancy, enable_particles, enable_sog, enable_property "
             "must be true");
+    if (!(no_return_free_range_m >= 0) || !std::isfinite(no_return_free_range_m))
+        hymm::core::throwConfigError(
+            s, "no_return_free_range_m", std::to_string(no_return_free_range_m),
+            "must be finite and >= 0 (0 = beams with no return give no free space)");
     if (coarsen_every_n_scans < 0)
         hymm::core::throwConfigError(
             s, "coarsen_every_n_scans", std::to_string(coarsen_every_n_scans), "must be >= 0 (0 = off)");

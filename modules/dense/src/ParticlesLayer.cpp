@@ -25,6 +25,41 @@ constexpr double kConeSigmas = 3.0;
 // A model value above 0.5 + this means the particle sits in a return's peak.
 constexpr double kPeakTol = 1e-9;
 
+/** Points hashed on cells of `cell` [m]: is any closer than `cell` to a query point? */
+class PointHash
+{
+public:
+    PointHash(const std::vector<Eigen::Vector2d>& points, double cell) : cell_(cell)
+    {
+        for (const Eigen::Vector2d& p : points) cells_[key(p, 0, 0)].push_back(p);
+    }
+    /** Some point strictly closer than the cell size (the nearest such point lies in
+     *  the query's cell or one of its 8 neighbours). */
+    bool anyWithinCell(const Eigen::Vector2d& q) const
+    {
+        const double d2 = cell_ * cell_;
+        for (std::int64_t dx = -1; dx <= 1; ++dx)
+            for (std::int64_t dy = -1; dy <= 1; ++dy)
+            {
+                const auto it = cells_.find(key(q, dx, dy));
+                if (it == cells_.end()) continue;
+                for (const Eigen::Vector2d& p : it->second)
+                    if ((p - q).squaredNorm() < d2) return true;
+            }
+        return false;
+    }
+
+private:
+    std::int64_t key(const Eigen::Vector2d& p, std::int64_t dx, std::int64_t dy) const
+    {
+        return packCellKey(
+            static_cast<std::int64_t>(std::floor(p.x() / cell_)) + dx,
+            static_cast<std::int64_t>(std::floor(p.y() / cell_)) + dy);
+    }
+    double cell_;
+    std::unordered_map<std::int64_t, std::vector<Eigen::Vector2d>> cells_;
+};
+
 void checkFinite(const RegionScan& scan)
 {
     if (!scan.to_reference_linear.allFinite() || std::abs(scan.to_reference_linear.determinant()) < 1e-12)
@@ -32,6 +67,8 @@ void checkFinite(const RegionScan& scan)
     if (!scan.sensor.allFinite()) throw std::invalid_argument("ParticlesLayer::insert: sensor is not finite");
     for (const auto& h : scan.hits)
         if (!h.allFinite()) throw std::invalid_argument("ParticlesLayer::insert: a return is not finite");
+    for (const auto& h : scan.shadow_returns)
+        if (!h.allFinite()) throw std::invalid_argument("ParticlesLayer::insert: a shadow return is not finite");
 }
 }  // namespace
 
@@ -42,8 +79,8 @@ void ParticlesLayer::Options::loadFromConfigFile(
     checkKnownKeys(
         cfg, s,
         {"samples_per_return", "range_std_m", "bearing_std_deg", "prob_min", "prob_max", "d_min_m",
-         "position_averaging", "free_space_update", "min_weight", "max_weight", "max_particles",
-         "random_seed", "render_min_weight"});
+         "position_averaging", "free_space_update", "free_space_protection", "min_weight", "max_weight",
+         "max_particles", "random_seed", "render_min_weight"});
     samples_per_return = static_cast<int>(readInt(cfg, s, "samples_per_return", samples_per_return));
     range_std_m = readDouble(cfg, s, "range_std_m", range_std_m);
     bearing_std_deg = readDouble(cfg, s, "bearing_std_deg", bearing_std_deg);
@@ -52,6 +89,7 @@ void ParticlesLayer::Options::loadFromConfigFile(
     d_min_m = readDouble(cfg, s, "d_min_m", d_min_m);
     position_averaging = readBool(cfg, s, "position_averaging", position_averaging);
     free_space_update = readBool(cfg, s, "free_space_update", free_space_update);
+    free_space_protection = readBool(cfg, s, "free_space_protection", free_space_protection);
     min_weight = readDouble(cfg, s, "min_weight", min_weight);
     max_weight = readDouble(cfg, s, "max_weight", max_weight);
     max_particles = static_cast<int>(readInt(cfg, s, "max_particles", max_particles));
@@ -71,6 +109,7 @@ void ParticlesLayer::Options::saveToConfigFile(
     cfg.write(s, "d_min_m", d_min_m);
     cfg.write(s, "position_averaging", position_averaging);
     cfg.write(s, "free_space_update", free_space_update);
+    cfg.write(s, "free_space_protection", free_space_protection);
     cfg.write(s, "min_weight", min_weight);
     cfg.write(s, "max_weight", max_weight);
     cfg.write(s, "max_particles", max_particles);
@@ -225,22 +264,38 @@ std::vector<ParticlesLayer::Particle> ParticlesLayer::associate(
     return fresh;
 }
 
+void ParticlesLayer::scanBeams(
+    const RegionScan& scan, const Eigen::Matrix2d& to_current_linear, std::vector<Beam>& beams,
+    std::vector<Eigen::Vector2d>& returns) const
+{
+    beams.clear();
+    returns.assign(scan.hits.begin(), scan.hits.end());
+    beams.reserve(scan.rays.size() + scan.shadow_returns.size());
+    const auto add = [&](const Eigen::Vector2d& end, bool hit) {
+        const Eigen::Vector2d d = to_current_linear * (end - scan.sensor);
+        const double range = d.norm();
+        if (!(range > 0)) return;
+        beams.push_back({std::atan2(d.y(), d.x()), range, hit});
+        if (hit) returns.push_back(end);
+    };
+    for (const FreeRay& ray : scan.rays)
+    {
+        const bool known = ray.beam_end.allFinite();
+        add(known ? ray.beam_end : ray.to, known ? ray.beam_hit : ray.ends_at_hit);
+    }
+    for (const Eigen::Vector2d& r : scan.shadow_returns) add(r, true);
+    std::sort(beams.begin(), beams.end(), [](const Beam& a, const Beam& b) { return a.bearing < b.bearing; });
+}
+
 void ParticlesLayer::freeSpaceUpdate(
     const RegionScan& scan, const Eigen::Matrix2d& to_current_linear, const std::vector<char>& updated)
 {
     std::vector<Beam> beams;
-    beams.reserve(scan.rays.size());
-    for (const FreeRay& ray : scan.rays)
-    {
-        const bool known = ray.beam_end.allFinite();
-        const Eigen::Vector2d end = known ? ray.beam_end : ray.to;
-        const Eigen::Vector2d d = to_current_linear * (end - scan.sensor);
-        const double range = d.norm();
-        if (!(range > 0)) continue;
-        beams.push_back({std::atan2(d.y(), d.x()), range, known ? ray.beam_hit : ray.ends_at_hit});
-    }
+    std::vector<Eigen::Vector2d> returns;
+    scanBeams(scan, to_current_linear, beams, returns);
     if (beams.empty()) return;
-    std::sort(beams.begin(), beams.end(), [](const Beam& a, const Beam& b) { return a.bearing < b.bearing; });
+    const bool protect = options_.free_space_protection;
+    const PointHash seen(protect ? returns : std::vector<Eigen::Vector2d>{}, options_.d_min_m);
 
     const double half = kConeSigmas * noise_.bearing_std_rad;
     const OccupancyProfile profile = options_.profile();
@@ -278,9 +333,28 @@ void ParticlesLayer::freeSpaceUpdate(
         else
             visit(phi - half, phi + half);
         if (p_hi > 0.5 + kPeakTol || !(p_lo < 0.5)) continue;  // in a return's peak, or no free evidence
+        if (protect && (seen.anyWithinCell(p.position) || hiddenBehindOwnBeams(beams, rho, phi, half)))
+        {
+            ++last_.free_protected;
+            continue;
+        }
         p.weight = bayesOccupancyUpdate(p.weight, p_lo);  // Eq. 4.11 with the free-space weight
         ++last_.free_updated;
     }
+}
+
+bool ParticlesLayer::hiddenBehindOwnBeams(const std::vector<Beam>& beams, double rho, double phi, double half)
+{
+    // The neighbours on either side, across the +-pi seam when the particle is past
+    // the first or last bearing.
+    const auto it =
+        std::lower_bound(beams.begin(), beams.end(), phi, [](const Beam& b, double v) { return b.bearing < v; });
+    const Beam& right = it != beams.end() ? *it : beams.front();
+    const Beam& left = it != beams.begin() ? *(it - 1) : beams.back();
+    const auto behind = [&](const Beam& b) {
+        return b.hit && rho > b.range && std::abs(std::remainder(b.bearing - phi, 2 * M_PI)) <= half;
+    };
+    return behind(left) || behind(right);
 }
 
 void ParticlesLayer::prune()

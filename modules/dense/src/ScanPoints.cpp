@@ -2,6 +2,7 @@
 
 #include <mrpt/obs/CObservation2DRangeScan.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -19,9 +20,18 @@ ScanPoints ScanPoints::fromRangeScan(
     s.points.reserve(obs.getScanSize());
     for (size_t i = 0; i < obs.getScanSize(); ++i)
     {
-        if (!obs.getScanRangeValidity(i)) continue;
-        const double r = obs.getScanRange(i);
         const double a = obs.getScanAngle(i);
+        if (!obs.getScanRangeValidity(i))
+        {
+            s.no_return_bearings.push_back(a);  // no echo: carries a bearing, no range
+            continue;
+        }
+        const double r = obs.getScanRange(i);
+        if (!(std::isfinite(r) && r > 0))
+        {
+            ++s.skipped;  // a failed reading, not evidence of free space
+            continue;
+        }
         s.points.emplace_back(r * std::cos(a), r * std::sin(a));
         if (with_intensity) s.values.push_back(static_cast<double>(obs.getScanIntensity(i)));
     }
@@ -50,16 +60,32 @@ void ScanPoints::validate() const
         fail("range_std_m=" + std::to_string(range_std_m) + " must be >= 0 (0 = unknown)");
     if (!(bearing_std_rad >= 0) || !std::isfinite(bearing_std_rad))
         fail("bearing_std_rad=" + std::to_string(bearing_std_rad) + " must be >= 0 (0 = unknown)");
+    for (size_t i = 0; i < no_return_bearings.size(); ++i)
+        if (!std::isfinite(no_return_bearings[i]))
+            fail("no-return bearing " + std::to_string(i) + " is not finite");
 }
 
-WorldScan ScanPoints::toWorld(const mrpt::math::TPose2D& vehicle_pose, double max_range_m) const
+WorldScan ScanPoints::toWorld(
+    const mrpt::math::TPose2D& vehicle_pose, double max_range_m, double no_return_free_range_m) const
 {
+    if (!(no_return_free_range_m >= 0))  // also rejects NaN
+        throw std::invalid_argument(
+            "ScanPoints::toWorld: no_return_free_range_m=" + std::to_string(no_return_free_range_m) +
+            " must be >= 0 (0 = no-return beams give no free space)");
     const mrpt::math::TPose2D sensor = vehicle_pose + sensor_on_vehicle;
     const double c = std::cos(sensor.phi), s = std::sin(sensor.phi);
+    const double no_return_range = std::min(no_return_free_range_m, max_range_m);
+    const bool with_no_return = no_return_range > 0 && !no_return_bearings.empty();
     WorldScan w;
     w.sensor = Eigen::Vector2d(sensor.x, sensor.y);
     w.lo = w.hi = w.sensor;
-    w.beams.reserve(points.size());
+    w.beams.reserve(points.size() + (with_no_return ? no_return_bearings.size() : 0));
+    const auto place = [&](WorldBeam& b, const Eigen::Vector2d& q) {
+        b.end = w.sensor + Eigen::Vector2d(c * q.x() - s * q.y(), s * q.x() + c * q.y());
+        w.lo = w.lo.cwiseMin(b.end);
+        w.hi = w.hi.cwiseMax(b.end);
+        w.beams.push_back(b);
+    };
     for (size_t i = 0; i < points.size(); ++i)
     {
         const Eigen::Vector2d& p = points[i];
@@ -74,10 +100,18 @@ WorldScan ScanPoints::toWorld(const mrpt::math::TPose2D& vehicle_pose, double ma
             b.hit = false;
             ++w.beyond_range;
         }
-        b.end = w.sensor + Eigen::Vector2d(c * q.x() - s * q.y(), s * q.x() + c * q.y());
-        w.lo = w.lo.cwiseMin(b.end);
-        w.hi = w.hi.cwiseMax(b.end);
-        w.beams.push_back(b);
+        place(b, q);
+    }
+    if (!with_no_return) return w;
+    for (size_t i = 0; i < no_return_bearings.size(); ++i)
+    {
+        WorldBeam b;
+        b.hit = false;
+        b.no_return = true;
+        b.source = i;
+        const double a = no_return_bearings[i];
+        place(b, no_return_range * Eigen::Vector2d(std::cos(a), std::sin(a)));
+        ++w.no_return;
     }
     return w;
 }

@@ -11,7 +11,10 @@
  *     afterwards (local coordinates are invariant after fusion, Sec. 3.6);
  *  2. each beam (sensor -> return) is split into the regions it crosses: clipped to
  *     each triangle, mapped to that region's reference frame (an affine map keeps the
- *     segment straight) and used to update free cells there;
+ *     segment straight) and used to update free cells there; beams with no return are
+ *     free segments up to `no_return_free_range_m` (0 = none, ScanPoints.h says why);
+ *     with a particle layer, each region also gets the returns it lies hidden behind
+ *     (RegionScan::shadow_returns) for the particle free-space protection;
  *  3. returns in no region are counted and handed back (the pipeline's delayed-
  *     initialisation store takes them once a region covers them).
  * Only regions whose bounding box meets the scan's bounding box are visited
@@ -76,6 +79,12 @@ public:
         bool enable_sog = false;       //!< keep sums of Gaussians (Sec. 4.3)
         bool enable_property = false;  //!< keep scalar property grids (ScanPoints::values)
         double max_range_m = 25.0;     //!< [m] returns beyond are free space only (Table 4.1)
+        /** [m] beams with no return (ScanPoints::no_return_bearings) are free space up
+         *  to min(this, max_range_m); 0 = they give none (default). A beam with no echo
+         *  is evidence of free space only up to some range: dark, specular or steeply
+         *  inclined surfaces also return nothing, and the farther they are the weaker
+         *  an echo they need to send back; so set it well below the sensor's reach. */
+        double no_return_free_range_m = 0.0;
         /** insertScan() runs coarsenIdleRegions() every n scans; 0 = only when called.
          *  Needs [OccupancyLayer] coarse_cell_size_m > 0 to have an effect. */
         int coarsen_every_n_scans = 0;
@@ -100,10 +109,11 @@ public:
     /** Outcome of one insertScan(). */
     struct InsertStats
     {
-        size_t beams = 0;             //!< beams considered
+        size_t beams = 0;             //!< beams considered (returns, then no-return beams)
         size_t returns_stored = 0;    //!< returns assigned to a region
         size_t returns_outside = 0;   //!< returns in no region (see `unassigned`)
         size_t beyond_range = 0;      //!< returns farther than max_range_m (free space only)
+        size_t no_return = 0;         //!< no-return beams used as free space (no_return_free_range_m)
         size_t regions_visited = 0;   //!< regions whose bounding box meets the scan's
         size_t regions_updated = 0;   //!< regions that received rays or returns
         size_t regions_degenerate = 0;  //!< skipped: current triangle no longer a valid frame

@@ -19,7 +19,24 @@
  *     that beam through Eq. 4.11, so an area vacated by a moving object loses its
  *     occupancy. A particle inside the peak of any beam's model is left alone
  *     (occupied evidence wins, as in the grid layers), and several beams over one
- *     particle give one update with the most "free" value.
+ *     particle give one update with the most "free" value. Beams with no return
+ *     (RegionScan rays with beam_hit = false) take part like the others.
+ *     Protection (`free_space_protection`): a beam's free part is a cone (bearing
+ *     noise), so it also sweeps particles its neighbours explain; the thesis' step
+ *     lowers every particle "under the free space region". A particle is therefore
+ *     NOT lowered by any beam of the scan when
+ *      (a) a return of the same scan (this region's, those of beams crossing it, and
+ *          RegionScan::shadow_returns) lies closer than d_min to it: the surface it
+ *          describes was seen now (a wall at grazing incidence, an object's edge), or
+ *      (b) it lies beyond the return of one of its own beams, the beams of the scan
+ *          nearest its bearing on either side (within the cone): it is hidden behind
+ *          a nearer surface (an object partly occluding another). Both neighbours are
+ *          used, not only the nearest: at grazing incidence consecutive returns on a
+ *          wall lie farther apart than 2 d_min, and a particle between two of them
+ *          lies beyond the nearer return and in front of the farther one.
+ *     A vacated area seen through beams that return nothing, or from a surface
+ *     behind it, has no return within d_min and lies in front of its beams' returns:
+ *     it is still lowered.
  *  5. Particles below `min_weight` are removed; with `max_particles` > 0 only the
  *     heaviest `max_particles` are kept (subsampling bounds memory per region).
  * Distances (d_min) are measured in the reference frame; the affine reference ->
@@ -57,6 +74,9 @@ public:
         double d_min_m = 0.2;         //!< [m] association distance, Eq. 4.10 (Sec. 4.2.3)
         bool position_averaging = true;  //!< move associated particles to the mean (Sec. 4.2.3)
         bool free_space_update = true;   //!< step 4 (vacated areas lose weight)
+        /** step 4 protection: particles explained by a return of the scan (d_min) or
+         *  hidden behind one of their own beams' returns are not lowered */
+        bool free_space_protection = true;
         double min_weight = 0.1;      //!< particles below are removed
         double max_weight = 0.99;     //!< upper clamp so particles stay revisable
         int max_particles = 0;        //!< per region; 0 = unbounded (thesis: no subsampling)
@@ -86,6 +106,7 @@ public:
         size_t associated = 0;    //!< prior particles updated by a new sample (Eq. 4.11)
         size_t added = 0;         //!< new samples kept as particles (Eq. 4.12)
         size_t free_updated = 0;  //!< prior particles re-weighted as free space
+        size_t free_protected = 0;  //!< in a beam's free part, kept by the protection of step 4
         size_t removed = 0;       //!< below min_weight or subsampled away
     };
 
@@ -122,6 +143,15 @@ private:
     void freeSpaceUpdate(
         const RegionScan& scan, const Eigen::Matrix2d& to_current_linear,
         const std::vector<char>& updated);
+    /** Beams of the scan in the current frame sorted by bearing (rays, then the shadow
+     *  returns), and the scan's returns in the reference frame. */
+    void scanBeams(
+        const RegionScan& scan, const Eigen::Matrix2d& to_current_linear, std::vector<Beam>& beams,
+        std::vector<Eigen::Vector2d>& returns) const;
+    /** Rule (b) of step 4: a particle at (rho, phi) [m, rad] lies beyond the return of
+     *  the beam nearest its bearing on either side, within `half` [rad]. `beams` sorted
+     *  by bearing. */
+    static bool hiddenBehindOwnBeams(const std::vector<Beam>& beams, double rho, double phi, double half);
     void prune();
 
     const Options options_;

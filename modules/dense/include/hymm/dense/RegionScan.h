@@ -36,6 +36,12 @@ struct RegionScan
     std::vector<Eigen::Vector2d> hits;
     /** Beam pieces inside this region's triangle. */
     std::vector<FreeRay> rays;
+    /** Returns of the same scan that lie BEFORE this region, on beams whose line goes
+     *  on into it (near its triangle): the region is hidden behind them. Their beams
+     *  give no free space here; the particle layer's free-space protection needs them
+     *  (a surface behind a nearer return keeps its weight). HybridMetricMap fills them
+     *  only when a particle layer with free_space_protection is enabled. */
+    std::vector<Eigen::Vector2d> shadow_returns;
     /** Sensor position at observation time (may lie outside the triangle). */
     Eigen::Vector2d sensor = Eigen::Vector2d::Zero();
 
