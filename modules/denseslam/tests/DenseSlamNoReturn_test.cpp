@@ -10,6 +10,8 @@
 //    place loses its particles and its occupied cells, while what stayed keeps its
 //    particles and what appeared is picked up (the step's protection keeps surfaces a
 //    nearer return or a grazing view explains).
+#include "sim_feed.h"
+
 #include <gtest/gtest.h>
 #include <hymm/dense/outline_metrics.h>
 #include <hymm/denseslam/DenseSlam.h>
@@ -30,6 +32,8 @@
 namespace
 {
 using hymm::denseslam::DenseSlam;
+using hymm::denseslam::testing::object;
+using hymm::denseslam::testing::run;
 using hymm::sim::Polygon;
 using hymm::sim::Vec2;
 
@@ -70,30 +74,6 @@ max_range_m = )" + std::to_string(kMapRange) +
            R"(
 no_return_free_range_m = )" + std::to_string(no_return_free_range_m) +
            "\n";
-}
-
-void run(const hymm::sim::Scenario& s, DenseSlam& slam, const std::function<void(double)>& probe)
-{
-    hymm::sim::Simulator sim(s);
-    hymm::sim::SimFrame f;
-    while (sim.next(f))
-    {
-        slam.processOdometry(mrpt::poses::CPosePDFGaussian(
-            mrpt::poses::CPose2D(f.odometry_mean[0], f.odometry_mean[1], f.odometry_mean[2]),
-            mrpt::math::CMatrixDouble33(f.odometry_cov)));
-        mrpt::obs::CSensoryFrame sf;
-        if (f.scan) sf.insert(f.scan);
-        if (f.detections) sf.insert(f.detections);
-        slam.processFrame(sf);
-        probe(f.t);
-    }
-}
-
-const hymm::sim::WorldObject& object(const hymm::sim::World& w, const std::string& name)
-{
-    for (const auto& o : w.objects())
-        if (o.name == name) return o;
-    throw std::invalid_argument("no object " + name);
 }
 
 size_t countNear(const std::vector<Vec2>& pts, const Polygon& outline, double grow)

@@ -7,6 +7,8 @@
 //  - the property layer (Sec. 4.5) recovers each object's simulated surface property
 //    from the laser intensities, with a standard deviation that is honest and shrinks
 //    with more observations.
+#include "sim_feed.h"
+
 #include <gtest/gtest.h>
 #include <hymm/dense/ScalarField.h>
 #include <hymm/dense/outline_metrics.h>
@@ -28,6 +30,8 @@
 namespace
 {
 using hymm::denseslam::DenseSlam;
+using hymm::denseslam::testing::object;
+using hymm::denseslam::testing::run;
 using hymm::sim::Polygon;
 using hymm::sim::Vec2;
 
@@ -74,32 +78,6 @@ DenseSlam makeSlam(const std::string& layers)
 {
     mrpt::config::CConfigFileMemory cfg(slamConfig(layers));
     return DenseSlam::fromConfig(cfg);
-}
-
-/** Feeds every simulated frame to `slam` as a rawlog would (odometry action, then the
- *  sensory frame); calls `probe(t)` after each frame. */
-void run(const hymm::sim::Scenario& s, DenseSlam& slam, const std::function<void(double)>& probe)
-{
-    hymm::sim::Simulator sim(s);
-    hymm::sim::SimFrame f;
-    while (sim.next(f))
-    {
-        slam.processOdometry(mrpt::poses::CPosePDFGaussian(
-            mrpt::poses::CPose2D(f.odometry_mean[0], f.odometry_mean[1], f.odometry_mean[2]),
-            mrpt::math::CMatrixDouble33(f.odometry_cov)));
-        mrpt::obs::CSensoryFrame sf;
-        if (f.scan) sf.insert(f.scan);
-        if (f.detections) sf.insert(f.detections);
-        slam.processFrame(sf);
-        probe(f.t);
-    }
-}
-
-const hymm::sim::WorldObject& object(const hymm::sim::World& w, const std::string& name)
-{
-    for (const auto& o : w.objects())
-        if (o.name == name) return o;
-    throw std::invalid_argument("no object " + name);
 }
 
 /** Heavy particles (w > 0.8) and raw returns of the map at the current estimates. */
