@@ -417,6 +417,8 @@ void DenseSlam::processDense(const mrpt::obs::CSensoryFrame& frame, double t, bo
             stats_.returns_stored += st.returns_stored;
             stats_.returns_outside += st.returns_outside;
             stats_.returns_withheld += st.returns_withheld;
+            stats_.no_return_beams += st.no_return;
+            stats_.failed_readings += pts.skipped;
             ++stats_.dense_scans;
             if (virtual_options_.enabled) createVirtualLandmarks(st.unassigned, t);
             if (store_ && !st.unassigned.empty())

@@ -476,6 +476,8 @@ void writeDenseMetrics(eval::MetricsJson& j, const DenseSlam& slam,
         dj.set("returns_stored", static_cast<unsigned long>(st.returns_stored));
         dj.set("returns_outside", static_cast<unsigned long>(st.returns_outside));
         dj.set("returns_withheld", static_cast<unsigned long>(st.returns_withheld));
+        dj.set("no_return_beams", static_cast<unsigned long>(st.no_return_beams));
+        dj.set("failed_readings", static_cast<unsigned long>(st.failed_readings));
         if (slam.delayedStore())
         {
             auto& sj = dj.object("delayed_store");
@@ -823,7 +825,9 @@ void writeSummary(const DenseSlam& slam, double run_seconds, size_t entries, con
         f << "regions (LTR)        " << p->size() << " (created " << s.regions_created << ", removed "
           << s.regions_removed << ", partition updates " << s.partition_updates << ")\n"
           << "dense scans          " << s.dense_scans << " (returns stored " << s.returns_stored
-          << ", outside regions " << s.returns_outside << ", withheld " << s.returns_withheld << ")\n"
+          << ", outside regions " << s.returns_outside << ", withheld " << s.returns_withheld
+          << "; no-return beams as free space " << s.no_return_beams << ", failed readings "
+          << s.failed_readings << ")\n"
           << "virtual landmarks    " << slam.virtualLandmarkIds().size() << " (created "
           << s.virtual_landmarks << ", apexes rejected " << s.virtual_rejected << ")\n";
     if (const auto* store = slam.delayedStore())

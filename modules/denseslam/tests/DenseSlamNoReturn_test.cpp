@@ -129,6 +129,7 @@ struct MapSnapshot
 struct Outcome
 {
     MapSnapshot before, after;
+    DenseSlam::Stats stats;
 };
 
 Outcome simulate(const hymm::sim::Scenario& s, double t_change, double no_return_free_range_m)
@@ -142,6 +143,7 @@ Outcome simulate(const hymm::sim::Scenario& s, double t_change, double no_return
             if (t < t_change && t + s.laser.period_s >= t_change) out.before = MapSnapshot::of(slam);
         });
     out.after = MapSnapshot::of(slam);
+    out.stats = slam.stats();
     return out;
 }
 
@@ -172,6 +174,14 @@ TEST(DenseSlamNoReturn, NoReturnBeamsEmptyTheCarsOldPlaceSeenAgainstNothing)
               << off_occ_before << "/" << off_cells_before << " -> " << off_occ_after << "/"
               << off_cells_after << ", on " << on_occ_before << "/" << on_cells_before << " -> "
               << on_occ_after << "/" << on_cells_after << "\n";
+
+    // The pipeline counts the beams it used as free space; the simulated laser has no
+    // failed readings.
+    EXPECT_EQ(off.stats.no_return_beams, 0u);
+    EXPECT_GT(on.stats.no_return_beams, 1000u);
+    EXPECT_EQ(on.stats.failed_readings, 0u);
+    EXPECT_EQ(on.stats.returns_stored + on.stats.returns_outside,
+              off.stats.returns_stored + off.stats.returns_outside);
 
     // Before the move both maps hold the parked car.
     EXPECT_GT(off_before, 500u);

@@ -175,6 +175,8 @@ public:
         size_t returns_stored = 0;      //!< returns assigned to a region
         size_t returns_outside = 0;     //!< returns in no region (not stored)
         size_t returns_withheld = 0;    //!< returns in a region not fused (max_local_std_m)
+        size_t no_return_beams = 0;     //!< beams without return used as free space
+        size_t failed_readings = 0;     //!< scan readings marked valid but NaN, inf or <= 0
         size_t virtual_landmarks = 0;   //!< virtual landmarks created with their region
         size_t virtual_rejected = 0;    //!< virtual apexes whose region failed a condition
         size_t delayed_stored = 0;      //!< returns kept by the delayed-initialisation store
