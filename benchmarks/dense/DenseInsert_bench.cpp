@@ -160,6 +160,24 @@ std::vector<ScanPoints> noisyRoomScans()
     return scans;
 }
 
+/** Warms `map` up, then times one insertScan per iteration, cycling through `scans`;
+ *  returns the statistics of the last timed scan. */
+HybridMetricMap::InsertStats timeInserts(benchmark::State& state, HybridMetricMap& map,
+                                         const std::vector<ScanPoints>& scans,
+                                         const mrpt::math::TPose2D& pose, const World& w)
+{
+    for (int i = 0; i < kWarmUpScans; ++i)
+        map.insertScan(scans[i % kScanVariants], pose, *w.partition);
+    HybridMetricMap::InsertStats st;
+    size_t i = 0;
+    for (auto _ : state)
+    {
+        st = map.insertScan(scans[i++ % kScanVariants], pose, *w.partition);
+        benchmark::DoNotOptimize(st.returns_stored);
+    }
+    return st;
+}
+
 /** Args: layer (index into kLayerNames), number of regions. */
 void BM_InsertScanLayer(benchmark::State& state)
 {
@@ -171,15 +189,7 @@ void BM_InsertScanLayer(benchmark::State& state)
     HybridMetricMap map(layerOptions(layer));
     const std::vector<ScanPoints> scans = noisyRoomScans();
     const mrpt::math::TPose2D pose{vehicle.x(), vehicle.y(), 0.0};
-    for (int i = 0; i < kWarmUpScans; ++i)
-        map.insertScan(scans[i % kScanVariants], pose, *w.partition);
-    HybridMetricMap::InsertStats st;
-    size_t i = 0;
-    for (auto _ : state)
-    {
-        st = map.insertScan(scans[i++ % kScanVariants], pose, *w.partition);
-        benchmark::DoNotOptimize(st.returns_stored);
-    }
+    const HybridMetricMap::InsertStats st = timeInserts(state, map, scans, pose, w);
     if (st.returns_stored != static_cast<size_t>(kBeams) || st.regions_visited != kLocalRegions)
         state.SkipWithError("the scan does not meet exactly the local regions, holding it all");
     state.SetLabel(kLayerNames.at(layer));
@@ -246,15 +256,7 @@ void BM_InsertScanNoReturn(benchmark::State& state)
     HybridMetricMap map(o);
     const std::vector<ScanPoints> scans = doorwayScans();
     const mrpt::math::TPose2D pose{vehicle.x(), vehicle.y(), 0.0};
-    for (int i = 0; i < kWarmUpScans; ++i)
-        map.insertScan(scans[i % kScanVariants], pose, *w.partition);
-    HybridMetricMap::InsertStats st;
-    size_t i = 0;
-    for (auto _ : state)
-    {
-        st = map.insertScan(scans[i++ % kScanVariants], pose, *w.partition);
-        benchmark::DoNotOptimize(st.returns_stored);
-    }
+    const HybridMetricMap::InsertStats st = timeInserts(state, map, scans, pose, w);
     const size_t no_return = scans[0].no_return_bearings.size();
     if (st.returns_stored != kBeams - no_return || st.no_return != (no_return_on ? no_return : 0))
         state.SkipWithError("the scan does not hold the expected returns / no-return beams");

@@ -43,37 +43,12 @@ const std::string kScenario =
 // The map reaches 25 m (the laser 40 m): no-return beams are free space up to 25 m.
 constexpr double kMapRange = 25.0;
 
-// As DenseSlam_dynamic_test.cpp (configs/ch3_slam.ini with the detector's landmark ids),
-// with the no-return free range under test.
+// As DenseSlam_dynamic_test.cpp, with the no-return free range under test.
 std::string slamConfig(double no_return_free_range_m)
 {
-    return R"(
-[DenseSlam]
-landmark_source = bearing_range
-use_landmark_ids = true
-dense_layers = occupancy,particles
-[EkfSlam]
-association_method = nn
-association_gate_prob = 0.99
-creation_gate_prob = 0.9999
-[LtrPartition]
-min_vertex_correlation = 0.5
-min_vehicle_correlation = 0
-correlation_measure = min_canonical
-ellipse_sigma = 3
-min_area_m2 = 1
-min_angle_deg = 10
-max_edge_length_m = 80
-search_radius_m = 60
-[VirtualLandmarks]
-enabled = true
-min_vehicle_correlation = 0.5
-max_depth_m = 20
-[HybridMetricMap]
-max_range_m = )" + std::to_string(kMapRange) +
-           R"(
-no_return_free_range_m = )" + std::to_string(no_return_free_range_m) +
-           "\n";
+    return hymm::denseslam::testing::dynamicSceneConfig(
+        "occupancy,particles", kMapRange,
+        "no_return_free_range_m = " + std::to_string(no_return_free_range_m) + "\n");
 }
 
 size_t countNear(const std::vector<Vec2>& pts, const Polygon& outline, double grow)

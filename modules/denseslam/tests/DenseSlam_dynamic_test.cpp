@@ -38,40 +38,14 @@ using hymm::sim::Vec2;
 const std::string kScenario =
     std::string(HYMM_SOURCE_DIR) + "/configs/sim/ch6_dynamic_slow_short.ini";
 
-// configs/ch3_slam.ini with the landmark ids the detector reports, and the map limited
-// to 25 m (the laser reaches 40 m: farther returns are free space only).
+// The map is limited to 25 m (the laser reaches 40 m: farther returns are free space only).
 std::string slamConfig(const std::string& layers)
 {
-    return R"(
-[DenseSlam]
-landmark_source = bearing_range
-use_landmark_ids = true
-dense_layers = )" +
-           layers + R"(
-[EkfSlam]
-association_method = nn
-association_gate_prob = 0.99
-creation_gate_prob = 0.9999
-[LtrPartition]
-min_vertex_correlation = 0.5
-min_vehicle_correlation = 0
-correlation_measure = min_canonical
-ellipse_sigma = 3
-min_area_m2 = 1
-min_angle_deg = 10
-max_edge_length_m = 80
-search_radius_m = 60
-[VirtualLandmarks]
-enabled = true
-min_vehicle_correlation = 0.5
-max_depth_m = 20
-[HybridMetricMap]
-max_range_m = 25
-[PropertyLayer]
+    return hymm::denseslam::testing::dynamicSceneConfig(layers, 25.0, R"([PropertyLayer]
 cell_size_m = 0.2
 ; the simulated intensity noise (std_intensity in the scenario)
 default_value_std = 4
-)";
+)");
 }
 
 DenseSlam makeSlam(const std::string& layers)
