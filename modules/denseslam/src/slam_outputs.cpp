@@ -90,6 +90,7 @@ std::vector<dense::Polygon> transformed(const std::vector<dense::Polygon>& in, c
 struct LandmarkPairs
 {
     std::vector<Eigen::Vector2d> est, truth;
+    std::vector<long> ids;  //!< filter ids of `est`
 };
 LandmarkPairs nearestPairs(const DenseSlam& slam, const std::vector<TrueTrunk>& truth, double gate)
 {
@@ -103,8 +104,28 @@ LandmarkPairs nearestPairs(const DenseSlam& slam, const std::vector<TrueTrunk>& 
         if (!best) continue;
         out.est.push_back(e.position);
         out.truth.push_back(best->centre);
+        out.ids.push_back(e.id);
     }
     return out;
+}
+
+/** The filter's own 1-sigma of the rotation fitted onto the true landmarks: J P J^T with
+ *  P the joint covariance of the paired estimates (their cross-covariances included,
+ *  which dominate: the common rotation is what the landmarks share). NaN if undefined. */
+double alignmentRotationStd(const DenseSlam& slam, const LandmarkPairs& pairs)
+{
+    const auto J = eval::alignSE2RotationJacobian(pairs.est, pairs.truth);
+    if (!J) return std::numeric_limits<double>::quiet_NaN();
+    const auto& ekf = slam.ekf();
+    std::vector<size_t> offsets;
+    offsets.reserve(pairs.ids.size());
+    for (long id : pairs.ids) offsets.push_back(ekf.landmarkBlock(id).offset);
+    double var = 0;
+    for (size_t a = 0; a < offsets.size(); ++a)
+        for (size_t b = 0; b < offsets.size(); ++b)
+            var += J->segment<2>(2 * a) * ekf.cov().block<2, 2>(offsets[a], offsets[b]) *
+                   J->segment<2>(2 * b).transpose();
+    return var >= 0 ? std::sqrt(var) : std::numeric_limits<double>::quiet_NaN();
 }
 
 // Occupancy layer rendered at its own cell size.
@@ -520,6 +541,15 @@ void writeDenseMetrics(eval::MetricsJson& j, const DenseSlam& slam,
         aj.set("x", t->x);
         aj.set("y", t->y);
         aj.set("phi_deg", t->phi * 180.0 / M_PI);
+        // How unlikely the common rotation is by the filter's own account: |phi| / sigma is
+        // ~N(0,1) over runs when the rotation is the information limit of the start, not
+        // a defect (docs/results.md).
+        const double phi_std = alignmentRotationStd(slam, pairs);
+        if (std::isfinite(phi_std))
+        {
+            aj.set("phi_std_deg", phi_std * 180.0 / M_PI);
+            if (phi_std > 0) aj.set("phi_normalised", t->phi / phi_std);
+        }
         aj.set("landmark_mean_error_m", before / static_cast<double>(pairs.est.size()));
         aj.set("landmark_mean_error_aligned_m", after / static_cast<double>(pairs.est.size()));
     }

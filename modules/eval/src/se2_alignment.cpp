@@ -61,4 +61,34 @@ std::optional<Se2Transform> alignSE2(
     return T;
 }
 
+std::optional<Eigen::RowVectorXd> alignSE2RotationJacobian(
+    const std::vector<Eigen::Vector2d>& source, const std::vector<Eigen::Vector2d>& target)
+{
+    if (!alignSE2(source, target)) return std::nullopt;
+    const size_t n = source.size();
+    Eigen::Vector2d ms = Eigen::Vector2d::Zero(), md = Eigen::Vector2d::Zero();
+    for (size_t i = 0; i < n; ++i) ms += source[i], md += target[i];
+    ms /= static_cast<double>(n);
+    md /= static_cast<double>(n);
+    double dot = 0, cross = 0;
+    for (size_t i = 0; i < n; ++i)
+    {
+        const Eigen::Vector2d s = source[i] - ms, d = target[i] - md;
+        dot += s.dot(d);
+        cross += s.x() * d.y() - s.y() * d.x();
+    }
+    // phi = atan2(cross, dot). The centred targets sum to zero, so moving source point i
+    // changes cross by (d_y, -d_x) and dot by (d_x, d_y) per unit step, the shift of the
+    // source mean dropping out.
+    const double k = 1.0 / (dot * dot + cross * cross);
+    Eigen::RowVectorXd J(2 * n);
+    for (size_t i = 0; i < n; ++i)
+    {
+        const Eigen::Vector2d d = target[i] - md;
+        J(2 * i) = k * (dot * d.y() - cross * d.x());
+        J(2 * i + 1) = k * (-dot * d.x() - cross * d.y());
+    }
+    return J;
+}
+
 }  // namespace hymm::eval

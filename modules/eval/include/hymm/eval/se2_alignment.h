@@ -38,4 +38,14 @@ struct Se2Transform
 std::optional<Se2Transform> alignSE2(
     const std::vector<Eigen::Vector2d>& source, const std::vector<Eigen::Vector2d>& target);
 
+/**
+ * Jacobian of alignSE2's rotation with respect to the source points, the targets held
+ * fixed: a 1 x 2n row (x_0, y_0, x_1, y_1, ...). With the source's joint covariance P,
+ * J P J^T is the variance of the fitted rotation, i.e. how far the rigid orientation of
+ * an estimated point map may be off by its own uncertainty. Same std::nullopt cases as
+ * alignSE2.
+ */
+std::optional<Eigen::RowVectorXd> alignSE2RotationJacobian(
+    const std::vector<Eigen::Vector2d>& source, const std::vector<Eigen::Vector2d>& target);
+
 }  // namespace hymm::eval
