@@ -3,7 +3,8 @@
 // configs/datasets/, hymm-slam's library class runs on it with the config of configs/,
 // and the errors against the ground truth are printed and checked (docs/results.md
 // reports the printed numbers). With $HYMM_REALDATA_FIGURES set to a folder, the map
-// figures of docs/figures/ are written there.
+// figures docs/results.md names are written there (they draw the datasets' ground
+// truth, so they stay out of the repository).
 #include <gtest/gtest.h>
 #include <hymm/core/trajectory_io.h>
 #include <hymm/datasets/import_dataset.h>
