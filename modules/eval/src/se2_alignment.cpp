@@ -2,6 +2,7 @@
 
 #include <mrpt/math/wrap2pi.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace hymm::eval
@@ -30,32 +31,50 @@ Se2Transform Se2Transform::inverse() const
     return Se2Transform{t.x(), t.y(), mrpt::math::wrapToPi(-phi)};
 }
 
-std::optional<Se2Transform> alignSE2(
-    const std::vector<Eigen::Vector2d>& source, const std::vector<Eigen::Vector2d>& target)
+namespace
+{
+/** Centroids and the centred sums sum s' . d' and sum s' x d' that fix the rotation. */
+struct CentredSums
+{
+    Eigen::Vector2d source_mean, target_mean;
+    double dot = 0, cross = 0;
+};
+
+std::optional<CentredSums> centredSums(const std::vector<Eigen::Vector2d>& source,
+                                       const std::vector<Eigen::Vector2d>& target)
 {
     const size_t n = source.size();
     if (n < 2 || target.size() != n) return std::nullopt;
-    Eigen::Vector2d ms = Eigen::Vector2d::Zero(), md = Eigen::Vector2d::Zero();
-    for (size_t i = 0; i < n; ++i) ms += source[i], md += target[i];
-    ms /= static_cast<double>(n);
-    md /= static_cast<double>(n);
+    CentredSums c;
+    c.source_mean = c.target_mean = Eigen::Vector2d::Zero();
+    for (size_t i = 0; i < n; ++i) c.source_mean += source[i], c.target_mean += target[i];
+    c.source_mean /= static_cast<double>(n);
+    c.target_mean /= static_cast<double>(n);
 
-    double dot = 0, cross = 0, spread = 0, scale = 0;
+    double spread = 0, scale = 0;
     for (size_t i = 0; i < n; ++i)
     {
-        const Eigen::Vector2d s = source[i] - ms, d = target[i] - md;
-        dot += s.dot(d);
-        cross += s.x() * d.y() - s.y() * d.x();
+        const Eigen::Vector2d s = source[i] - c.source_mean, d = target[i] - c.target_mean;
+        c.dot += s.dot(d);
+        c.cross += s.x() * d.y() - s.y() * d.x();
         spread += s.squaredNorm();
         scale += source[i].squaredNorm();
     }
     // All source points coincide: any rotation fits equally well.
     if (!(spread > 1e-20 * std::max(scale, 1.0))) return std::nullopt;
-    if (dot == 0 && cross == 0) return std::nullopt;
+    if (c.dot == 0 && c.cross == 0) return std::nullopt;
+    return c;
+}
+}  // namespace
 
+std::optional<Se2Transform> alignSE2(
+    const std::vector<Eigen::Vector2d>& source, const std::vector<Eigen::Vector2d>& target)
+{
+    const auto c = centredSums(source, target);
+    if (!c) return std::nullopt;
     Se2Transform T;
-    T.phi = std::atan2(cross, dot);
-    const Eigen::Vector2d t = md - T.rotation() * ms;
+    T.phi = std::atan2(c->cross, c->dot);
+    const Eigen::Vector2d t = c->target_mean - T.rotation() * c->source_mean;
     T.x = t.x();
     T.y = t.y();
     return T;
@@ -64,29 +83,18 @@ std::optional<Se2Transform> alignSE2(
 std::optional<Eigen::RowVectorXd> alignSE2RotationJacobian(
     const std::vector<Eigen::Vector2d>& source, const std::vector<Eigen::Vector2d>& target)
 {
-    if (!alignSE2(source, target)) return std::nullopt;
-    const size_t n = source.size();
-    Eigen::Vector2d ms = Eigen::Vector2d::Zero(), md = Eigen::Vector2d::Zero();
-    for (size_t i = 0; i < n; ++i) ms += source[i], md += target[i];
-    ms /= static_cast<double>(n);
-    md /= static_cast<double>(n);
-    double dot = 0, cross = 0;
-    for (size_t i = 0; i < n; ++i)
-    {
-        const Eigen::Vector2d s = source[i] - ms, d = target[i] - md;
-        dot += s.dot(d);
-        cross += s.x() * d.y() - s.y() * d.x();
-    }
+    const auto c = centredSums(source, target);
+    if (!c) return std::nullopt;
     // phi = atan2(cross, dot). The centred targets sum to zero, so moving source point i
     // changes cross by (d_y, -d_x) and dot by (d_x, d_y) per unit step, the shift of the
     // source mean dropping out.
-    const double k = 1.0 / (dot * dot + cross * cross);
-    Eigen::RowVectorXd J(2 * n);
-    for (size_t i = 0; i < n; ++i)
+    const double k = 1.0 / (c->dot * c->dot + c->cross * c->cross);
+    Eigen::RowVectorXd J(2 * source.size());
+    for (size_t i = 0; i < source.size(); ++i)
     {
-        const Eigen::Vector2d d = target[i] - md;
-        J(2 * i) = k * (dot * d.y() - cross * d.x());
-        J(2 * i + 1) = k * (-dot * d.x() - cross * d.y());
+        const Eigen::Vector2d d = target[i] - c->target_mean;
+        J(2 * i) = k * (c->dot * d.y() - c->cross * d.x());
+        J(2 * i + 1) = k * (-c->dot * d.x() - c->cross * d.y());
     }
     return J;
 }

@@ -58,7 +58,6 @@ TEST(Se2AlignmentTest, DegenerateInputHasNoAlignment)
     EXPECT_FALSE(alignSE2({{1, 1}, {2, 1}}, {{2, 2}}).has_value());
 }
 
-}  // namespace
 
 TEST(Se2AlignmentTest, RotationJacobianMatchesNumericDifferentiation)
 {
@@ -109,3 +108,5 @@ TEST(Se2AlignmentTest, RotationVarianceMatchesMonteCarlo)
     }
     EXPECT_NEAR(sum2 / draws / predicted, 1.0, 0.08);
 }
+
+}  // namespace
