@@ -45,6 +45,8 @@ int main(int argc, char** argv)
         TCLAP::ValueArg<std::string> rawlog("r", "rawlog", "rawlog (action/observation format)", true, "",
                                             "FILE", cmd);
         TCLAP::ValueArg<std::string> out("o", "out", "output directory", true, "", "DIR", cmd);
+        TCLAP::SwitchArg first("", "first-frame",
+                               "also process a leading sensory frame (kf-slam skips it; hymm-slam does not)", cmd);
         if (const auto code = hymm::core::parseCommandLine(cmd, argc, argv)) return *code;
 
         if (!mrpt::system::fileExists(ini.getValue())) throw std::runtime_error("no such file: " + ini.getValue());
@@ -66,13 +68,25 @@ int main(int argc, char** argv)
         timing << "step,landmarks,observations,seconds\n" << std::setprecision(9);
         // kf-slam starts at the origin; readActionObservationPair skips a leading frame
         // (simul-landmarks writes the frame at the start pose first), so row 0 is that pose.
-        writeTumRow(path, 0, 0, 0, 0);
-
+        // With --first-frame that frame is processed too, with an empty action (the filter
+        // skips the prediction while its map is empty), as hymm-slam does.
         mrpt::obs::CActionCollection::Ptr action;
         mrpt::obs::CSensoryFrame::Ptr frame;
+        mrpt::poses::CPosePDFGaussian pose;
         size_t entry = 0, step = 0;
         double total = 0;
-        mrpt::poses::CPosePDFGaussian pose;
+        if (first.getValue())
+        {
+            mrpt::serialization::CSerializable::Ptr obj;
+            arch >> obj;
+            frame = std::dynamic_pointer_cast<mrpt::obs::CSensoryFrame>(obj);
+            if (!frame) throw std::runtime_error("--first-frame: the rawlog does not start with a sensory frame");
+            action = std::make_shared<mrpt::obs::CActionCollection>();
+            slam.processActionObservation(action, frame);
+        }
+        slam.getCurrentRobotPose(pose);
+        writeTumRow(path, 0, pose.mean.x(), pose.mean.y(), pose.mean.phi());
+
         while (mrpt::obs::CRawlog::readActionObservationPair(arch, action, frame, entry))
         {
             const auto t0 = std::chrono::steady_clock::now();

@@ -10,6 +10,8 @@ three runs on it:
              (odometry used, sensor model 0.03 m / 0.1 deg whatever the truth is);
   kf-true    the same with the true sensor noise of the regime (odometry used, with the
              covariance the rawlog carries, which simul-landmarks sets to the true noise);
+  kf-true-ff kf-true that also processes the rawlog's first frame (taken at the start
+             pose), which kf-slam's reader skips and hymm-slam uses: the same data for both;
   hymm       hymm-slam with configs/simul_landmarks.ini (noise figures from the rawlog).
 Both filters are scored by hymm-eval (path RMSE over every step, landmark mean error by
 ID, landmark NEES with the marginal covariances; no alignment) and hymm-slam's vehicle
@@ -41,7 +43,6 @@ REGIMES = [
     ("odo 0.005", dict(odo=0.005)),
     ("odo 0.05", dict(odo=0.05)),
     ("odo 0.05 + heading 1 deg", dict(odo=0.05, odo_phi_deg=1.0)),
-    ("odo 0.02 + heading 0.5 deg", dict(odo_phi_deg=0.5)),
     ("range 3 m", dict(range=3.0)),
     ("range 10 m", dict(range=10.0)),
     ("range noise 0.01", dict(std_range=0.01)),
@@ -50,8 +51,6 @@ REGIMES = [
     ("bearing 1 deg", dict(std_yaw_deg=1.0)),
     ("100 landmarks", dict(lms=100)),
     ("1000 landmarks, range 3 m", dict(lms=1000, range=3.0)),
-    ("issue case: 1000 lm, 5 m, 0.05 m / 0.5 deg, odo 0.05", dict(lms=1000, odo=0.05, std_range=0.05,
-                                                                 std_yaw_deg=0.5)),
 ]
 
 
@@ -146,11 +145,12 @@ def job(kind, case_dir, bin_dir, p, hymm_ini):
     if kind.startswith("kf-"):
         ini = os.path.join(d, "kf.ini")
         with open(ini, "w") as f:
-            if kind == "kf-true":
+            if kind in ("kf-true", "kf-true-ff"):
                 f.write(kf_ini(d, p["std_range"], p["std_yaw_deg"]))
             else:
                 f.write(kf_ini(d))
-        wall = run([os.path.join(bin_dir, "hymm-kfslam-run"), "-c", ini, "-r", rawlog, "-o", d], d,
+        first = ["--first-frame"] if kind == "kf-true-ff" else []
+        wall = run([os.path.join(bin_dir, "hymm-kfslam-run")] + first + ["-c", ini, "-r", rawlog, "-o", d], d,
                    os.path.join(d, "run.log"))
         times, nlm = read_timing(os.path.join(d, "timing.csv"), 3)
         r = evaluate(bin_dir, d, os.path.join(d, "path.tum"), os.path.join(d, "landmarks.csv"))
@@ -200,10 +200,12 @@ def main():
     t_start = time.monotonic()
 
     results = {}  # (regime, seed) -> {kind: metrics}
+    kinds = ("kf-sample", "kf-true", "kf-true-ff", "hymm")
+    done = []
     with cf.ThreadPoolExecutor(max_workers=a.jobs) as pool:
-        futures = {}
         for ri, (name, over) in enumerate(regimes):
             p = regime_params(over)
+            futures = {}
             for s in range(a.seeds):
                 seed = 1000 + 17 * s
                 case = os.path.join(a.work, f"r{ri:02d}_s{s}")
@@ -212,27 +214,31 @@ def main():
                 with open(os.path.join(case, "simul.ini"), "w") as f:
                     f.write(simul_ini(p, seed, a.steps))
                 run(["simul-landmarks", "simul.ini"], case, os.path.join(case, "simul.log"))
-                for kind in ("kf-sample", "kf-true", "hymm"):
-                    futures[pool.submit(job, kind, case, a.bin, p, a.config)] = (name, s)
-        for fut in cf.as_completed(futures):
-            name, s = futures[fut]
-            kind, r = fut.result()
-            results.setdefault((name, s), {})[kind] = r
-            print(f"{name} seed {s} {kind}: {r}", flush=True)
+                for kind in kinds:
+                    futures[pool.submit(job, kind, case, a.bin, p, a.config)] = s
+            for fut in cf.as_completed(futures):
+                s = futures[fut]
+                kind, r = fut.result()
+                results.setdefault((name, s), {})[kind] = r
+                print(f"{name} seed {s} {kind}: {r}", flush=True)
+            done.append((name, over))
+            write_table(a, done, results, time.monotonic() - t_start)
 
-    wall = time.monotonic() - t_start
+
+def write_table(a, regimes, results, wall):
     lines = [
         f"kf-slam filter (MRPT CRangeBearingKFSLAM2D) vs hymm-slam, {a.seeds} seeds, {a.steps} steps, "
         f"{time.strftime('%Y-%m-%d')}, sweep wall time {wall / 60:.1f} min on {os.cpu_count()} cores "
         f"({a.jobs} jobs)",
         "",
         "Errors in mm: mean over seeds (min-max). NEES: mean over seeds (vehicle: 3 DOF, expected 3; "
-        "landmarks: 2 DOF, expected 2). Step: median over seeds of the median of the last 10 steps.",
+        "landmarks: 2 DOF, expected 2). Step: median over seeds of the median of the last 10 steps; "
+        "whole run: median over seeds of the ratio of summed step times.",
         "",
-        "| regime | landmarks | path RMSE kf-sample | path RMSE kf-true | path RMSE hymm | lm err kf-sample | "
-        "lm err kf-true | lm err hymm | lm NEES kf-true | vehicle NEES hymm | lm NEES hymm | "
-        "step kf-true [ms] | step hymm [ms] | whole run kf-true / hymm |",
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
+        "| regime | landmarks | path RMSE kf-sample | path RMSE kf-true | path RMSE kf-true-ff | path RMSE hymm | "
+        "lm err kf-sample | lm err kf-true | lm err kf-true-ff | lm err hymm | lm NEES kf-true | "
+        "vehicle NEES hymm | lm NEES hymm | step kf-true [ms] | step hymm [ms] | whole run kf-true / hymm |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for name, over in regimes:
         p = regime_params(over)
@@ -243,8 +249,10 @@ def main():
         ratio = statistics.median([r["kf-true"]["total"] / r["hymm"]["total"] for r in rs])
         lines.append(
             f"| {desc} | {statistics.median(col('hymm', 'nlm')):.0f} | {fmt_mm(col('kf-sample', 'path_rmse'))} | "
-            f"{fmt_mm(col('kf-true', 'path_rmse'))} | {fmt_mm(col('hymm', 'path_rmse'))} | "
+            f"{fmt_mm(col('kf-true', 'path_rmse'))} | {fmt_mm(col('kf-true-ff', 'path_rmse'))} | "
+            f"{fmt_mm(col('hymm', 'path_rmse'))} | "
             f"{fmt_mm(col('kf-sample', 'lm_err'))} | {fmt_mm(col('kf-true', 'lm_err'))} | "
+            f"{fmt_mm(col('kf-true-ff', 'lm_err'))} | "
             f"{fmt_mm(col('hymm', 'lm_err'))} | {statistics.mean(col('kf-true', 'lm_nees')):.2f} | "
             f"{statistics.mean(col('hymm', 'veh_nees')):.2f} | {statistics.mean(col('hymm', 'lm_nees')):.2f} | "
             f"{fmt_ms(col('kf-true', 'step'))} | {fmt_ms(col('hymm', 'step'))} | {ratio:.0f}x |")
