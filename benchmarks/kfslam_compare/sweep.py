@@ -50,7 +50,7 @@ REGIMES = [
     ("bearing 0.1 deg", dict(std_yaw_deg=0.1)),
     ("bearing 1 deg", dict(std_yaw_deg=1.0)),
     ("100 landmarks", dict(lms=100)),
-    ("1000 landmarks, range 3 m", dict(lms=1000, range=3.0)),
+    ("1000 landmarks at 3 m", dict(lms=1000, range=3.0)),
 ]
 
 
