@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """hymm-slam against MRPT's kf-slam filter over simul-landmarks noise regimes.
 
-    nice -n 10 benchmarks/kfslam_compare/sweep.py [--work DIR] [--jobs 2] [--seeds 3]
-                                                   [--steps 130] [--only NAME,NAME]
+    nice -n 10 benchmarks/kfslam_compare/sweep.py [--work DIR] [--jobs 2] [--seeds 3] [--no-ff]
+                                                   [--steps 126] [--only NAME,NAME] [--table-only]
 
 For every regime and seed: simul-landmarks writes the rawlog (known landmark IDs), then
 three runs on it:
@@ -221,7 +221,7 @@ def main():
     ap.add_argument("--config", default=os.path.join(ROOT, "configs", "simul_landmarks.ini"))
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--seeds", type=int, default=3)
-    ap.add_argument("--steps", type=int, default=130)
+    ap.add_argument("--steps", type=int, default=126)
     ap.add_argument("--only", default="", help="comma-separated regime names (default: all)")
     ap.add_argument("--no-ff", action="store_true", help="skip the kf-true-ff runs")
     ap.add_argument("--table-only", action="store_true",
