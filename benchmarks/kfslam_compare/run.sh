@@ -5,6 +5,7 @@
 #   benchmarks/kfslam_compare/run.sh [WORK_DIR]
 #
 # Needs MRPT's apps: `scripts/setup --peers` installs them (mrpt-apps, mrpt-common).
+# Accuracy over noise regimes and seeds: sweep.py (same directory).
 # Cases: kf-slam_demo.rawlog (shipped with MRPT, 70 landmarks) and simul_large
 # (~1000 landmarks mapped, ~120 observations per step, generated here).
 # Both programs get known landmark IDs and the rawlog's own noise figures.
