@@ -231,7 +231,7 @@ DenseSlam::DenseSlam(const Options& opts, const ekf::EkfSlam::Options& ekf_opts,
                                                                  dense_opts.hybrid.occupancy);
 }
 
-void DenseSlam::processEntry(const RawlogEntry& entry)
+void DenseSlam::processEntry(const io::RawlogEntry& entry)
 {
     ++stats_.entries;
     if (entry.actions)

@@ -27,7 +27,7 @@
 
 #include <hymm/dense/ClassicOccupancyGrid.h>
 #include <hymm/dense/HybridMetricMap.h>
-#include <hymm/denseslam/RawlogReader.h>
+#include <hymm/io/RawlogReader.h>
 #include <hymm/ekf/EkfSlam.h>
 #include <hymm/extract/ReflectorExtractor.h>
 #include <hymm/extract/TreeExtractor.h>
@@ -201,7 +201,7 @@ public:
               const DenseOptions& dense_opts = {});
 
     /** Processes one rawlog entry (actions, sensory frame or single observation). */
-    void processEntry(const RawlogEntry& entry);
+    void processEntry(const io::RawlogEntry& entry);
 
     /** Applies an odometry increment (the action of an MRPT rawlog). */
     void processOdometry(const mrpt::poses::CPosePDFGaussian& increment);

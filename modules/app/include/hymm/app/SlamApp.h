@@ -27,8 +27,10 @@
 #include <iosfwd>
 #include <string>
 
-namespace hymm::denseslam
+namespace hymm::app
 {
+using denseslam::DenseSlam;
+
 class SlamApp
 {
 public:
@@ -61,4 +63,4 @@ private:
  *  Returns false when --help was asked for (usage already printed). */
 bool parseSlamArgs(int argc, char** argv, SlamApp::Args& args, std::ostream& out);
 
-}  // namespace hymm::denseslam
+}  // namespace hymm::app

@@ -1,19 +1,20 @@
-#include "hymm/denseslam/ConsistencyStudy.h"
+#include "hymm/app/ConsistencyStudy.h"
 
 #include <hymm/core/config_utils.h>
-#include <hymm/core/trajectory_io.h>
 #include <hymm/denseslam/DenseSlam.h>
-#include <hymm/denseslam/RawlogReader.h>
-#include <hymm/denseslam/slam_outputs.h>
+#include <hymm/app/slam_outputs.h>
 #include <hymm/eval/TrajectoryEvaluator.h>
 #include <hymm/eval/nees.h>
+#include <hymm/eval/run_metrics.h>
+#include <hymm/io/RawlogReader.h>
+#include <hymm/io/trajectory_io.h>
 #include <hymm/sim/run_scenario.h>
 
 #include <cmath>
 #include <filesystem>
 #include <stdexcept>
 
-namespace hymm::denseslam
+namespace hymm::app
 {
 namespace
 {
@@ -34,27 +35,22 @@ RunOutcome runOne(const sim::Scenario& scenario, const mrpt::config::CConfigFile
     const std::string base = dir + "/" + scenario.run.name;
 
     DenseSlam slam = DenseSlam::fromConfig(slam_cfg);
-    RawlogReader reader(base + ".rawlog");
-    RawlogEntry e;
+    io::RawlogReader reader(base + ".rawlog");
+    io::RawlogEntry e;
     while (reader.next(e)) slam.processEntry(e);
 
-    GroundTruth gt;
-    gt.path = core::readTum(base + "_gt_path.tum");
-    gt.landmarks = core::readLandmarksCsv(base + "_gt_landmarks.csv");
+    io::GroundTruth gt;
+    gt.path = io::readTum(base + "_gt_path.tum");
+    gt.landmarks = io::readLandmarksCsv(base + "_gt_landmarks.csv");
 
     RunOutcome out;
-    out.vehicle_nees = vehicleNeesSeries(slam, gt);
+    const std::vector<eval::EstimatedPose> path = estimatedPoses(slam);
+    out.vehicle_nees = eval::vehicleNeesSeries(path, gt);
 
     eval::TrajectoryEvaluator::Options to;
     to.association = eval::TrajectoryEvaluator::Association::Nearest;
     to.time_tolerance = 1e-3;
-    const auto traj = eval::TrajectoryEvaluator(to).evaluate(
-        [&] {
-            std::vector<core::StampedPose2D> p;
-            for (const auto& s : slam.path()) p.push_back({s.t, s.pose[0], s.pose[1], s.pose[2]});
-            return p;
-        }(),
-        gt.path);
+    const auto traj = eval::TrajectoryEvaluator(to).evaluate(eval::stampedPoses(path), gt.path);
     out.path_rmse = traj.position_rmse;
     out.final_error = traj.errors.empty() ? std::nan("") : traj.errors.back().position();
 
@@ -148,4 +144,4 @@ ConsistencyStudy::Result ConsistencyStudy::run() const
     return r;
 }
 
-}  // namespace hymm::denseslam
+}  // namespace hymm::app

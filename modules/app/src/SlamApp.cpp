@@ -1,9 +1,10 @@
-#include "hymm/denseslam/SlamApp.h"
+#include "hymm/app/SlamApp.h"
 
 #include <hymm/core/config_utils.h>
-#include <hymm/core/trajectory_io.h>
-#include <hymm/denseslam/MapPlot.h>
-#include <hymm/denseslam/slam_outputs.h>
+#include <hymm/io/RawlogReader.h>
+#include <hymm/io/ground_truth_io.h>
+#include <hymm/app/MapPlot.h>
+#include <hymm/app/slam_outputs.h>
 #include <vector>
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <mrpt/system/filesystem.h>
@@ -14,7 +15,7 @@
 #include <ostream>
 #include <stdexcept>
 
-namespace hymm::denseslam
+namespace hymm::app
 {
 SlamApp::SlamApp(Args args) : args_(std::move(args)) {}
 
@@ -33,17 +34,17 @@ void SlamApp::run(std::ostream& log)
     // Inputs first: a bad config or rawlog must fail before anything is written.
     const auto cfg = core::openConfigFile(args_.config);
     slam_ = std::make_unique<DenseSlam>(DenseSlam::fromConfig(*cfg));
-    RawlogReader reader(args_.rawlog);
-    std::optional<GroundTruth> gt;
+    io::RawlogReader reader(args_.rawlog);
+    std::optional<io::GroundTruth> gt;
     if (!args_.gt_path.empty() || !args_.gt_landmarks.empty() || !args_.gt_objects.empty())
-        gt = loadGroundTruth(args_.gt_path, args_.gt_landmarks);
+        gt = io::loadGroundTruth(args_.gt_path, args_.gt_landmarks);
     std::vector<dense::Polygon> outlines;
     if (!args_.gt_objects.empty()) outlines = loadObjectOutlines(args_.gt_objects);
 
     // Main loop: one rawlog entry at a time, throttled progress.
     const auto t0 = Clock::now();
     auto last_report = t0;
-    RawlogEntry entry;
+    io::RawlogEntry entry;
     std::vector<FrameTiming> timing;
     while (reader.next(entry))
     {
@@ -132,4 +133,4 @@ bool parseSlamArgs(int argc, char** argv, SlamApp::Args& a, std::ostream& out)
     return true;
 }
 
-}  // namespace hymm::denseslam
+}  // namespace hymm::app
