@@ -63,6 +63,11 @@ RunOutcome runOne(const sim::Scenario& scenario, const mrpt::config::CConfigFile
         if (m.has_nees && m.nees.ok()) out.landmark_nees[m.truth] = m.nees.value;
     return out;
 }
+
+void averageVehicleNees(const std::vector<RunOutcome>& runs, double confidence,
+                        ConsistencyStudy::Result& r);
+void averageLandmarkNees(const std::vector<RunOutcome>& runs, double confidence,
+                         ConsistencyStudy::Result& r);
 }  // namespace
 
 ConsistencyStudy::Result ConsistencyStudy::run() const
@@ -95,7 +100,17 @@ ConsistencyStudy::Result ConsistencyStudy::run() const
         r.landmark_mean_error.push_back(o.landmark_mean_error);
     }
 
-    // Vehicle: average over runs at each step (steps unmatched in any run are left out).
+    averageVehicleNees(runs, confidence, r);
+    averageLandmarkNees(runs, confidence, r);
+    return r;
+}
+
+namespace
+{
+// Vehicle: average over runs at each step (steps unmatched in any run are left out).
+void averageVehicleNees(const std::vector<RunOutcome>& runs, double confidence,
+                        ConsistencyStudy::Result& r)
+{
     const int N = static_cast<int>(r.runs);
     const auto vb = eval::averageNeesBounds(3, N, confidence);
     r.vehicle_band_lower = vb.lower;
@@ -119,9 +134,14 @@ ConsistencyStudy::Result ConsistencyStudy::run() const
     }
     r.vehicle_nees_mean = counted ? sum / counted : std::nan("");
     r.vehicle_fraction_inside = eval::fractionInsideBounds(r.vehicle_nees, vb);
+}
 
-    // Landmarks: each true landmark averaged over the runs that mapped it; the band is
-    // computed for the number of runs that contribute (most landmarks: all of them).
+// Landmarks: each true landmark averaged over the runs that mapped it; the band is
+// computed for the number of runs that contribute (most landmarks: all of them).
+void averageLandmarkNees(const std::vector<RunOutcome>& runs, double confidence,
+                         ConsistencyStudy::Result& r)
+{
+    const int N = static_cast<int>(r.runs);
     const size_t L = runs.front().landmark_nees.size();
     r.landmark_nees.assign(L, std::nan(""));
     size_t inside = 0, tested = 0;
@@ -141,7 +161,7 @@ ConsistencyStudy::Result ConsistencyStudy::run() const
         if (b.contains(r.landmark_nees[l])) ++inside;
     }
     r.landmark_fraction_inside = tested ? static_cast<double>(inside) / tested : std::nan("");
-    return r;
 }
+}  // namespace
 
 }  // namespace hymm::app

@@ -22,7 +22,9 @@
  */
 #pragma once
 
+#include <hymm/app/slam_outputs.h>
 #include <hymm/denseslam/DenseSlam.h>
+#include <hymm/io/ground_truth_io.h>
 
 #include <iosfwd>
 #include <string>
@@ -55,6 +57,11 @@ public:
     const DenseSlam& slam() const;
 
 private:
+    /** Everything after the rawlog: files, figures, metrics, summary, timing. */
+    void writeOutputs(const io::GroundTruth* gt, const std::vector<dense::Polygon>& outlines,
+                      const std::vector<FrameTiming>& timing, double run_s, size_t entries,
+                      std::ostream& log);
+
     Args args_;
     std::unique_ptr<DenseSlam> slam_;
 };
