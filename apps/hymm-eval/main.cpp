@@ -1,6 +1,7 @@
 // hymm-eval: scores a SLAM result (path in TUM format, landmark CSV) against ground
 // truth with the metrics hymm-slam reports, so any program's output can be compared.
-#include <hymm/denseslam/slam_outputs.h>
+#include <hymm/eval/run_metrics.h>
+#include <hymm/io/ground_truth_io.h>
 #include <hymm/core/command_line.h>
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <mrpt/core/exceptions.h>
@@ -22,8 +23,8 @@ int main(int argc, char** argv)
         TCLAP::ValueArg<std::string> out("o", "out", "write the JSON here instead of stdout", false,
                                          "", "FILE", cmd);
         if (const auto code = hymm::core::parseCommandLine(cmd, argc, argv)) return *code;
-        const auto gt = hymm::denseslam::loadGroundTruth(gtp.getValue(), gtl.getValue());
-        const auto j = hymm::denseslam::evaluateResultFiles(path.getValue(), lms.getValue(), gt);
+        const auto gt = hymm::io::loadGroundTruth(gtp.getValue(), gtl.getValue());
+        const auto j = hymm::eval::evaluateResultFiles(path.getValue(), lms.getValue(), gt);
         if (out.getValue().empty())
             std::cout << j.dump() << "\n";
         else

@@ -1,6 +1,6 @@
 // hymm-slam: EKF feature SLAM with dense layers on an MRPT rawlog.
-// All behaviour lives in hymm::denseslam::SlamApp; this only parses and reports.
-#include <hymm/denseslam/SlamApp.h>
+// All behaviour lives in hymm::app::SlamApp; this only parses and reports.
+#include <hymm/app/SlamApp.h>
 #include <mrpt/core/exceptions.h>
 
 #include <iostream>
@@ -9,9 +9,9 @@ int main(int argc, char** argv)
 {
     try
     {
-        hymm::denseslam::SlamApp::Args args;
-        if (!hymm::denseslam::parseSlamArgs(argc, argv, args, std::cout)) return 0;
-        hymm::denseslam::SlamApp app(args);
+        hymm::app::SlamApp::Args args;
+        if (!hymm::app::parseSlamArgs(argc, argv, args, std::cout)) return 0;
+        hymm::app::SlamApp app(args);
         app.run(std::cerr);
         return 0;
     }

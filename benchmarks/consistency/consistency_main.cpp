@@ -1,7 +1,7 @@
 // hymm-consistency: average-NEES consistency of the pipeline over N simulated runs.
 //   hymm-consistency --scenario configs/sim/ch2_landmarks.ini --slam configs/ch2_slam.ini
 //                    --runs 20 --work /tmp/consistency [--laps 1] [--out result.json]
-#include <hymm/denseslam/ConsistencyStudy.h>
+#include <hymm/app/ConsistencyStudy.h>
 #include <hymm/eval/MetricsJson.h>
 #include <hymm/core/command_line.h>
 #include <mrpt/3rdparty/tclap/CmdLine.h>
@@ -23,7 +23,7 @@ int main(int argc, char** argv)
         TCLAP::ValueArg<std::string> work("", "work", "folder for the runs", true, "", "DIR", cmd);
         TCLAP::ValueArg<std::string> out("", "out", "JSON result file", false, "", "FILE", cmd);
         if (const auto code = hymm::core::parseCommandLine(cmd, argc, argv)) return *code;
-        hymm::denseslam::ConsistencyStudy study;
+        hymm::app::ConsistencyStudy study;
         study.scenario_ini = sc.getValue();
         study.slam_ini = sl.getValue();
         study.laps = laps.getValue();

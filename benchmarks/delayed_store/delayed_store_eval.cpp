@@ -38,10 +38,10 @@
  * 2 if not; 1 on error.
  */
 #include <hymm/core/command_line.h>
-#include <hymm/core/trajectory_io.h>
+#include <hymm/io/trajectory_io.h>
 #include <hymm/dense/outline_metrics.h>
 #include <hymm/denseslam/DenseSlam.h>
-#include <hymm/denseslam/slam_outputs.h>
+#include <hymm/app/slam_outputs.h>
 #include <hymm/eval/LandmarkEvaluator.h>
 #include <hymm/eval/MetricsJson.h>
 #include <hymm/eval/laser_coverage.h>
@@ -84,8 +84,8 @@ constexpr double kDetectionGate = 2.0;          //!< [m] detection (at the true 
 /** Everything the runs are scored against. */
 struct Truth
 {
-    std::vector<hymm::core::StampedPose2D> path;
-    std::vector<hymm::core::LandmarkRecord> landmarks;
+    std::vector<hymm::io::StampedPose2D> path;
+    std::vector<hymm::io::LandmarkRecord> landmarks;
     std::vector<hymm::dense::Polygon> outlines;
     std::vector<std::string> names;              //!< per outline
     std::vector<hymm::dense::Polygon> surfaces;  //!< outlines + trunk circles
@@ -213,7 +213,7 @@ std::vector<Frame> simulate(const hymm::sim::Scenario& scenario, Truth& t)
         t.names.push_back(o.name);
     }
     t.surfaces = t.outlines;
-    for (const auto& tr : hymm::denseslam::trueTrunks(t.landmarks))
+    for (const auto& tr : hymm::app::trueTrunks(t.landmarks))
         t.surfaces.push_back(hymm::dense::circlePolygon(tr.centre, tr.radius, kTrunkSides));
     return frames;
 }
@@ -247,8 +247,8 @@ std::vector<V2> difference(const std::vector<V2>& a, const std::vector<V2>& b)
 std::map<long, V2> associatedTruth(const DenseSlam& slam, const Truth& truth)
 {
     hymm::eval::LandmarkEvaluator::Options o;
-    o.association = hymm::denseslam::landmarkAssociationFor(slam);
-    const auto est = hymm::denseslam::estimatedLandmarks(slam.ekf());
+    o.association = hymm::app::landmarkAssociationFor(slam);
+    const auto est = hymm::app::estimatedLandmarks(slam.ekf());
     std::map<long, V2> out;
     for (const auto& m : hymm::eval::LandmarkEvaluator(o).evaluate(est, truth.landmarks).matches)
         out[est[m.estimate].id] = V2(truth.landmarks[m.truth].x, truth.landmarks[m.truth].y);

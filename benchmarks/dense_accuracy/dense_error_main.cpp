@@ -16,8 +16,8 @@
  */
 #include <hymm/dense/outline_metrics.h>
 #include <hymm/denseslam/DenseSlam.h>
-#include <hymm/denseslam/RawlogReader.h>
-#include <hymm/denseslam/slam_outputs.h>
+#include <hymm/io/RawlogReader.h>
+#include <hymm/app/slam_outputs.h>
 #include <hymm/eval/LandmarkEvaluator.h>
 #include <hymm/core/config_utils.h>
 #include <mrpt/3rdparty/tclap/CmdLine.h>
@@ -51,20 +51,20 @@ int run(int argc, char** argv)
     const auto cfg = hymm::core::openConfigFile(config.getValue());
     auto slam = hymm::denseslam::DenseSlam::fromConfig(*cfg);
     if (!slam.options().dense_points) throw std::invalid_argument("the config must enable the points layer");
-    hymm::denseslam::RawlogReader reader(rawlog.getValue());
-    hymm::denseslam::RawlogEntry e;
+    hymm::io::RawlogReader reader(rawlog.getValue());
+    hymm::io::RawlogEntry e;
     while (reader.next(e)) slam.processEntry(e);
     slam.refreshRegions();
 
-    const auto gt = hymm::denseslam::loadGroundTruth("", gtl.getValue());
-    const auto outlines = hymm::denseslam::loadObjectOutlines(gto.getValue());
+    const auto gt = hymm::io::loadGroundTruth("", gtl.getValue());
+    const auto outlines = hymm::app::loadObjectOutlines(gto.getValue());
     std::vector<Polygon> surfaces = outlines;
-    for (const auto& t : hymm::denseslam::trueTrunks(gt.landmarks)) surfaces.push_back(hymm::dense::circlePolygon(t.centre, t.radius));
+    for (const auto& t : hymm::app::trueTrunks(gt.landmarks)) surfaces.push_back(hymm::dense::circlePolygon(t.centre, t.radius));
 
     // Estimated landmark -> true position (ids when the run used them, else nearest).
-    const auto est = hymm::denseslam::estimatedLandmarks(slam.ekf());
+    const auto est = hymm::app::estimatedLandmarks(slam.ekf());
     hymm::eval::LandmarkEvaluator::Options lo;
-    lo.association = hymm::denseslam::landmarkAssociationFor(slam);
+    lo.association = hymm::app::landmarkAssociationFor(slam);
     const auto lr = hymm::eval::LandmarkEvaluator(lo).evaluate(est, gt.landmarks);
     std::map<long, Eigen::Vector2d> truth;
     for (const auto& m : lr.matches)

@@ -1,7 +1,7 @@
 // Average-NEES consistency of simulator -> rawlog -> DenseSlam on the chapter-2 loop
 // (thesis Table 2.2), a short version of benchmarks/consistency.
 #include <gtest/gtest.h>
-#include <hymm/denseslam/ConsistencyStudy.h>
+#include <hymm/app/ConsistencyStudy.h>
 #include <mrpt/system/filesystem.h>
 
 #include <cmath>
@@ -11,7 +11,7 @@ namespace
 {
 TEST(ConsistencyTest, Chapter2LoopIsConsistentOverSeeds)
 {
-    hymm::denseslam::ConsistencyStudy study;
+    hymm::app::ConsistencyStudy study;
     study.scenario_ini = std::string(HYMM_SOURCE_DIR) + "/configs/sim/ch2_landmarks.ini";
     study.slam_ini = std::string(HYMM_SOURCE_DIR) + "/configs/ch2_slam.ini";
     study.seeds = {101, 102, 103, 104, 105, 106, 107, 108};
@@ -36,7 +36,7 @@ TEST(ConsistencyTest, Chapter2LoopIsConsistentOverSeeds)
 
 TEST(ConsistencyTest, MissingScenarioIsAClearError)
 {
-    hymm::denseslam::ConsistencyStudy study;
+    hymm::app::ConsistencyStudy study;
     study.scenario_ini = "/nonexistent/scenario.ini";
     study.slam_ini = std::string(HYMM_SOURCE_DIR) + "/configs/ch2_slam.ini";
     study.seeds = {1};

@@ -6,11 +6,11 @@
 // figures docs/results.md names are written there (they draw the datasets' ground
 // truth, so they stay out of the repository).
 #include <gtest/gtest.h>
-#include <hymm/core/trajectory_io.h>
+#include <hymm/io/trajectory_io.h>
 #include <hymm/datasets/import_dataset.h>
-#include <hymm/denseslam/MapPlot.h>
-#include <hymm/denseslam/SlamApp.h>
-#include <hymm/denseslam/slam_outputs.h>
+#include <hymm/app/MapPlot.h>
+#include <hymm/app/SlamApp.h>
+#include <hymm/app/slam_outputs.h>
 #include <hymm/eval/LandmarkEvaluator.h>
 #include <hymm/eval/TrajectoryEvaluator.h>
 #include <hymm/eval/nees.h>
@@ -36,9 +36,9 @@
 namespace
 {
 namespace fs = std::filesystem;
-using hymm::core::StampedPose2D;
+using hymm::io::StampedPose2D;
 using hymm::denseslam::DenseSlam;
-using hymm::denseslam::SlamApp;
+using hymm::app::SlamApp;
 using hymm::eval::LandmarkEvaluator;
 using hymm::eval::Se2Transform;
 using hymm::eval::TrajectoryEvaluator;
@@ -163,25 +163,25 @@ void printSummary(const std::string& name, const SlamRun& run)
 /** Figure in the ground-truth frame: the estimate moved by `T`, over the truth. */
 void writeFigure(const std::string& file, const DenseSlam& slam, const Se2Transform& T,
                  const std::vector<StampedPose2D>& true_path,
-                 const std::vector<hymm::core::LandmarkRecord>& true_landmarks)
+                 const std::vector<hymm::io::LandmarkRecord>& true_landmarks)
 {
-    hymm::denseslam::MapPlot plot;
+    hymm::app::MapPlot plot;
     for (const auto& s : slam.path()) plot.estimated_path.push_back(T.apply(s.pose.head<2>()));
     const Eigen::Matrix2d R = T.rotation();
     for (const auto& e : estimatedLandmarks(slam))
         plot.estimated_landmarks.push_back({T.apply(e.position), R * e.cov * R.transpose()});
     for (const auto& g : true_path) plot.true_path.emplace_back(g.x, g.y);
     for (const auto& l : true_landmarks) plot.true_landmarks.emplace_back(l.x, l.y);
-    for (const auto& p : hymm::denseslam::makeMapPlot(slam, nullptr).dense_points)
+    for (const auto& p : hymm::app::makeMapPlot(slam, nullptr).dense_points)
         plot.dense_points.push_back(T.apply(p));
     plot.max_side = 1000;
-    hymm::denseslam::writeMapPng(plot, file);
+    hymm::app::writeMapPng(plot, file);
     std::cout << "wrote " << file << "\n";
 }
 
 void maybeWriteFigure(const std::string& name, const DenseSlam& slam, const Se2Transform& T,
                       const std::vector<StampedPose2D>& true_path,
-                      const std::vector<hymm::core::LandmarkRecord>& true_landmarks)
+                      const std::vector<hymm::io::LandmarkRecord>& true_landmarks)
 {
     const std::string dir = env("HYMM_REALDATA_FIGURES");
     if (dir.empty()) return;
@@ -208,7 +208,7 @@ TEST(RealDataSlamTest, VictoriaParkTreesWithDataAssociation)
                              dir.file("slam"));
     printSummary("victoria_park", run);
     const auto path = estimatedPath(run.slam());
-    const auto gps = hymm::core::readTum(dir.file("data/victoria_park_gps.tum"));
+    const auto gps = hymm::io::readTum(dir.file("data/victoria_park_gps.tum"));
 
     // Start frame tied to the GPS frame on the first 100 m; drift afterwards shows.
     const auto start = againstGps(path, gps, 100.0);
@@ -272,7 +272,7 @@ MrclamResult runMrclam(const std::string& jacobians, bool figure)
 
     // The filter starts at the origin with zero covariance: its frame is the robot's first
     // pose, so the Vicon path is expressed in that frame (exact, no fitting).
-    const auto vicon = hymm::core::readTum(dir.file("data/mrclam_robot1_groundtruth.tum"));
+    const auto vicon = hymm::io::readTum(dir.file("data/mrclam_robot1_groundtruth.tum"));
     EXPECT_FALSE(vicon.empty());
     if (vicon.empty()) return {};
     const StampedPose2D origin = vicon.front();
@@ -334,7 +334,7 @@ MrclamResult runMrclam(const std::string& jacobians, bool figure)
     std::cout << "\n";
 
     // Landmarks in the Vicon frame, matched by id (the barcode subject number).
-    const auto true_lm = hymm::core::readLandmarksCsv(dir.file("data/mrclam_robot1_landmarks.csv"));
+    const auto true_lm = hymm::io::readLandmarksCsv(dir.file("data/mrclam_robot1_landmarks.csv"));
     const Se2Transform to_world{origin.x, origin.y, origin.phi};
     LandmarkEvaluator::Options lo;
     lo.association = LandmarkEvaluator::Association::Id;
@@ -386,8 +386,8 @@ TEST(RealDataSlamTest, CarParkBeaconsAgainstSurvey)
     ScratchDir dir("carpark");
     hymm::datasets::importDataset("carpark", {datasets() + "/acfr_carpark"}, dir.file("data"),
                                   sourceFile("configs/datasets/carpark.ini"));
-    const auto gps = hymm::core::readTum(dir.file("data/carpark_gps.tum"));
-    const auto beacons = hymm::core::readLandmarksCsv(dir.file("data/carpark_beacons.csv"));
+    const auto gps = hymm::io::readTum(dir.file("data/carpark_gps.tum"));
+    const auto beacons = hymm::io::readLandmarksCsv(dir.file("data/carpark_beacons.csv"));
     LandmarkEvaluator::Options lo;
     lo.association = LandmarkEvaluator::Association::Nearest;
     lo.gate = 3.0;

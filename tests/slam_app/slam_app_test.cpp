@@ -5,9 +5,9 @@
 // layer on (particles, SOG, property, coarsening), each layer's files load back with
 // MRPT and agree with the metrics and the truth.
 #include <gtest/gtest.h>
-#include <hymm/core/trajectory_io.h>
+#include <hymm/io/trajectory_io.h>
 #include <hymm/dense/outline_metrics.h>
-#include <hymm/denseslam/SlamApp.h>
+#include <hymm/app/SlamApp.h>
 #include <hymm/eval/TrajectoryEvaluator.h>
 #include <hymm/eval/se2_alignment.h>
 #include <hymm/sim/ground_truth_io.h>
@@ -35,7 +35,7 @@
 namespace
 {
 namespace fs = std::filesystem;
-using hymm::denseslam::SlamApp;
+using hymm::app::SlamApp;
 
 const std::string kSrc = HYMM_SOURCE_DIR;
 const std::string kRawlog = kSrc + "/rawlogs/ch3_objects.rawlog";
@@ -75,7 +75,7 @@ std::vector<hymm::dense::Polygon> trueOutlines()
 std::vector<hymm::dense::Polygon> trueSurfaces()
 {
     auto out = trueOutlines();
-    for (const auto& l : hymm::core::readLandmarksCsv(kGt + "landmarks.csv"))
+    for (const auto& l : hymm::io::readLandmarksCsv(kGt + "landmarks.csv"))
         out.push_back(hymm::dense::circlePolygon(Eigen::Vector2d(l.x, l.y), l.extra.empty() ? 0.0 : l.extra[0]));
     return out;
 }
@@ -83,7 +83,7 @@ std::vector<hymm::dense::Polygon> trueSurfaces()
 // Map points away from the true landmarks (their trunks are not object outlines).
 std::vector<Eigen::Vector2d> awayFromLandmarks(const std::vector<Eigen::Vector2d>& pts)
 {
-    const auto lms = hymm::core::readLandmarksCsv(kGt + "landmarks.csv");
+    const auto lms = hymm::io::readLandmarksCsv(kGt + "landmarks.csv");
     std::vector<Eigen::Vector2d> out;
     for (const auto& p : pts)
     {
@@ -161,7 +161,7 @@ TEST(SlamApp, Ch3ObjectsWritesAccurateFeatureAndDenseMaps)
     hymm::eval::TrajectoryEvaluator::Options to;
     to.association = hymm::eval::TrajectoryEvaluator::Association::Interpolate;
     const auto traj = hymm::eval::TrajectoryEvaluator(to).evaluate(
-        hymm::core::readTum(out + "/path.tum"), hymm::core::readTum(kGt + "path.tum"));
+        hymm::io::readTum(out + "/path.tum"), hymm::io::readTum(kGt + "path.tum"));
     EXPECT_EQ(traj.errors.size(), app.slam().path().size());
     EXPECT_LT(traj.position_rmse, kMaxPathRmse);
 
@@ -202,14 +202,14 @@ TEST(SlamApp, Ch3ObjectsWritesAccurateFeatureAndDenseMaps)
     // the paired landmarks (metrics.json pairs each estimate with the true landmark
     // within 3 m).
     const auto& ekf = app.slam().ekf();
-    const auto truth = hymm::core::readLandmarksCsv(kGt + "landmarks.csv");
+    const auto truth = hymm::io::readLandmarksCsv(kGt + "landmarks.csv");
     std::vector<Eigen::Vector2d> est, tru;
     std::vector<size_t> offsets;
     for (long id : ekf.landmarkIds())
     {
         if (ekf.landmarkBlock(id).dim != 2) continue;
         const Eigen::Vector2d e = ekf.landmarkMean(id);
-        const hymm::core::LandmarkRecord* best = nullptr;
+        const hymm::io::LandmarkRecord* best = nullptr;
         double best_d = 3.0;
         for (const auto& l : truth)
             if (const double d = (Eigen::Vector2d(l.x, l.y) - e).norm(); d <= best_d) best_d = d, best = &l;

@@ -176,7 +176,7 @@ ImportSummary CarParkImporter::run(const Inputs& in, const std::string& out_dir)
                gy = column(data, "GPSLat");
     requireRows(data, "GPSLon", gx.size(), tg.size());
     requireRows(data, "GPSLat", gy.size(), tg.size());
-    std::vector<hymm::core::StampedPose2D> gps_raw(tg.size());
+    std::vector<hymm::io::StampedPose2D> gps_raw(tg.size());
     for (size_t i = 0; i < tg.size(); ++i) gps_raw[i] = {tg[i], gx[i], gy[i], 0.0};
     const auto gps = filterGpsFixes(gps_raw, options_.gps, summary);
     writeTumWithComment(base + "_gps.tum", gps,
@@ -195,7 +195,7 @@ ImportSummary CarParkImporter::run(const Inputs& in, const std::string& out_dir)
         if (b.cols() != 2 && b.rows() == 2) b.transposeInPlace();
         if (b.cols() != 2)
             throw std::runtime_error("MAT file '" + in.beacons_mat + "': estbeac must be N x 2");
-        std::vector<hymm::core::LandmarkRecord> lms;
+        std::vector<hymm::io::LandmarkRecord> lms;
         for (Eigen::Index i = 0; i < b.rows(); ++i)
         {
             if (!std::isfinite(b(i, 0)) || !std::isfinite(b(i, 1)))
@@ -205,7 +205,7 @@ ImportSummary CarParkImporter::run(const Inputs& in, const std::string& out_dir)
             }
             lms.push_back({static_cast<long>(i + 1), b(i, 0), b(i, 1), {}});
         }
-        hymm::core::writeLandmarksCsv(
+        hymm::io::writeLandmarksCsv(
             base + "_beacons.csv", lms,
             "id,x,y (beacons surveyed with kinematic GPS, beac_juan3.mat estbeac; GPS frame)");
         summary.landmarks = lms.size();

@@ -168,12 +168,12 @@ std::vector<OdometryIntegrator::ControlSample> MrclamImporter::readOdometry(
                                         hymm::core::UteParams{}, summary);
 }
 
-std::vector<hymm::core::StampedPose2D> MrclamImporter::readGroundTruth(
+std::vector<hymm::io::StampedPose2D> MrclamImporter::readGroundTruth(
     const std::string& path, ImportSummary& summary) const
 {
     auto rows = readNumericTable(path, 4, &summary, "groundtruth_malformed_line");
     restoreUniformTimes(rows, options_.sample_period_s, summary, "groundtruth");
-    std::vector<hymm::core::StampedPose2D> gt;
+    std::vector<hymm::io::StampedPose2D> gt;
     gt.reserve(rows.size());
     for (const auto& r : rows)
     {
@@ -188,10 +188,10 @@ std::vector<hymm::core::StampedPose2D> MrclamImporter::readGroundTruth(
     return gt;
 }
 
-std::vector<hymm::core::LandmarkRecord> MrclamImporter::readLandmarks(const std::string& path,
+std::vector<hymm::io::LandmarkRecord> MrclamImporter::readLandmarks(const std::string& path,
                                                                       ImportSummary& summary)
 {
-    std::vector<hymm::core::LandmarkRecord> lms;
+    std::vector<hymm::io::LandmarkRecord> lms;
     for (const auto& r : readNumericTable(path, 5, &summary, "landmark_malformed_line"))
         lms.push_back({static_cast<long>(r[0]), r[1], r[2], {r[3], r[4]}});
     return lms;
@@ -291,7 +291,7 @@ ImportSummary MrclamImporter::run(const Inputs& in, const std::string& out_dir) 
     if (!in.groundtruth.empty())
     {
         const auto gt = readGroundTruth(in.groundtruth, summary);
-        hymm::core::writeTum(base + "_groundtruth.tum", gt);
+        hymm::io::writeTum(base + "_groundtruth.tum", gt);
         summary.ground_truth_poses = gt.size();
         summary.outputs.push_back(base + "_groundtruth.tum");
     }
@@ -300,7 +300,7 @@ ImportSummary MrclamImporter::run(const Inputs& in, const std::string& out_dir) 
     if (!in.landmarks.empty())
     {
         const auto lms = readLandmarks(in.landmarks, summary);
-        hymm::core::writeLandmarksCsv(base + "_landmarks.csv", lms,
+        hymm::io::writeLandmarksCsv(base + "_landmarks.csv", lms,
                                       "id,x,y,std_x,std_y (MRCLAM subject number; metres)");
         summary.landmarks = lms.size();
         summary.outputs.push_back(base + "_landmarks.csv");

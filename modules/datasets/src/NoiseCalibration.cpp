@@ -27,7 +27,7 @@ namespace hymm::datasets
 {
 namespace
 {
-using hymm::core::StampedPose2D;
+using hymm::io::StampedPose2D;
 
 constexpr double kMadToStd = 1.4826;       // MAD of a Gaussian = 0.6745 std
 constexpr double kChi2Dof3P95 = 7.814728;  // chi2 inverse CDF, 3 DOF, 0.95
@@ -541,7 +541,7 @@ OdometryCalibration calibrateOdometryNoise(
 
 MeasurementCalibration calibrateMeasurementNoise(
     const std::vector<LandmarkMeasurement>& measurements, const std::vector<StampedPose2D>& truth,
-    const std::vector<hymm::core::LandmarkRecord>& landmarks, const NoiseCalibrationOptions& options)
+    const std::vector<hymm::io::LandmarkRecord>& landmarks, const NoiseCalibrationOptions& options)
 {
     const Track track(truth, options);
     std::map<long, Eigen::Vector2d> lm;

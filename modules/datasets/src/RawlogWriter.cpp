@@ -1,6 +1,6 @@
 #include "hymm/datasets/RawlogWriter.h"
 
-#include <hymm/core/OdometryRawlogWriter.h>
+#include <hymm/io/OdometryRawlogWriter.h>
 
 #include <algorithm>
 #include <stdexcept>
@@ -17,7 +17,7 @@ void writeOdometryRawlog(const std::string& path, const OdometryIntegrator& odom
     if (!std::is_sorted(observations.begin(), observations.end(), earlier))
         throw std::invalid_argument("writeOdometryRawlog: observations not sorted by time");
 
-    core::OdometryRawlogWriter writer(path);
+    io::OdometryRawlogWriter writer(path);
     double t_prev = 0;
     for (size_t k = 0; k < observations.size(); ++k)
     {

@@ -100,13 +100,13 @@ std::vector<OdometryIntegrator::ControlSample> VictoriaParkImporter::readDeadRec
     return out;
 }
 
-std::vector<hymm::core::StampedPose2D> VictoriaParkImporter::readGps(const std::string& path)
+std::vector<hymm::io::StampedPose2D> VictoriaParkImporter::readGps(const std::string& path)
 {
     const MatFile f(path);
     const auto t = column(f, "timeGps"), x = column(f, "Lo_m"), y = column(f, "La_m");
     requireSameLength(f, t.size(), x.size(), "timeGps and Lo_m");
     requireSameLength(f, t.size(), y.size(), "timeGps and La_m");
-    std::vector<hymm::core::StampedPose2D> out(t.size());
+    std::vector<hymm::io::StampedPose2D> out(t.size());
     for (size_t i = 0; i < t.size(); ++i) out[i] = {t[i] * kMsToS, x[i], y[i], 0.0};
     return out;
 }

@@ -12,11 +12,11 @@
 
 namespace hymm::datasets
 {
-std::vector<hymm::core::StampedPose2D> filterGpsFixes(
-    const std::vector<hymm::core::StampedPose2D>& raw, const GpsFilterOptions& opts,
+std::vector<hymm::io::StampedPose2D> filterGpsFixes(
+    const std::vector<hymm::io::StampedPose2D>& raw, const GpsFilterOptions& opts,
     ImportSummary& summary)
 {
-    std::vector<hymm::core::StampedPose2D> out;
+    std::vector<hymm::io::StampedPose2D> out;
     size_t rejected_in_a_row = 0;
     for (const auto& p : raw)
     {
@@ -48,10 +48,10 @@ std::vector<hymm::core::StampedPose2D> filterGpsFixes(
 }
 
 void writeTumWithComment(const std::string& path,
-                         const std::vector<hymm::core::StampedPose2D>& poses,
+                         const std::vector<hymm::io::StampedPose2D>& poses,
                          const std::string& comment)
 {
-    hymm::core::writeTum(path, poses);
+    hymm::io::writeTum(path, poses);
     std::ifstream in(path);
     std::stringstream body;
     body << in.rdbuf();
@@ -64,12 +64,12 @@ void writeTumWithComment(const std::string& path,
     if (!out) throw std::runtime_error("error writing '" + path + "'");
 }
 
-std::vector<hymm::core::StampedPose2D> deadReckoningFromRawlog(const std::string& path)
+std::vector<hymm::io::StampedPose2D> deadReckoningFromRawlog(const std::string& path)
 {
     mrpt::obs::CRawlog log;
     if (!log.loadFromRawLogFile(path))
         throw std::runtime_error("cannot read rawlog '" + path + "'");
-    std::vector<hymm::core::StampedPose2D> out;
+    std::vector<hymm::io::StampedPose2D> out;
     mrpt::poses::CPose2D pose;
     for (size_t i = 0; i < log.size(); ++i)
     {

@@ -1,5 +1,5 @@
 #include <gtest/gtest.h>
-#include <hymm/core/trajectory_io.h>
+#include <hymm/io/trajectory_io.h>
 #include <hymm/datasets/CarParkImporter.h>
 #include <hymm/datasets/MatFile.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
@@ -69,7 +69,7 @@ TEST(CarParkImporterTest, ScansKeepIntensitiesAndMarkNoReturnsInvalid)
     EXPECT_NEAR(mrpt::Clock::toDouble(scan->timestamp), 45.1, 1e-6);
     EXPECT_EQ(scan->sensorPose, mrpt::poses::CPose3D());  // robot frame = laser
 
-    const auto beacons = hymm::core::readLandmarksCsv(dir.file("out/carpark_beacons.csv"));
+    const auto beacons = hymm::io::readLandmarksCsv(dir.file("out/carpark_beacons.csv"));
     ASSERT_EQ(beacons.size(), 2u);
     EXPECT_EQ(beacons[1].id, 2);
     EXPECT_DOUBLE_EQ(beacons[1].y, 6.9);

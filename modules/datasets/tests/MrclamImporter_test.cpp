@@ -1,6 +1,6 @@
 #include <gtest/gtest.h>
 #include <hymm/core/config_utils.h>
-#include <hymm/core/trajectory_io.h>
+#include <hymm/io/trajectory_io.h>
 #include <hymm/datasets/MrclamImporter.h>
 #include <hymm/datasets/import_dataset.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
@@ -95,10 +95,10 @@ TEST(MrclamImporterTest, FullConversionWritesRawlogGroundTruthAndLandmarks)
     EXPECT_NEAR(mov->poseChange->getMeanVal().y(), (1 - std::cos(w * T)) / w, 1e-4);
     EXPECT_NEAR(mov->poseChange->getMeanVal().phi(), w * T, 1e-9);
 
-    const auto gt = hymm::core::readTum(dir.file("out/mrclam_robot1_groundtruth.tum"));
+    const auto gt = hymm::io::readTum(dir.file("out/mrclam_robot1_groundtruth.tum"));
     ASSERT_EQ(gt.size(), 201u);
     EXPECT_NEAR(gt.back().phi, 0.4, 1e-9);
-    const auto lms = hymm::core::readLandmarksCsv(dir.file("out/mrclam_robot1_landmarks.csv"));
+    const auto lms = hymm::io::readLandmarksCsv(dir.file("out/mrclam_robot1_landmarks.csv"));
     ASSERT_EQ(lms.size(), 2u);
     EXPECT_EQ(lms[0].id, 6);
     EXPECT_EQ(lms[0].extra, (std::vector<double>{0.001, 0.002}));

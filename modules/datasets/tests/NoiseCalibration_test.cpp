@@ -15,7 +15,7 @@
 
 namespace
 {
-using hymm::core::StampedPose2D;
+using hymm::io::StampedPose2D;
 using hymm::datasets::LandmarkMeasurement;
 using hymm::datasets::NoiseCalibrationOptions;
 using Control = hymm::datasets::OdometryIntegrator::ControlSample;
@@ -180,7 +180,7 @@ TEST(NoiseCalibrationTest, TruthGapsAndJumpsAreSkippedAndCounted)
 struct MeasurementSet
 {
     std::vector<LandmarkMeasurement> meas;
-    std::vector<hymm::core::LandmarkRecord> landmarks;
+    std::vector<hymm::io::LandmarkRecord> landmarks;
     size_t outliers = 0;
 };
 

@@ -1,5 +1,5 @@
 #include <gtest/gtest.h>
-#include <hymm/core/OdometryRawlogWriter.h>
+#include <hymm/io/OdometryRawlogWriter.h>
 #include <hymm/datasets/ImportSummary.h>
 #include <hymm/datasets/RawlogWriter.h>
 #include <hymm/datasets/ground_truth.h>
@@ -82,7 +82,7 @@ TEST(RawlogWriterTest, UnsortedObservationsAndUnwritablePathsThrow)
     EXPECT_THROW(hymm::datasets::writeOdometryRawlog(dir.file("b.rawlog"), odo,
                                                      {landmarkObs(2, 1), landmarkObs(1, 1)}, sum),
                  std::invalid_argument);
-    EXPECT_THROW(hymm::core::OdometryRawlogWriter(dir.file("no/such/dir/c.rawlog")),
+    EXPECT_THROW(hymm::io::OdometryRawlogWriter(dir.file("no/such/dir/c.rawlog")),
                  std::runtime_error);
 }
 

@@ -1,5 +1,5 @@
 #include <gtest/gtest.h>
-#include <hymm/core/trajectory_io.h>
+#include <hymm/io/trajectory_io.h>
 #include <hymm/datasets/MatFile.h>
 #include <hymm/datasets/VictoriaParkImporter.h>
 #include <hymm/datasets/import_dataset.h>
@@ -142,7 +142,7 @@ TEST(VictoriaParkImporterTest, GpsIsWrittenOnTheRawlogBaseWithJumpsRemoved)
         VictoriaParkImporter::findInputs({dir.path()}), dir.file("out"));
     EXPECT_EQ(sum.skippedCount("gps_jump"), 1u);
     EXPECT_EQ(sum.skippedCount("gps_non_monotonic"), 1u);
-    const auto gps = hymm::core::readTum(dir.file("out/victoria_park_gps.tum"));
+    const auto gps = hymm::io::readTum(dir.file("out/victoria_park_gps.tum"));
     ASSERT_EQ(gps.size(), 3u);
     EXPECT_NEAR(gps[0].t, 20.967, 1e-9);
     EXPECT_NEAR(gps[2].t, 22.368, 1e-9);

@@ -1,7 +1,7 @@
 // Converts the real datasets (folder from $HYMM_DATASETS) and checks the conversions.
 #include <gtest/gtest.h>
 #include <hymm/core/config_utils.h>
-#include <hymm/core/trajectory_io.h>
+#include <hymm/io/trajectory_io.h>
 #include <hymm/datasets/NoiseCalibration.h>
 #include <hymm/datasets/ground_truth.h>
 #include <hymm/datasets/import_dataset.h>
@@ -14,7 +14,7 @@
 
 namespace
 {
-using hymm::core::StampedPose2D;
+using hymm::io::StampedPose2D;
 using hymm::datasets::testing::TempDir;
 
 std::string datasets()
@@ -88,7 +88,7 @@ TEST(RealDatasetsTest, VictoriaParkConvertsWithAllDetections)
     EXPECT_GT(sum.odometry_samples, 61000u);
     EXPECT_GT(sum.ground_truth_poses, 4000u);
     const auto dr = hymm::datasets::deadReckoningFromRawlog(out.file("victoria_park.rawlog"));
-    const auto gps = hymm::core::readTum(out.file("victoria_park_gps.tum"));
+    const auto gps = hymm::io::readTum(out.file("victoria_park_gps.tum"));
     const double err = meanDrError(dr, gps, 20.0);
     std::cout << "Victoria Park dead reckoning vs GPS, mean distance: " << err << " m\n";
     EXPECT_GT(err, 20.0);   // dead reckoning does drift
@@ -106,7 +106,7 @@ TEST(RealDatasetsTest, CarParkConvertsWithScansGpsAndBeacons)
     EXPECT_EQ(sum.landmarks, 15u);
     EXPECT_GT(sum.ground_truth_poses, 600u);
     const auto dr = hymm::datasets::deadReckoningFromRawlog(out.file("carpark.rawlog"));
-    const auto gps = hymm::core::readTum(out.file("carpark_gps.tum"));
+    const auto gps = hymm::io::readTum(out.file("carpark_gps.tum"));
     const double err = meanDrError(dr, gps, 5.0);
     std::cout << "Car park dead reckoning vs GPS, mean distance: " << err << " m\n";
     EXPECT_LT(err, 30.0);
@@ -126,7 +126,7 @@ TEST(RealDatasetsTest, MrclamRobot1ConvertsWithIdentifiedLandmarks)
     EXPECT_EQ(sum.odometry_samples, 75000u);
     EXPECT_EQ(sum.repairedCount("odometry_time_rounding"), 20000u);
     const auto dr = hymm::datasets::deadReckoningFromRawlog(out.file("mrclam_robot1.rawlog"));
-    auto gt = hymm::core::readTum(out.file("mrclam_robot1_groundtruth.tum"));
+    auto gt = hymm::io::readTum(out.file("mrclam_robot1_groundtruth.tum"));
     const double err = meanDrError(dr, gt, 0.5);
     std::cout << "MRCLAM robot 1 dead reckoning vs Vicon, mean distance: " << err << " m\n";
     EXPECT_LT(err, 10.0);

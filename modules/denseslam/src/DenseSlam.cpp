@@ -25,34 +25,6 @@ namespace hymm::denseslam
 {
 namespace
 {
-constexpr double kDeg = M_PI / 180.0;
-
-DenseSlam::LandmarkSource parseSource(const std::string& s, const std::string& section)
-{
-    if (s == "bearing_range") return DenseSlam::LandmarkSource::BearingRange;
-    if (s == "laser_trees") return DenseSlam::LandmarkSource::LaserTrees;
-    if (s == "both") return DenseSlam::LandmarkSource::Both;
-    if (s == "laser_reflectors") return DenseSlam::LandmarkSource::LaserReflectors;
-    if (s == "laser_reflectors_and_trees")
-        return DenseSlam::LandmarkSource::LaserReflectorsAndTrees;
-    core::throwConfigError(section, "landmark_source", s,
-                           "must be one of bearing_range, laser_trees, both, laser_reflectors, "
-                           "laser_reflectors_and_trees");
-}
-
-const char* sourceName(DenseSlam::LandmarkSource s)
-{
-    switch (s)
-    {
-        case DenseSlam::LandmarkSource::BearingRange: return "bearing_range";
-        case DenseSlam::LandmarkSource::LaserTrees: return "laser_trees";
-        case DenseSlam::LandmarkSource::LaserReflectors: return "laser_reflectors";
-        case DenseSlam::LandmarkSource::LaserReflectorsAndTrees:
-            return "laser_reflectors_and_trees";
-        default: return "both";
-    }
-}
-
 bool usesReflectors(DenseSlam::LandmarkSource s)
 {
     return s == DenseSlam::LandmarkSource::LaserReflectors ||
@@ -83,124 +55,7 @@ bool sameObject(const extract::ScanFeature& tree, const extract::ScanFeature& re
 
 // dense_layers = none | comma-separated list of points, occupancy, particles, sog,
 // property (any order, each at most once, spaces allowed).
-const char* const kDenseLayersHelp =
-    "must be none, or a comma-separated list of points, occupancy, particles, sog, property "
-    "(each at most once)";
-
-void parseDenseLayers(const std::string& value, const std::string& section,
-                      DenseSlam::Options& o)
-{
-    bool* flags[] = {&o.dense_points, &o.dense_occupancy, &o.dense_particles, &o.dense_sog,
-                     &o.dense_property};
-    const char* names[] = {"points", "occupancy", "particles", "sog", "property"};
-    for (bool* f : flags) *f = false;
-    std::string v;
-    for (char c : value)
-        if (c != ' ' && c != '\t') v += c;
-    if (v == "none") return;
-    std::stringstream ss(v);
-    std::string item;
-    bool any = false;
-    while (std::getline(ss, item, ','))
-    {
-        bool known = false;
-        for (size_t k = 0; k < 5; ++k)
-            if (item == names[k] && !*flags[k]) *flags[k] = known = true;
-        if (!known) core::throwConfigError(section, "dense_layers", value, kDenseLayersHelp);
-        any = true;
-    }
-    if (!any) core::throwConfigError(section, "dense_layers", value, kDenseLayersHelp);
-}
-
-std::string denseLayersName(const DenseSlam::Options& o)
-{
-    std::string out;
-    const std::pair<bool, const char*> items[] = {{o.dense_points, "points"},
-                                                  {o.dense_occupancy, "occupancy"},
-                                                  {o.dense_particles, "particles"},
-                                                  {o.dense_sog, "sog"},
-                                                  {o.dense_property, "property"}};
-    for (const auto& [on, name] : items)
-        if (on) out += (out.empty() ? "" : ",") + std::string(name);
-    return out.empty() ? "none" : out;
-}
 }  // namespace
-
-void DenseSlam::Options::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
-                                            const std::string& s)
-{
-    core::checkKnownKeys(cfg, s,
-                         {"landmark_source", "use_landmark_ids", "odometry_cov_scale",
-                          "odometry_std_xy", "odometry_std_phi_deg", "sensor_std_range",
-                          "sensor_std_bearing_deg", "min_range", "max_range", "enable_profiler",
-                          "dense_layers", "classic_grid", "laser_std_range",
-                          "laser_std_bearing_deg", "max_local_std_m", "same_object_distance_m"});
-    landmark_source = parseSource(core::readString(cfg, s, "landmark_source", sourceName(landmark_source)), s);
-    use_landmark_ids = core::readBool(cfg, s, "use_landmark_ids", use_landmark_ids);
-    odometry_cov_scale = core::readDoubleMin(cfg, s, "odometry_cov_scale", odometry_cov_scale, 0.0, true);
-    odometry_std_xy = core::readDoubleMin(cfg, s, "odometry_std_xy", odometry_std_xy, 0.0, false);
-    odometry_std_phi =
-        kDeg * core::readDoubleMin(cfg, s, "odometry_std_phi_deg", odometry_std_phi / kDeg, 0.0, false);
-    sensor_std_range = core::readDoubleMin(cfg, s, "sensor_std_range", sensor_std_range, 0.0, false);
-    sensor_std_bearing = kDeg * core::readDoubleMin(cfg, s, "sensor_std_bearing_deg",
-                                                    sensor_std_bearing / kDeg, 0.0, false);
-    min_range = core::readDoubleMin(cfg, s, "min_range", min_range, 0.0, false);
-    max_range = core::readDoubleMin(cfg, s, "max_range", max_range, min_range, true);
-    enable_profiler = core::readBool(cfg, s, "enable_profiler", enable_profiler);
-    parseDenseLayers(core::readString(cfg, s, "dense_layers", denseLayersName(*this)), s, *this);
-    classic_grid = core::readBool(cfg, s, "classic_grid", classic_grid);
-    laser_std_range = core::readDoubleMin(cfg, s, "laser_std_range", laser_std_range, 0.0, true);
-    laser_std_bearing = kDeg * core::readDoubleMin(cfg, s, "laser_std_bearing_deg",
-                                                   laser_std_bearing / kDeg, 0.0, true);
-    max_local_std_m = core::readDoubleMin(cfg, s, "max_local_std_m", max_local_std_m, 0.0, false);
-    same_object_distance =
-        core::readDoubleMin(cfg, s, "same_object_distance_m", same_object_distance, 0.0, false);
-}
-
-void DenseSlam::Options::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
-                                          const std::string& s) const
-{
-    cfg.write(s, "landmark_source", sourceName(landmark_source));
-    cfg.write(s, "use_landmark_ids", use_landmark_ids);
-    cfg.write(s, "odometry_cov_scale", odometry_cov_scale);
-    cfg.write(s, "odometry_std_xy", odometry_std_xy);
-    cfg.write(s, "odometry_std_phi_deg", odometry_std_phi / kDeg);
-    cfg.write(s, "sensor_std_range", sensor_std_range);
-    cfg.write(s, "sensor_std_bearing_deg", sensor_std_bearing / kDeg);
-    cfg.write(s, "min_range", min_range);
-    cfg.write(s, "max_range", max_range);
-    cfg.write(s, "enable_profiler", enable_profiler);
-    cfg.write(s, "dense_layers", denseLayersName(*this));
-    cfg.write(s, "classic_grid", classic_grid);
-    cfg.write(s, "laser_std_range", laser_std_range);
-    cfg.write(s, "laser_std_bearing_deg", laser_std_bearing / kDeg);
-    cfg.write(s, "max_local_std_m", max_local_std_m);
-    cfg.write(s, "same_object_distance_m", same_object_distance);
-}
-
-void DenseSlam::DenseOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg)
-{
-    partition.loadFromConfigFile(cfg, "LtrPartition");
-    virtual_landmarks.loadFromConfigFile(cfg, "VirtualLandmarks");
-    delayed.loadFromConfigFile(cfg, "DelayedDenseStore");
-    hybrid.loadAll(cfg);
-    classic.loadFromConfigFile(cfg, "ClassicOccupancyGrid");
-}
-
-DenseSlam DenseSlam::fromConfig(const mrpt::config::CConfigFileBase& cfg)
-{
-    Options o;
-    o.loadFromConfigFile(cfg, "DenseSlam");
-    ekf::EkfSlam::Options e;
-    e.loadFromConfigFile(cfg, "EkfSlam");
-    extract::TreeExtractor::Options t;
-    t.loadFromConfigFile(cfg, "TreeExtractor");
-    extract::ReflectorExtractor::Options r;
-    r.loadFromConfigFile(cfg, "ReflectorExtractor");
-    DenseOptions d;
-    d.loadFromConfigFile(cfg);
-    return DenseSlam(o, e, t, r, d);
-}
 
 DenseSlam::DenseSlam(const Options& opts, const ekf::EkfSlam::Options& ekf_opts,
                      const extract::TreeExtractor::Options& tree_opts,
@@ -231,7 +86,7 @@ DenseSlam::DenseSlam(const Options& opts, const ekf::EkfSlam::Options& ekf_opts,
                                                                  dense_opts.hybrid.occupancy);
 }
 
-void DenseSlam::processEntry(const RawlogEntry& entry)
+void DenseSlam::processEntry(const io::RawlogEntry& entry)
 {
     ++stats_.entries;
     if (entry.actions)
@@ -345,100 +200,123 @@ void DenseSlam::refreshRegions()
     partition_->updateVertexPositions(VirtualLandmarkView(ekf_, virtual_ids_));
 }
 
+double DenseSlam::scanReach(const mrpt::obs::CSensoryFrame& frame) const
+{
+    double reach = hybrid_->options().max_range_m;  // scan returns are looked up this far
+    for (const auto& o : frame)
+        if (const auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(o))
+            reach = std::max(reach, hybrid_->options().max_range_m +
+                                        std::hypot(scan->sensorPose.x(), scan->sensorPose.y()));
+    return reach;
+}
+
+void DenseSlam::updateRegions(const ltr::LandmarkCovarianceView& view,
+                              const mrpt::obs::CSensoryFrame& frame, double t)
+{
+    mrpt::system::CTimeLoggerEntry tle(profiler_, "denseslam.4_regions");
+    // local_refresh: only the regions the scans and the growth can reach follow the
+    // new estimates (O(area) per step); a large vehicle correction (a loop closure)
+    // refreshes every region. Otherwise every region and landmark, every step.
+    const auto& po = partition_->options();
+    const Eigen::Vector2d vehicle_xy = ekf_.vehiclePose().head<2>();
+    const bool local = po.local_refresh && (vehicle_xy - ekf_.predictedPose().head<2>()).norm() <=
+                                               po.full_refresh_correction_m;
+    const double reach = scanReach(frame);
+    // Regions anchored on landmarks that left the map go, with their dense content.
+    const auto stale = local ? partition_->regionsWithMissingLandmarksNear(view, vehicle_xy, reach)
+                             : partition_->regionsWithMissingLandmarks(view);
+    for (long id : stale) partition_->removeRegion(id);
+    if (!stale.empty())
+    {
+        stats_.regions_removed += stale.size();
+        hybrid_->removeStaleRegions(*partition_);
+        dropUnusedVirtualLandmarks();
+    }
+    // Refreshes the current vertices (near the vehicle or all), then grows around it.
+    stats_.regions_created +=
+        (local ? partition_->updateNear(view, t, reach) : partition_->update(view, t)).size();
+    ++stats_.partition_updates;
+}
+
+dense::HybridMetricMap::RegionFilter DenseSlam::fusionGate(const ltr::LandmarkCovarianceView& view,
+                                                           std::unordered_map<long, bool>& ready) const
+{
+    // Sec. 3.6 / 3.7.3: fuse into a region only while the vehicle is known well relative
+    // to its vertices; the local coordinates written now are never corrected later.
+    if (!partition_ || options_.max_local_std_m <= 0) return {};
+    return [this, &view, &ready](long id) {
+        const auto [it, fresh] = ready.try_emplace(id, false);
+        if (fresh) it->second = localFusionStd(view, id) <= options_.max_local_std_m;
+        return it->second;
+    };
+}
+
+void DenseSlam::fuseDelayed()
+{
+    // Step 5a (Sec. 3.7.3): returns kept while no region covered them go into the
+    // regions that exist now, at their corrected local coordinates.
+    const auto rep = store_->fuse(ekf_, *partition_, [&](long rid, const dense::RegionScan& rs) {
+        hybrid_->insertRegionScan(rid, rs, *partition_);
+    });
+    stats_.delayed_fused += rep.fused;
+    stats_.delayed_lost += rep.lost_points;
+}
+
+void DenseSlam::storeUnassigned(const dense::ScanPoints& pts,
+                                const std::vector<Eigen::Vector2d>& unassigned, double t)
+{
+    // Step 5b: what no region holds waits in the store as passive states.
+    const Eigen::Matrix2d R = Eigen::Vector2d(options_.laser_std_range * options_.laser_std_range,
+                                              options_.laser_std_bearing * options_.laser_std_bearing)
+                                  .asDiagonal();
+    const auto& sv = pts.sensor_on_vehicle;
+    const auto rep = store_->addGlobalPoints(ekf_, *partition_, unassigned, R,
+                                             Eigen::Vector3d(sv.x, sv.y, sv.phi), t);
+    stats_.delayed_stored += rep.stored;
+    stats_.delayed_outside_potential += rep.outside_potential;
+    stats_.delayed_thinned += rep.thinned;
+    stats_.delayed_evicted += rep.evicted_points;
+    stats_.delayed_lost += rep.lost_points;
+}
+
+void DenseSlam::insertDenseScan(const mrpt::obs::CObservation2DRangeScan& scan,
+                                const mrpt::math::TPose2D& vehicle,
+                                const dense::HybridMetricMap::RegionFilter& accept, double t)
+{
+    // ScanPoints carries the scan's sensorPose: the layers compose it with `vehicle`.
+    const auto pts = dense::ScanPoints::fromRangeScan(scan);
+    if (hybrid_ && store_) fuseDelayed();
+    if (hybrid_)
+    {
+        const auto st = hybrid_->insertScan(pts, vehicle, *partition_, accept);
+        stats_.returns_stored += st.returns_stored;
+        stats_.returns_outside += st.returns_outside;
+        stats_.returns_withheld += st.returns_withheld;
+        stats_.no_return_beams += st.no_return;
+        stats_.failed_readings += pts.skipped;
+        ++stats_.dense_scans;
+        if (virtual_options_.enabled) createVirtualLandmarks(st.unassigned, t);
+        if (store_ && !st.unassigned.empty()) storeUnassigned(pts, st.unassigned, t);
+    }
+    if (classic_) classic_->insertScan(pts, vehicle);
+}
+
 void DenseSlam::processDense(const mrpt::obs::CSensoryFrame& frame, double t, bool map_changed)
 {
     // Reads the filter only (UIF): nothing below writes to its active states.
     const VirtualLandmarkView view(ekf_, virtual_ids_);
-    if (partition_ && map_changed)
-    {
-        mrpt::system::CTimeLoggerEntry tle(profiler_, "denseslam.4_regions");
-        // local_refresh: only the regions the scans and the growth can reach follow the
-        // new estimates (O(area) per step); a large vehicle correction (a loop closure)
-        // refreshes every region. Otherwise every region and landmark, every step.
-        const auto& po = partition_->options();
-        const Eigen::Vector2d vehicle_xy = ekf_.vehiclePose().head<2>();
-        const bool local = po.local_refresh && (vehicle_xy - ekf_.predictedPose().head<2>()).norm() <=
-                                                   po.full_refresh_correction_m;
-        double reach = hybrid_->options().max_range_m;  // scan returns are looked up this far
-        for (const auto& o : frame)
-            if (const auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(o))
-                reach = std::max(reach, hybrid_->options().max_range_m +
-                                            std::hypot(scan->sensorPose.x(), scan->sensorPose.y()));
-        // Regions anchored on landmarks that left the map go, with their dense content.
-        const auto stale = local ? partition_->regionsWithMissingLandmarksNear(view, vehicle_xy, reach)
-                                 : partition_->regionsWithMissingLandmarks(view);
-        for (long id : stale) partition_->removeRegion(id);
-        if (!stale.empty())
-        {
-            stats_.regions_removed += stale.size();
-            hybrid_->removeStaleRegions(*partition_);
-            dropUnusedVirtualLandmarks();
-        }
-        // Refreshes the current vertices (near the vehicle or all), then grows around it.
-        stats_.regions_created +=
-            (local ? partition_->updateNear(view, t, reach) : partition_->update(view, t)).size();
-        ++stats_.partition_updates;
-    }
+    if (partition_ && map_changed) updateRegions(view, frame, t);
 
     mrpt::system::CTimeLoggerEntry tle(profiler_, "denseslam.5_dense");
     // Every observation of the frame was taken at the frame's pose; the estimate after
     // the frame's update is the best estimate of that pose.
     const Eigen::Vector3d v = ekf_.vehiclePose();
     const mrpt::math::TPose2D vehicle(v[0], v[1], v[2]);
-    // Sec. 3.6 / 3.7.3: fuse into a region only while the vehicle is known well relative
-    // to its vertices; the local coordinates written now are never corrected later.
     std::unordered_map<long, bool> ready;
-    dense::HybridMetricMap::RegionFilter accept;
-    if (partition_ && options_.max_local_std_m > 0)
-        accept = [&](long id) {
-            const auto [it, fresh] = ready.try_emplace(id, false);
-            if (fresh) it->second = localFusionStd(view, id) <= options_.max_local_std_m;
-            return it->second;
-        };
+    const dense::HybridMetricMap::RegionFilter accept = fusionGate(view, ready);
     for (const auto& o : frame)
-    {
-        const auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(o);
-        if (!scan) continue;
-        // ScanPoints carries the scan's sensorPose: the layers compose it with `vehicle`.
-        const auto pts = dense::ScanPoints::fromRangeScan(*scan);
-        if (hybrid_ && store_)
-        {
-            // Step 5a (Sec. 3.7.3): returns kept while no region covered them go into the
-            // regions that exist now, at their corrected local coordinates.
-            const auto rep = store_->fuse(ekf_, *partition_, [&](long rid, const dense::RegionScan& rs) {
-                hybrid_->insertRegionScan(rid, rs, *partition_);
-            });
-            stats_.delayed_fused += rep.fused;
-            stats_.delayed_lost += rep.lost_points;
-        }
-        if (hybrid_)
-        {
-            const auto st = hybrid_->insertScan(pts, vehicle, *partition_, accept);
-            stats_.returns_stored += st.returns_stored;
-            stats_.returns_outside += st.returns_outside;
-            stats_.returns_withheld += st.returns_withheld;
-            stats_.no_return_beams += st.no_return;
-            stats_.failed_readings += pts.skipped;
-            ++stats_.dense_scans;
-            if (virtual_options_.enabled) createVirtualLandmarks(st.unassigned, t);
-            if (store_ && !st.unassigned.empty())
-            {
-                // Step 5b: what no region holds waits in the store as passive states.
-                const Eigen::Matrix2d R = Eigen::Vector2d(options_.laser_std_range * options_.laser_std_range,
-                                                          options_.laser_std_bearing * options_.laser_std_bearing)
-                                              .asDiagonal();
-                const auto& sv = pts.sensor_on_vehicle;
-                const auto rep = store_->addGlobalPoints(ekf_, *partition_, st.unassigned, R,
-                                                         Eigen::Vector3d(sv.x, sv.y, sv.phi), t);
-                stats_.delayed_stored += rep.stored;
-                stats_.delayed_outside_potential += rep.outside_potential;
-                stats_.delayed_thinned += rep.thinned;
-                stats_.delayed_evicted += rep.evicted_points;
-                stats_.delayed_lost += rep.lost_points;
-            }
-        }
-        if (classic_) classic_->insertScan(pts, vehicle);
-    }
+        if (const auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(o))
+            insertDenseScan(*scan, vehicle, accept, t);
 }
 
 void DenseSlam::createVirtualLandmarks(const std::vector<Eigen::Vector2d>& unassigned, double t)
@@ -448,11 +326,8 @@ void DenseSlam::createVirtualLandmarks(const std::vector<Eigen::Vector2d>& unass
     const auto proposals =
         ltr::proposeVirtualLandmarks(*partition_, view, unassigned, virtual_options_);
     const double var = virtual_options_.position_std_m * virtual_options_.position_std_m;
-    const Eigen::MatrixXd& P = ekf_.cov();
     for (const auto& p : proposals)
     {
-        const auto oa = static_cast<Eigen::Index>(ekf_.landmarkBlock(p.a).offset);
-        const auto ob = static_cast<Eigen::Index>(ekf_.landmarkBlock(p.b).offset);
         // Shallower apexes when the full depth overlaps a region or fails a condition.
         for (double depth = p.depth; depth >= virtual_options_.min_depth_m; depth *= 0.6)
         {
@@ -462,13 +337,9 @@ void DenseSlam::createVirtualLandmarks(const std::vector<Eigen::Vector2d>& unass
             Eigen::Matrix2d Ja, Jb;
             const Eigen::Vector2d v =
                 ltr::virtualApex(ekf_.landmarkMean(p.a), ekf_.landmarkMean(p.b), p.side, depth, &Ja, &Jb);
-            const Eigen::MatrixXd cross = Ja * P.middleRows(oa, 2) + Jb * P.middleRows(ob, 2);
-            Eigen::Matrix2d cov = cross.middleCols(oa, 2) * Ja.transpose() +
-                                  cross.middleCols(ob, 2) * Jb.transpose() +
-                                  var * Eigen::Matrix2d::Identity();
-            cov = 0.5 * (cov + cov.transpose()).eval();
             const long id = next_virtual_id_++;
-            ekf_.addPassiveState(id, v, cov, cross);
+            ekf_.addPassiveFromLandmarks(id, v, {{p.a, Ja}, {p.b, Jb}},
+                                         var * Eigen::Matrix2d::Identity());
             virtual_ids_.insert(id);
             const VirtualLandmarkView vview(ekf_, virtual_ids_);
             if (partition_->tryAddRegion({p.a, p.b, id}, vview, t).accepted())

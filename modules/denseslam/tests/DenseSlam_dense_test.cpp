@@ -4,8 +4,9 @@
 #include <gtest/gtest.h>
 #include <hymm/denseslam/DenseSlam.h>
 #include <hymm/dense/outline_metrics.h>
-#include <hymm/denseslam/RawlogReader.h>
-#include <hymm/denseslam/slam_outputs.h>
+#include <hymm/io/RawlogReader.h>
+#include <hymm/io/ground_truth_io.h>
+#include <hymm/sim/ground_truth_io.h>
 #include <mrpt/config/CConfigFile.h>
 #include <mrpt/config/CConfigFileMemory.h>
 
@@ -43,8 +44,8 @@ DenseSlam makeSlam(bool points, bool occupancy, bool classic)
 
 void runRawlog(DenseSlam& slam)
 {
-    hymm::denseslam::RawlogReader reader(kRawlog);
-    hymm::denseslam::RawlogEntry entry;
+    hymm::io::RawlogReader reader(kRawlog);
+    hymm::io::RawlogEntry entry;
     while (reader.next(entry)) slam.processEntry(entry);
 }
 
@@ -193,12 +194,15 @@ TEST(DenseSlamDense, LocalUncertaintyGateWithholdsPoorlyLocalisedReturns)
     EXPECT_EQ(on.partition()->regionIds(), off.partition()->regionIds());
 
     // True surfaces: object outlines and the trunks of the true landmarks.
-    auto surfaces =
-        hymm::denseslam::loadObjectOutlines(std::string(HYMM_SOURCE_DIR) + "/rawlogs/ch3_objects_gt_objects.txt");
-    const auto gt = hymm::denseslam::loadGroundTruth(
+    std::vector<hymm::dense::Polygon> surfaces;
+    for (const auto& r : hymm::sim::readObjectOutlines(std::string(HYMM_SOURCE_DIR) +
+                                                       "/rawlogs/ch3_objects_gt_objects.txt"))
+        surfaces.emplace_back(r.outline.begin(), r.outline.end());
+    const auto gt = hymm::io::loadGroundTruth(
         "", std::string(HYMM_SOURCE_DIR) + "/rawlogs/ch3_objects_gt_landmarks.csv");
-    for (const auto& t : hymm::denseslam::trueTrunks(gt.landmarks))
-        surfaces.push_back(hymm::dense::circlePolygon(t.centre, t.radius));
+    for (const auto& l : gt.landmarks)  // "id,x,y,radius": the trunks
+        surfaces.push_back(hymm::dense::circlePolygon(Eigen::Vector2d(l.x, l.y),
+                                                      l.extra.empty() ? 0.0 : l.extra[0]));
     const auto error = [&](DenseSlam& s) {
         s.refreshRegions();
         mrpt::maps::CSimplePointsMap pts;

@@ -3,7 +3,7 @@
 // dense map as the full refresh, and the regions near the vehicle follow the filter.
 #include <gtest/gtest.h>
 #include <hymm/denseslam/DenseSlam.h>
-#include <hymm/denseslam/RawlogReader.h>
+#include <hymm/io/RawlogReader.h>
 #include <mrpt/config/CConfigFile.h>
 
 #include <string>
@@ -35,8 +35,8 @@ DenseSlam makeSlam(bool local_refresh)
 
 void runRawlog(DenseSlam& slam)
 {
-    hymm::denseslam::RawlogReader reader(kRawlog);
-    hymm::denseslam::RawlogEntry entry;
+    hymm::io::RawlogReader reader(kRawlog);
+    hymm::io::RawlogEntry entry;
     while (reader.next(entry)) slam.processEntry(entry);
 }
 

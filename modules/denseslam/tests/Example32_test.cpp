@@ -7,7 +7,7 @@
 // local coordinates and never update them (Sec. 3.6).
 #include <gtest/gtest.h>
 #include <hymm/denseslam/DenseSlam.h>
-#include <hymm/denseslam/RawlogReader.h>
+#include <hymm/io/RawlogReader.h>
 #include <hymm/ltr/TriangleFrame.h>
 #include <mrpt/config/CConfigFile.h>
 
@@ -48,8 +48,8 @@ TEST(Example32, LocalCoordinatesMoveAtMostAThirdOfGlobalOnesAtTheLoopClosure)
 {
     mrpt::config::CConfigFile cfg(std::string(HYMM_SOURCE_DIR) + "/configs/ch3_slam.ini");
     DenseSlam slam = DenseSlam::fromConfig(cfg);
-    hymm::denseslam::RawlogReader reader(std::string(HYMM_SOURCE_DIR) + "/rawlogs/ch3_objects.rawlog");
-    hymm::denseslam::RawlogEntry entry;
+    hymm::io::RawlogReader reader(std::string(HYMM_SOURCE_DIR) + "/rawlogs/ch3_objects.rawlog");
+    hymm::io::RawlogEntry entry;
 
     // The frame whose update moves the out-of-range landmarks most is the closure.
     constexpr double kOutOfRange = 30.0;  // [m] > the 25 m sensor range

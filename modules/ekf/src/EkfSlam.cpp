@@ -404,4 +404,29 @@ void EkfSlam::addPassiveFromVehicle(long id, const Eigen::VectorXd& mean,
                  static_cast<size_t>(x_.size()));
 }
 
+void EkfSlam::addPassiveFromLandmarks(long id, const Eigen::VectorXd& mean,
+                                      const std::vector<std::pair<long, Eigen::MatrixXd>>& G,
+                                      const Eigen::MatrixXd& noise_cov)
+{
+    if (G.empty()) throw std::invalid_argument("EkfSlam::addPassiveFromLandmarks: no landmark");
+    checkCovariance(noise_cov, mean.size(), "EkfSlam::addPassiveFromLandmarks(noise_cov)");
+    std::vector<Eigen::Index> offsets;
+    for (const auto& [lid, g] : G)
+    {
+        const auto& b = landmarkBlock(lid);
+        if (g.rows() != mean.size() || g.cols() != static_cast<Eigen::Index>(b.dim))
+            throw std::invalid_argument("EkfSlam::addPassiveFromLandmarks: G of landmark " +
+                                        std::to_string(lid) + " must be dim x landmark dim");
+        offsets.push_back(static_cast<Eigen::Index>(b.offset));
+    }
+    Eigen::MatrixXd cross = G[0].second * P_.middleRows(offsets[0], G[0].second.cols());
+    for (size_t i = 1; i < G.size(); ++i)
+        cross += G[i].second * P_.middleRows(offsets[i], G[i].second.cols());
+    Eigen::MatrixXd cov = cross.middleCols(offsets[0], G[0].second.cols()) * G[0].second.transpose();
+    for (size_t i = 1; i < G.size(); ++i)
+        cov += cross.middleCols(offsets[i], G[i].second.cols()) * G[i].second.transpose();
+    cov += noise_cov;
+    passive_.add(id, mean, 0.5 * (cov + cov.transpose()), cross, static_cast<size_t>(x_.size()));
+}
+
 }  // namespace hymm::ekf

@@ -185,4 +185,50 @@ TEST(PassiveStatesTest, CrossCovColumnsAreTheMatchingBlock)
     EXPECT_THROW(ps.crossCov(4, 0, 2), std::out_of_range);
 }
 
+// A passive block defined on two landmarks (a virtual landmark, thesis Sec. 3.5.1): it is
+// the linear map A = [.. G_a .. G_b ..] of the joint state, so cov = A P A^T + noise and
+// cross = A P (Eq. 2.53 with the landmarks in place of the vehicle); the active filter is
+// untouched.
+TEST(PassiveStatesTest, PassiveBlockFromLandmarksIsTheLinearMapOfTheJointState)
+{
+    World w;
+    for (int k = 0; k < 8; ++k) w.lms.emplace_back(4.0 + 2.5 * k, (k % 2 ? 5.0 : -5.0));
+    EkfSlam f{EkfSlam::Options{}};
+    f.reset(Eigen::Vector3d::Zero(), 1e-4 * Eigen::Matrix3d::Identity());
+    const Eigen::Vector2d u(4.0, 0.02);
+    const Eigen::Matrix2d Q = Eigen::Vector2d(0.1, 0.02).cwiseAbs2().asDiagonal();
+    for (int step = 0; step < 15; ++step)
+    {
+        w.pose = hymm::core::uteStep(w.pose, u, 0.1, hymm::core::UteParams{});
+        f.predictUte(u, Q, 0.1, hymm::core::UteParams{});
+        f.updateRangeBearing(sense(w, true), kSensor);
+    }
+    ASSERT_GE(f.numLandmarks(), 4u);
+    const long a = f.landmarkIds()[1], b = f.landmarkIds()[3];
+    Eigen::Matrix2d Ga, Gb;
+    Ga << 0.5, -0.3, 0.2, 0.7;
+    Gb << 0.4, 0.1, -0.6, 0.5;
+    const Eigen::Vector2d mean = 0.5 * (f.landmarkMean(a) + f.landmarkMean(b));
+    const Eigen::Matrix2d noise = 0.01 * Eigen::Matrix2d::Identity();
+    const Eigen::VectorXd x_before = f.mean();
+    const Eigen::MatrixXd P = f.cov();
+    f.addPassiveFromLandmarks(42, mean, {{a, Ga}, {b, Gb}}, noise);
+
+    Eigen::MatrixXd A = Eigen::MatrixXd::Zero(2, P.cols());
+    A.middleCols(static_cast<Eigen::Index>(f.landmarkBlock(a).offset), 2) = Ga;
+    A.middleCols(static_cast<Eigen::Index>(f.landmarkBlock(b).offset), 2) = Gb;
+    const Eigen::MatrixXd cov = A * P * A.transpose() + noise;
+    EXPECT_TRUE(f.passive().mean(42) == mean);
+    EXPECT_LT((f.passive().cov(42) - cov).cwiseAbs().maxCoeff(), 1e-12);
+    EXPECT_LT((f.passive().crossCov(42) - A * P).cwiseAbs().maxCoeff(), 1e-12);
+    EXPECT_TRUE(f.passive().cov(42) == f.passive().cov(42).transpose());
+    EXPECT_TRUE(f.mean() == x_before);
+    EXPECT_TRUE(f.cov() == P);
+
+    EXPECT_THROW(f.addPassiveFromLandmarks(43, mean, {}, noise), std::invalid_argument);
+    EXPECT_THROW(f.addPassiveFromLandmarks(43, mean, {{a, Eigen::MatrixXd::Identity(2, 3)}}, noise),
+                 std::invalid_argument);
+    EXPECT_ANY_THROW(f.addPassiveFromLandmarks(43, mean, {{12345, Ga}}, noise));
+}
+
 }  // namespace

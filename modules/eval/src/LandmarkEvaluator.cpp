@@ -16,9 +16,9 @@ namespace
 {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-Eigen::Vector2d truePosition(const core::LandmarkRecord& r) { return {r.x, r.y}; }
+Eigen::Vector2d truePosition(const io::LandmarkRecord& r) { return {r.x, r.y}; }
 
-bool idsUsable(const std::vector<LandmarkEstimate>& est, const std::vector<core::LandmarkRecord>& truth)
+bool idsUsable(const std::vector<LandmarkEstimate>& est, const std::vector<io::LandmarkRecord>& truth)
 {
     std::set<long> true_ids, seen;
     for (const auto& t : truth) true_ids.insert(t.id);
@@ -28,7 +28,7 @@ bool idsUsable(const std::vector<LandmarkEstimate>& est, const std::vector<core:
 }
 
 std::vector<std::pair<size_t, size_t>> associateById(
-    const std::vector<LandmarkEstimate>& est, const std::vector<core::LandmarkRecord>& truth)
+    const std::vector<LandmarkEstimate>& est, const std::vector<io::LandmarkRecord>& truth)
 {
     std::map<long, size_t> by_id;
     for (size_t j = 0; j < truth.size(); ++j) by_id.emplace(truth[j].id, j);  // first wins
@@ -45,7 +45,7 @@ std::vector<std::pair<size_t, size_t>> associateById(
 // Greedy global nearest neighbour: all candidate pairs within the gate, shortest first,
 // each landmark used at most once.
 std::vector<std::pair<size_t, size_t>> associateByDistance(
-    const std::vector<Eigen::Vector2d>& est, const std::vector<core::LandmarkRecord>& truth,
+    const std::vector<Eigen::Vector2d>& est, const std::vector<io::LandmarkRecord>& truth,
     double gate)
 {
     std::vector<std::tuple<double, size_t, size_t>> cand;
@@ -70,7 +70,7 @@ std::vector<std::pair<size_t, size_t>> associateByDistance(
 }  // namespace
 
 std::vector<LandmarkEstimate> landmarkEstimatesFromRecords(
-    const std::vector<core::LandmarkRecord>& records, int cov_column)
+    const std::vector<io::LandmarkRecord>& records, int cov_column)
 {
     std::vector<LandmarkEstimate> out;
     out.reserve(records.size());
@@ -151,7 +151,7 @@ LandmarkEvaluator::LandmarkEvaluator(const Options& options) : options_(options)
 }
 
 LandmarkEvaluator::Result LandmarkEvaluator::evaluate(
-    const std::vector<LandmarkEstimate>& estimates, const std::vector<core::LandmarkRecord>& truth,
+    const std::vector<LandmarkEstimate>& estimates, const std::vector<io::LandmarkRecord>& truth,
     const Se2Transform* alignment) const
 {
     // Estimates in the ground-truth frame.

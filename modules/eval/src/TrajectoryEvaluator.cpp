@@ -13,7 +13,7 @@ namespace hymm::eval
 {
 namespace
 {
-using core::StampedPose2D;
+using io::StampedPose2D;
 using mrpt::math::wrapToPi;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
@@ -141,8 +141,8 @@ TrajectoryEvaluator::TrajectoryEvaluator(const Options& options) : options_(opti
 }
 
 TrajectoryEvaluator::Result TrajectoryEvaluator::evaluate(
-    const std::vector<core::StampedPose2D>& estimate,
-    const std::vector<core::StampedPose2D>& truth) const
+    const std::vector<io::StampedPose2D>& estimate,
+    const std::vector<io::StampedPose2D>& truth) const
 {
     Result r;
     const auto pairs = associate(estimate, truth, options_);

@@ -46,14 +46,14 @@ private:
 };
 
 /** Index of the true pose nearest in time to t within tol (truth sorted by t), or -1. */
-long nearestInTime(const std::vector<core::StampedPose2D>& truth, double t, double tol)
+long nearestInTime(const std::vector<io::StampedPose2D>& truth, double t, double tol)
 {
     const auto it =
         std::lower_bound(truth.begin(), truth.end(), t,
-                         [](const core::StampedPose2D& p, double v) { return p.t < v; });
+                         [](const io::StampedPose2D& p, double v) { return p.t < v; });
     long best = -1;
     double best_dt = tol;
-    const auto consider = [&](std::vector<core::StampedPose2D>::const_iterator c)
+    const auto consider = [&](std::vector<io::StampedPose2D>::const_iterator c)
     {
         const double dt = std::abs(c->t - t);
         if (dt <= best_dt) best = static_cast<long>(c - truth.begin()), best_dt = dt;
@@ -112,14 +112,14 @@ OutlineSamples sampleOutlines(const std::vector<dense::Polygon>& outlines, doubl
 }
 
 PlacedReturns placeAtTruePoses(const std::vector<TimedScan>& scans,
-                               const std::vector<core::StampedPose2D>& true_path,
+                               const std::vector<io::StampedPose2D>& true_path,
                                const LaserCoverageOptions& options)
 {
     options.validate();
     if (true_path.empty()) throw std::invalid_argument("placeAtTruePoses: the true path is empty");
-    std::vector<core::StampedPose2D> truth = true_path;
+    std::vector<io::StampedPose2D> truth = true_path;
     std::stable_sort(truth.begin(), truth.end(),
-                     [](const core::StampedPose2D& a, const core::StampedPose2D& b)
+                     [](const io::StampedPose2D& a, const io::StampedPose2D& b)
                      { return a.t < b.t; });
     PlacedReturns out;
     for (const TimedScan& s : scans)
@@ -149,7 +149,7 @@ double SeenOutline::seenFraction() const
 }
 
 SeenOutline laserSeenOutline(const std::vector<TimedScan>& scans,
-                             const std::vector<core::StampedPose2D>& true_path,
+                             const std::vector<io::StampedPose2D>& true_path,
                              const std::vector<dense::Polygon>& outlines,
                              const LaserCoverageOptions& options)
 {

@@ -6,7 +6,7 @@
 
 namespace
 {
-using hymm::core::LandmarkRecord;
+using hymm::io::LandmarkRecord;
 using hymm::eval::LandmarkEstimate;
 using hymm::eval::LandmarkEvaluator;
 using hymm::eval::NeesStatus;

@@ -6,7 +6,7 @@
 
 namespace
 {
-using hymm::core::StampedPose2D;
+using hymm::io::StampedPose2D;
 using hymm::eval::Se2Transform;
 using hymm::eval::TrajectoryEvaluator;
 using Assoc = TrajectoryEvaluator::Association;

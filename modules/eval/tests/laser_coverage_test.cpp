@@ -41,7 +41,7 @@ std::vector<V2> bottomEdge(double x0, double x1)
     return out;
 }
 
-hymm::core::StampedPose2D pose(double t, double x, double y, double phi) { return {t, x, y, phi}; }
+hymm::io::StampedPose2D pose(double t, double x, double y, double phi) { return {t, x, y, phi}; }
 
 TEST(LaserCoverageTest, SeenPartIsWhereTheReturnsHitAtTheTruePose)
 {
@@ -93,7 +93,7 @@ TEST(LaserCoverageTest, ScansArePlacedAtTheTruePoseOfTheirTimestampWithTheirMoun
     b.t = 2.0;
     lost = a;
     lost.t = 5.0;
-    const std::vector<hymm::core::StampedPose2D> truth{pose(2.0, above.x(), above.y(), above.z()),
+    const std::vector<hymm::io::StampedPose2D> truth{pose(2.0, above.x(), above.y(), above.z()),
                                                        pose(1.0, below.x(), below.y(), below.z())};
     const SeenOutline seen = laserSeenOutline({a, b, lost}, truth, box());
     EXPECT_EQ(seen.returns.scans_placed, 2u);

@@ -1,7 +1,7 @@
 #include "hymm/sim/run_scenario.h"
 
-#include <hymm/core/OdometryRawlogWriter.h>
-#include <hymm/core/trajectory_io.h>
+#include <hymm/io/OdometryRawlogWriter.h>
+#include <hymm/io/trajectory_io.h>
 
 #include <filesystem>
 #include <fstream>
@@ -16,17 +16,17 @@ namespace hymm::sim
 {
 namespace
 {
-hymm::core::StampedPose2D stamped(double t, const Eigen::Vector3d& p)
+hymm::io::StampedPose2D stamped(double t, const Eigen::Vector3d& p)
 {
     return {t, p[0], p[1], p[2]};
 }
 
 void writeLandmarks(const std::string& path, const World& world)
 {
-    std::vector<hymm::core::LandmarkRecord> recs;
+    std::vector<hymm::io::LandmarkRecord> recs;
     for (const auto& lm : world.landmarks())
         recs.push_back({lm.id, lm.position.x(), lm.position.y(), {lm.radius}});
-    hymm::core::writeLandmarksCsv(path, recs, "id,x,y,radius");
+    hymm::io::writeLandmarksCsv(path, recs, "id,x,y,radius");
 }
 
 void writeText(const std::string& path, const std::string& text)
@@ -64,9 +64,9 @@ RunSummary runScenario(const Scenario& scenario, const std::string& out_dir, boo
                  base + "_gt_landmarks.csv", base + "_gt_objects.txt", base + "_config.ini"};
 
     // Best gzip compression: the samples are committed to the repository.
-    hymm::core::OdometryRawlogWriter rawlog(sum.files[0], 9);
+    hymm::io::OdometryRawlogWriter rawlog(sum.files[0], 9);
     WorldPlot plot(scenario.plot);
-    std::vector<hymm::core::StampedPose2D> gt, dr;
+    std::vector<hymm::io::StampedPose2D> gt, dr;
     std::vector<double> frame_t, frame_stamps;
     SimFrame f;
     while (sim.next(f))
@@ -90,8 +90,8 @@ RunSummary runScenario(const Scenario& scenario, const std::string& out_dir, boo
     sum.frames = rawlog.frames();
     sum.duration_s = frame_t.empty() ? 0 : frame_t.back();
 
-    hymm::core::writeTum(sum.files[1], gt);
-    hymm::core::writeTum(sum.files[2], dr);
+    hymm::io::writeTum(sum.files[1], gt);
+    hymm::io::writeTum(sum.files[2], dr);
     writeLandmarks(sum.files[3], sim.world());
     writeObjectOutlines(sum.files[4], sim.world(), frame_t, frame_stamps);
     writeText(sum.files[5], "; Effective configuration of the HYMM simulator run '" +

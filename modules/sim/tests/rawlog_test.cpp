@@ -1,5 +1,5 @@
 #include <gtest/gtest.h>
-#include <hymm/core/trajectory_io.h>
+#include <hymm/io/trajectory_io.h>
 #include <hymm/sim/run_scenario.h>
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/io/CFileGZInputStream.h>
@@ -70,8 +70,8 @@ TEST(RawlogTest, RoundTripThroughMrptRawlogReaders)
 {
     const auto s = shortScenario();
     const auto sum = hymm::sim::runScenario(s, tempDir("rt"), true);
-    const auto gt = hymm::core::readTum(sum.files[1]);
-    const auto dr = hymm::core::readTum(sum.files[2]);
+    const auto gt = hymm::io::readTum(sum.files[1]);
+    const auto dr = hymm::io::readTum(sum.files[2]);
     ASSERT_EQ(sum.frames, 76u);  // 15 s at 0.2 s, both ends included
     ASSERT_EQ(gt.size(), sum.frames);
     ASSERT_EQ(dr.size(), sum.frames);

@@ -1,7 +1,7 @@
 // The sample rawlogs in rawlogs/ are readable, small, and were made from the shipped
 // scenario configs as they are now (else: run scripts/make-sample-rawlogs).
 #include <gtest/gtest.h>
-#include <hymm/core/trajectory_io.h>
+#include <hymm/io/trajectory_io.h>
 #include <hymm/sim/Scenario.h>
 #include <mrpt/obs/CRawlog.h>
 
@@ -32,7 +32,7 @@ TEST_P(SampleRawlogTest, IsSmallReadableAndMatchesItsConfig)
 
     mrpt::obs::CRawlog rawlog;
     ASSERT_TRUE(rawlog.loadFromRawLogFile(rawlog_path));
-    const auto gt = hymm::core::readTum(base + "_gt_path.tum");
+    const auto gt = hymm::io::readTum(base + "_gt_path.tum");
     ASSERT_GT(gt.size(), 100u);
     EXPECT_EQ(rawlog.size(), 2 * gt.size());
 

@@ -25,7 +25,7 @@
  */
 #pragma once
 
-#include <hymm/core/trajectory_io.h>
+#include <hymm/io/trajectory_io.h>
 #include <mrpt/config/CLoadableOptions.h>
 #include <mrpt/obs/CObservation.h>
 
@@ -100,11 +100,11 @@ class MrclamImporter
     /** Robot<r>_Groundtruth.dat (Vicon): times rebuilt from `sample_period_s`; rows with
      *  a non-finite value ("groundtruth_nan") or a time not after the last kept one
      *  ("groundtruth_non_monotonic") are skipped. Headings wrapped to (-pi, pi]. */
-    std::vector<hymm::core::StampedPose2D> readGroundTruth(const std::string& path,
+    std::vector<hymm::io::StampedPose2D> readGroundTruth(const std::string& path,
                                                            ImportSummary& summary) const;
 
     /** Landmark_Groundtruth.dat as records (id = subject, extra = {std_x, std_y}). */
-    static std::vector<hymm::core::LandmarkRecord> readLandmarks(const std::string& path,
+    static std::vector<hymm::io::LandmarkRecord> readLandmarks(const std::string& path,
                                                                  ImportSummary& summary);
 
     /** Robot<r>_Measurement.dat as observations (one per time stamp), sorted by time. */

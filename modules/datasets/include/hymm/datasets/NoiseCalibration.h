@@ -44,7 +44,7 @@
  */
 #pragma once
 
-#include <hymm/core/trajectory_io.h>
+#include <hymm/io/trajectory_io.h>
 #include <mrpt/config/CLoadableOptions.h>
 
 #include <map>
@@ -194,7 +194,7 @@ struct NoiseCalibrationResult
  */
 OdometryCalibration calibrateOdometryNoise(
     const std::vector<OdometryIntegrator::ControlSample>& controls,
-    const std::vector<hymm::core::StampedPose2D>& truth, const NoiseCalibrationOptions& options,
+    const std::vector<hymm::io::StampedPose2D>& truth, const NoiseCalibrationOptions& options,
     const OdometryIntegrator::Options& model = {});
 
 /**
@@ -205,8 +205,8 @@ OdometryCalibration calibrateOdometryNoise(
  */
 MeasurementCalibration calibrateMeasurementNoise(
     const std::vector<LandmarkMeasurement>& measurements,
-    const std::vector<hymm::core::StampedPose2D>& truth,
-    const std::vector<hymm::core::LandmarkRecord>& landmarks,
+    const std::vector<hymm::io::StampedPose2D>& truth,
+    const std::vector<hymm::io::LandmarkRecord>& landmarks,
     const NoiseCalibrationOptions& options);
 
 /**

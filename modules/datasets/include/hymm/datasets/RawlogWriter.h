@@ -1,7 +1,7 @@
 /**
  * @file RawlogWriter.h
  * @brief A converted dataset as an MRPT rawlog: one odometry action + sensory frame per
- *        observation (format: hymm/core/OdometryRawlogWriter.h).
+ *        observation (format: hymm/io/OdometryRawlogWriter.h).
  */
 #pragma once
 
@@ -17,7 +17,7 @@ namespace hymm::datasets
 struct ImportSummary;
 
 /** Writes one frame per observation (sorted by time) through
- *  hymm::core::OdometryRawlogWriter, with the odometry integrated since the previous
+ *  hymm::io::OdometryRawlogWriter, with the odometry integrated since the previous
  *  observation; counts frames, time span and odometry gaps into `summary`. */
 void writeOdometryRawlog(const std::string& path, const OdometryIntegrator& odometry,
                          const std::vector<mrpt::obs::CObservation::Ptr>& observations,

@@ -91,7 +91,7 @@ class VictoriaParkImporter
         const std::string& path);
 
     /** aa3_gpsx.mat as unfiltered poses (t [s] on the rawlog base, x, y, phi = 0). */
-    static std::vector<hymm::core::StampedPose2D> readGps(const std::string& path);
+    static std::vector<hymm::io::StampedPose2D> readGps(const std::string& path);
 
     /** measurements.dat as observations (one per scan, rawlog time base), sorted by time;
      *  `diameters[k]` holds the diameters of the measurements of observation k. */

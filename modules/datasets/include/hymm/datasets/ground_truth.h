@@ -5,7 +5,7 @@
  */
 #pragma once
 
-#include <hymm/core/trajectory_io.h>
+#include <hymm/io/trajectory_io.h>
 
 #include <string>
 #include <vector>
@@ -28,13 +28,13 @@ struct GpsFilterOptions
  * accepted fix ("gps_non_monotonic") and jumps ("gps_jump", see GpsFilterOptions).
  * Gaps are kept as gaps. Counts in `summary`.
  */
-std::vector<hymm::core::StampedPose2D> filterGpsFixes(
-    const std::vector<hymm::core::StampedPose2D>& raw, const GpsFilterOptions& opts,
+std::vector<hymm::io::StampedPose2D> filterGpsFixes(
+    const std::vector<hymm::io::StampedPose2D>& raw, const GpsFilterOptions& opts,
     ImportSummary& summary);
 
-/** hymm::core::writeTum followed by '#' lines of `comment` (one per '\n') at the top. */
+/** hymm::io::writeTum followed by '#' lines of `comment` (one per '\n') at the top. */
 void writeTumWithComment(const std::string& path,
-                         const std::vector<hymm::core::StampedPose2D>& poses,
+                         const std::vector<hymm::io::StampedPose2D>& poses,
                          const std::string& comment);
 
 /**
@@ -42,6 +42,6 @@ void writeTumWithComment(const std::string& path,
  * the dead-reckoning pose at each frame's timestamp, starting at the origin. Throws if
  * the file cannot be read or is not in the actions/sensory-frames format.
  */
-std::vector<hymm::core::StampedPose2D> deadReckoningFromRawlog(const std::string& path);
+std::vector<hymm::io::StampedPose2D> deadReckoningFromRawlog(const std::string& path);
 
 }  // namespace hymm::datasets

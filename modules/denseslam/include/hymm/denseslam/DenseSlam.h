@@ -27,7 +27,8 @@
 
 #include <hymm/dense/ClassicOccupancyGrid.h>
 #include <hymm/dense/HybridMetricMap.h>
-#include <hymm/denseslam/RawlogReader.h>
+#include <hymm/dense/ScanPoints.h>
+#include <hymm/io/RawlogReader.h>
 #include <hymm/ekf/EkfSlam.h>
 #include <hymm/extract/ReflectorExtractor.h>
 #include <hymm/extract/TreeExtractor.h>
@@ -45,6 +46,7 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 namespace hymm::denseslam
@@ -201,7 +203,7 @@ public:
               const DenseOptions& dense_opts = {});
 
     /** Processes one rawlog entry (actions, sensory frame or single observation). */
-    void processEntry(const RawlogEntry& entry);
+    void processEntry(const io::RawlogEntry& entry);
 
     /** Applies an odometry increment (the action of an MRPT rawlog). */
     void processOdometry(const mrpt::poses::CPosePDFGaussian& increment);
@@ -256,8 +258,30 @@ private:
     double localFusionStd(const ltr::LandmarkCovarianceView& view, long region_id) const;
     /** Removes the passive blocks of virtual landmarks no region uses any more. */
     void dropUnusedVirtualLandmarks();
-    /** Steps 4-5 of the class comment for one frame. */
+    /** Steps 4-5 of the class comment for one frame: updateRegions, then
+     *  insertDenseScan for every scan with the fusion gate of fusionGate. */
     void processDense(const mrpt::obs::CSensoryFrame& frame, double t, bool map_changed);
+    /** Step 4: regions on landmarks that left the map go, the others follow the
+     *  estimates (near the vehicle with local_refresh), new ones grow around it. */
+    void updateRegions(const ltr::LandmarkCovarianceView& view,
+                       const mrpt::obs::CSensoryFrame& frame, double t);
+    /** How far from the vehicle the frame's scan returns can reach [m]. */
+    double scanReach(const mrpt::obs::CSensoryFrame& frame) const;
+    /** Options::max_local_std_m as a region filter, memoised per region in `ready`
+     *  (empty: every region accepts). */
+    dense::HybridMetricMap::RegionFilter fusionGate(const ltr::LandmarkCovarianceView& view,
+                                                    std::unordered_map<long, bool>& ready) const;
+    /** Step 5 for one scan: delayed returns into the regions now covering them, the scan
+     *  into the layers, what no region holds to virtual landmarks and the store, the
+     *  classic grid. */
+    void insertDenseScan(const mrpt::obs::CObservation2DRangeScan& scan,
+                         const mrpt::math::TPose2D& vehicle,
+                         const dense::HybridMetricMap::RegionFilter& accept, double t);
+    /** Step 5a: stored returns into the regions that exist now (Sec. 3.7.3). */
+    void fuseDelayed();
+    /** Step 5b: returns no region holds into the delayed store as passive states. */
+    void storeUnassigned(const dense::ScanPoints& pts,
+                         const std::vector<Eigen::Vector2d>& unassigned, double t);
 
     Options options_;
     ekf::EkfSlam ekf_;

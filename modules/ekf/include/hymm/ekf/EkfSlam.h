@@ -220,6 +220,15 @@ public:
      *  G_v^T + noise_cov and cross = G_v P_v* (e.g. G_v = I, noise 0: a vehicle-pose copy). */
     void addPassiveFromVehicle(long id, const Eigen::VectorXd& mean, const Eigen::MatrixXd& G_v,
                                const Eigen::MatrixXd& noise_cov);
+    /** Passive block defined on active landmarks, as Eq. 2.53 with landmarks in place of
+     *  the vehicle: for mean = g(x_1, ..., x_k) with G_i = dg/dx_i, cross = sum_i G_i P_i*
+     *  (P_i*: the rows of landmark i) and cov = sum_i cross_i G_i^T + noise_cov, where
+     *  cross_i are the columns of landmark i (e.g. a virtual landmark, thesis Sec. 3.5.1,
+     *  from the two landmarks of a region edge). Throws on an unknown id or a G_i that is
+     *  not dim x landmark dim. */
+    void addPassiveFromLandmarks(long id, const Eigen::VectorXd& mean,
+                                 const std::vector<std::pair<long, Eigen::MatrixXd>>& G,
+                                 const Eigen::MatrixXd& noise_cov);
     void removePassiveState(long id) { passive_.remove(id); }
     const PassiveStates& passive() const { return passive_; }
 

@@ -15,7 +15,7 @@
  */
 #pragma once
 
-#include <hymm/core/trajectory_io.h>
+#include <hymm/io/trajectory_io.h>
 #include <hymm/eval/nees.h>
 #include <hymm/eval/se2_alignment.h>
 #include <mrpt/config/CLoadableOptions.h>
@@ -41,7 +41,7 @@ struct LandmarkEstimate
  * columns cov_column, +1, +2 hold (sxx, sxy, syy); throws if a record is too short.
  */
 std::vector<LandmarkEstimate> landmarkEstimatesFromRecords(
-    const std::vector<core::LandmarkRecord>& records, int cov_column = -1);
+    const std::vector<io::LandmarkRecord>& records, int cov_column = -1);
 
 class LandmarkEvaluator
 {
@@ -98,7 +98,7 @@ public:
      *  first, e.g. the transform found by TrajectoryEvaluator. */
     Result evaluate(
         const std::vector<LandmarkEstimate>& estimates,
-        const std::vector<core::LandmarkRecord>& truth,
+        const std::vector<io::LandmarkRecord>& truth,
         const Se2Transform* alignment = nullptr) const;
 
     static std::string associationName(Association a);

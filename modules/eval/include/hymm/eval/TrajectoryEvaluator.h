@@ -20,7 +20,7 @@
  */
 #pragma once
 
-#include <hymm/core/trajectory_io.h>
+#include <hymm/io/trajectory_io.h>
 #include <hymm/eval/se2_alignment.h>
 #include <mrpt/config/CLoadableOptions.h>
 
@@ -89,8 +89,8 @@ public:
 
     /** Ground truth need not be sorted; timestamps of `truth` are ignored for `index`. */
     Result evaluate(
-        const std::vector<core::StampedPose2D>& estimate,
-        const std::vector<core::StampedPose2D>& truth) const;
+        const std::vector<io::StampedPose2D>& estimate,
+        const std::vector<io::StampedPose2D>& truth) const;
 
     static std::string associationName(Association a);
     /** Throws std::invalid_argument naming the valid choices. */

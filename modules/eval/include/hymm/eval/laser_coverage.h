@@ -30,7 +30,7 @@
  */
 #pragma once
 
-#include <hymm/core/trajectory_io.h>
+#include <hymm/io/trajectory_io.h>
 #include <hymm/dense/HybridMetricMap.h>
 #include <hymm/dense/ScanPoints.h>
 #include <hymm/dense/outline_metrics.h>
@@ -87,7 +87,7 @@ struct PlacedReturns
 
 /** Throws std::invalid_argument if `true_path` is empty or the options are invalid. */
 PlacedReturns placeAtTruePoses(const std::vector<TimedScan>& scans,
-                               const std::vector<core::StampedPose2D>& true_path,
+                               const std::vector<io::StampedPose2D>& true_path,
                                const LaserCoverageOptions& options = LaserCoverageOptions());
 
 /** Outline samples and which of them the laser saw. */
@@ -106,7 +106,7 @@ struct SeenOutline
 /** Steps 1-2 of the file comment. Throws std::invalid_argument if there is no outline
  *  segment, `true_path` is empty or the options are invalid. */
 SeenOutline laserSeenOutline(const std::vector<TimedScan>& scans,
-                             const std::vector<core::StampedPose2D>& true_path,
+                             const std::vector<io::StampedPose2D>& true_path,
                              const std::vector<dense::Polygon>& outlines,
                              const LaserCoverageOptions& options = LaserCoverageOptions());
 

@@ -3,7 +3,7 @@
  * @brief Runs a scenario end to end and writes its files: what hymm-simul does.
  *
  * In `out_dir` (created if missing), with <name> from [Scenario] name:
- *   <name>.rawlog             MRPT rawlog, actions + sensory frames (hymm/core/OdometryRawlogWriter.h)
+ *   <name>.rawlog             MRPT rawlog, actions + sensory frames (hymm/io/OdometryRawlogWriter.h)
  *   <name>_gt_path.tum        true pose of the tracked point at every frame (TUM)
  *   <name>_dr_path.tum        dead reckoning from the true start pose, same stamps (TUM)
  *   <name>_gt_landmarks.csv   id,x,y,radius

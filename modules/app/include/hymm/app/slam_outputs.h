@@ -1,40 +1,33 @@
 /**
  * @file slam_outputs.h
  * @brief What hymm-slam writes: the estimated path and landmarks, the map figure,
- *        a run summary, and metrics against ground truth (path RMSE, landmark
- *        errors, NEES statistics with chi-square bounds).
+ *        a run summary, the dense maps, and metrics against ground truth (path RMSE,
+ *        landmark errors, NEES statistics with chi-square bounds: hymm::eval's run
+ *        metrics; outline metrics of every dense map).
+ *
+ * Sources: run_outputs.cpp (path, landmarks, figure, timing, run metrics), summary.cpp,
+ * dense_outputs.cpp and dense_metrics.cpp (the dense maps, one entry per layer kind in
+ * layer_outputs.cpp).
  */
 #pragma once
 
+#include <hymm/app/MapPlot.h>
 #include <hymm/dense/outline_metrics.h>
 #include <hymm/denseslam/DenseSlam.h>
-#include <hymm/denseslam/MapPlot.h>
 #include <hymm/eval/LandmarkEvaluator.h>
-#include <hymm/eval/ground_truth_io.h>
 #include <hymm/eval/MetricsJson.h>
+#include <hymm/eval/run_metrics.h>
+#include <hymm/io/ground_truth_io.h>
 
 #include <string>
 
-namespace hymm::denseslam
+namespace hymm::app
 {
-using eval::GroundTruth;
+using denseslam::DenseSlam;
+using io::GroundTruth;
 
-/**
- * Loads ground truth in either supported format, chosen per file:
- *  - MRPT simul-landmarks (`*_ground_truth_robot_path.txt`, `*_ground_truth.txt`):
- *    the path has no timestamps; row i is matched with the i-th estimated pose;
- *  - HYMM (TUM path, `id,x,y,...` landmark CSV): matched by timestamp.
- * Either file may be empty (not given). Throws on unreadable or malformed files.
- */
-GroundTruth loadGroundTruth(const std::string& path_file, const std::string& landmarks_file);
-
-/**
- * NEES of every path sample against the ground-truth path (3 DOF: x, y, phi), NaN where
- * no true pose matches (timestamps within `time_tolerance`, or by index when the truth
- * has none) or the covariance is singular. One entry per slam.path() sample.
- */
-std::vector<double> vehicleNeesSeries(const DenseSlam& slam, const GroundTruth& gt,
-                                      double time_tolerance = 1e-3);
+/** The path samples with their covariances, for hymm::eval's run metrics. */
+std::vector<eval::EstimatedPose> estimatedPoses(const DenseSlam& slam);
 
 /** Landmark matching for metrics: by ID when the run used the rawlog's landmark IDs
  *  (then estimate and truth share them), otherwise nearest neighbour. */
@@ -53,11 +46,9 @@ void writeEstimatedLandmarks(const ekf::EkfSlam& ekf, const std::string& file);
 MapPlot makeMapPlot(const DenseSlam& slam, const GroundTruth* gt);
 
 /**
- * Metrics against ground truth, as a JSON object:
- *  - "path": RMSE / mean / max position error, heading RMSE (eval::TrajectoryEvaluator);
- *  - "landmarks": mean / max error, unmatched counts, mean landmark NEES;
- *  - "nees": vehicle NEES per step summarised (mean, fraction of steps inside the 95%
- *    chi-square band for 3 DOF), landmark NEES fraction inside the 2-DOF band.
+ * Metrics against ground truth, as a JSON object: run time, steps, landmark count, the
+ * extraction counters (landmarks from the laser), then eval::writeRunMetrics (path and
+ * landmark errors, vehicle and landmark NEES against their chi-square bands).
  */
 eval::MetricsJson computeMetrics(const DenseSlam& slam, const GroundTruth& gt, double run_seconds);
 
@@ -72,14 +63,6 @@ struct FrameTiming
 
 /** CSV "entry,landmarks,observations,seconds", one line per frame. */
 void writeTiming(const std::vector<FrameTiming>& timing, const std::string& file);
-
-/**
- * Scores result files written by any SLAM program (hymm-slam, MRPT kf-slam, ...)
- * against ground truth with the same metrics as computeMetrics(): path file (TUM),
- * optional landmark CSV "id,x,y[,cxx,cxy,cyy]". Used by the hymm-eval app.
- */
-eval::MetricsJson evaluateResultFiles(const std::string& path_tum, const std::string& landmarks_csv,
-                                      const GroundTruth& gt);
 
 /** True object outlines from the simulator's `<name>_gt_objects.txt` (every record;
  *  hymm::sim::readObjectOutlines). Throws if the file is missing or malformed. */
@@ -125,7 +108,7 @@ struct TrueTrunk
 
 /** Trunks of the ground-truth landmarks: the radius is the record's first extra column
  *  (HYMM's simulator writes "id,x,y,radius"), 0 when the file has none. */
-std::vector<TrueTrunk> trueTrunks(const std::vector<core::LandmarkRecord>& landmarks);
+std::vector<TrueTrunk> trueTrunks(const std::vector<io::LandmarkRecord>& landmarks);
 
 /**
  * Accuracy and coverage of every dense map the run built (dense module's
@@ -154,4 +137,4 @@ void writeDenseMetrics(eval::MetricsJson& j, const DenseSlam& slam,
 void writeSummary(const DenseSlam& slam, double run_seconds, size_t entries,
                   const std::string& file);
 
-}  // namespace hymm::denseslam
+}  // namespace hymm::app

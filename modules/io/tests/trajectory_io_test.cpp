@@ -1,5 +1,5 @@
 #include <gtest/gtest.h>
-#include <hymm/core/trajectory_io.h>
+#include <hymm/io/trajectory_io.h>
 #include <mrpt/system/filesystem.h>
 
 #include <cmath>
@@ -7,7 +7,7 @@
 
 namespace
 {
-using namespace hymm::core;
+using namespace hymm::io;
 
 TEST(TrajectoryIoTest, TumRoundTrip)
 {

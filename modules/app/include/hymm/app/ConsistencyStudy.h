@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-namespace hymm::denseslam
+namespace hymm::app
 {
 struct ConsistencyStudy
 {
@@ -47,4 +47,4 @@ struct ConsistencyStudy
     Result run() const;
 };
 
-}  // namespace hymm::denseslam
+}  // namespace hymm::app

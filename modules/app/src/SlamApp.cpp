@@ -1,9 +1,10 @@
-#include "hymm/denseslam/SlamApp.h"
+#include "hymm/app/SlamApp.h"
 
 #include <hymm/core/config_utils.h>
-#include <hymm/core/trajectory_io.h>
-#include <hymm/denseslam/MapPlot.h>
-#include <hymm/denseslam/slam_outputs.h>
+#include <hymm/io/RawlogReader.h>
+#include <hymm/io/ground_truth_io.h>
+#include <hymm/app/MapPlot.h>
+#include <hymm/app/slam_outputs.h>
 #include <vector>
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <mrpt/system/filesystem.h>
@@ -14,7 +15,7 @@
 #include <ostream>
 #include <stdexcept>
 
-namespace hymm::denseslam
+namespace hymm::app
 {
 SlamApp::SlamApp(Args args) : args_(std::move(args)) {}
 
@@ -24,51 +25,67 @@ const DenseSlam& SlamApp::slam() const
     return *slam_;
 }
 
+namespace
+{
+using Clock = std::chrono::steady_clock;
+
+// The main loop: one rawlog entry at a time, throttled progress. Returns the seconds.
+double processRawlog(DenseSlam& slam, io::RawlogReader& reader, bool quiet,
+                     std::vector<FrameTiming>& timing, std::ostream& log)
+{
+    const auto t0 = Clock::now();
+    auto last_report = t0;
+    io::RawlogEntry entry;
+    while (reader.next(entry))
+    {
+        const auto e0 = Clock::now();
+        const size_t obs_before = slam.stats().observations;
+        slam.processEntry(entry);
+        const auto now = Clock::now();
+        if (entry.frame || entry.observation)
+            timing.push_back({reader.entriesRead(), slam.ekf().numLandmarks(),
+                              slam.stats().observations - obs_before,
+                              std::chrono::duration<double>(now - e0).count()});
+        if (!quiet && now - last_report > std::chrono::seconds(2))
+        {
+            last_report = now;
+            log << "[hymm-slam] entry " << reader.entriesRead() << ", landmarks "
+                << slam.ekf().numLandmarks() << ", "
+                << std::chrono::duration<double>(now - t0).count() << " s\n"
+                << std::flush;
+        }
+    }
+    return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+}  // namespace
+
 void SlamApp::run(std::ostream& log)
 {
-    using Clock = std::chrono::steady_clock;
     if (args_.config.empty() || args_.rawlog.empty() || args_.out_dir.empty())
         throw std::invalid_argument("hymm-slam needs --config, --rawlog and --out");
 
     // Inputs first: a bad config or rawlog must fail before anything is written.
     const auto cfg = core::openConfigFile(args_.config);
     slam_ = std::make_unique<DenseSlam>(DenseSlam::fromConfig(*cfg));
-    RawlogReader reader(args_.rawlog);
-    std::optional<GroundTruth> gt;
+    io::RawlogReader reader(args_.rawlog);
+    std::optional<io::GroundTruth> gt;
     if (!args_.gt_path.empty() || !args_.gt_landmarks.empty() || !args_.gt_objects.empty())
-        gt = loadGroundTruth(args_.gt_path, args_.gt_landmarks);
+        gt = io::loadGroundTruth(args_.gt_path, args_.gt_landmarks);
     std::vector<dense::Polygon> outlines;
     if (!args_.gt_objects.empty()) outlines = loadObjectOutlines(args_.gt_objects);
 
-    // Main loop: one rawlog entry at a time, throttled progress.
-    const auto t0 = Clock::now();
-    auto last_report = t0;
-    RawlogEntry entry;
     std::vector<FrameTiming> timing;
-    while (reader.next(entry))
-    {
-        const auto e0 = Clock::now();
-        const size_t obs_before = slam_->stats().observations;
-        slam_->processEntry(entry);
-        const auto now = Clock::now();
-        if (entry.frame || entry.observation)
-            timing.push_back({reader.entriesRead(), slam_->ekf().numLandmarks(),
-                              slam_->stats().observations - obs_before,
-                              std::chrono::duration<double>(now - e0).count()});
-        if (!args_.quiet && now - last_report > std::chrono::seconds(2))
-        {
-            last_report = now;
-            log << "[hymm-slam] entry " << reader.entriesRead() << ", landmarks "
-                << slam_->ekf().numLandmarks() << ", "
-                << std::chrono::duration<double>(now - t0).count() << " s\n"
-                << std::flush;
-        }
-    }
-    const double run_s = std::chrono::duration<double>(Clock::now() - t0).count();
+    const double run_s = processRawlog(*slam_, reader, args_.quiet, timing, log);
     if (reader.entriesRead() == 0)
         throw std::runtime_error("rawlog '" + args_.rawlog + "' holds no entries");
+    writeOutputs(gt ? &*gt : nullptr, outlines, timing, run_s, reader.entriesRead(), log);
+}
 
-    // Outputs: the global dense map at the final landmark estimates.
+void SlamApp::writeOutputs(const io::GroundTruth* gt, const std::vector<dense::Polygon>& outlines,
+                           const std::vector<FrameTiming>& timing, double run_s, size_t entries,
+                           std::ostream& log)
+{
+    // The global dense map at the final landmark estimates.
     slam_->refreshRegions();
     if (!mrpt::system::directoryExists(args_.out_dir) &&
         !mrpt::system::createDirectory(args_.out_dir))
@@ -76,7 +93,7 @@ void SlamApp::run(std::ostream& log)
     const std::string out = args_.out_dir + "/";
     writeEstimatedPath(*slam_, out + "path.tum");
     writeEstimatedLandmarks(slam_->ekf(), out + "landmarks.csv");
-    if (args_.png) writeMapPng(makeMapPlot(*slam_, gt ? &*gt : nullptr), out + "map.png");
+    if (args_.png) writeMapPng(makeMapPlot(*slam_, gt), out + "map.png");
     writeDenseOutputs(*slam_, out, args_.png);
     if (gt)
     {
@@ -84,9 +101,8 @@ void SlamApp::run(std::ostream& log)
         writeDenseMetrics(metrics, *slam_, outlines, trueTrunks(gt->landmarks));
         metrics.save(out + "metrics.json");
     }
-    writeSummary(*slam_, run_s, reader.entriesRead(), out + "summary.txt");
+    writeSummary(*slam_, run_s, entries, out + "summary.txt");
     writeTiming(timing, out + "timing.csv");
-
     if (!args_.quiet)
     {
         std::ifstream s(out + "summary.txt");
@@ -132,4 +148,4 @@ bool parseSlamArgs(int argc, char** argv, SlamApp::Args& a, std::ostream& out)
     return true;
 }
 
-}  // namespace hymm::denseslam
+}  // namespace hymm::app

@@ -82,7 +82,7 @@ TEST(SinglePassTest, TheStoreMapsWhatTheLaserSawBeforeRegionsExisted)
     hymm::sim::Simulator sim(scenario);
     auto off = pipeline(false), on = pipeline(true);
     std::vector<hymm::eval::TimedScan> scans;
-    std::vector<hymm::core::StampedPose2D> true_path;
+    std::vector<hymm::io::StampedPose2D> true_path;
     hymm::sim::SimFrame f;
     while (sim.next(f))
     {

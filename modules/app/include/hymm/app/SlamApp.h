@@ -22,13 +22,17 @@
  */
 #pragma once
 
+#include <hymm/app/slam_outputs.h>
 #include <hymm/denseslam/DenseSlam.h>
+#include <hymm/io/ground_truth_io.h>
 
 #include <iosfwd>
 #include <string>
 
-namespace hymm::denseslam
+namespace hymm::app
 {
+using denseslam::DenseSlam;
+
 class SlamApp
 {
 public:
@@ -53,6 +57,11 @@ public:
     const DenseSlam& slam() const;
 
 private:
+    /** Everything after the rawlog: files, figures, metrics, summary, timing. */
+    void writeOutputs(const io::GroundTruth* gt, const std::vector<dense::Polygon>& outlines,
+                      const std::vector<FrameTiming>& timing, double run_s, size_t entries,
+                      std::ostream& log);
+
     Args args_;
     std::unique_ptr<DenseSlam> slam_;
 };
@@ -61,4 +70,4 @@ private:
  *  Returns false when --help was asked for (usage already printed). */
 bool parseSlamArgs(int argc, char** argv, SlamApp::Args& args, std::ostream& out);
 
-}  // namespace hymm::denseslam
+}  // namespace hymm::app

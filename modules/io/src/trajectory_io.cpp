@@ -1,4 +1,4 @@
-#include "hymm/core/trajectory_io.h"
+#include "hymm/io/trajectory_io.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
-namespace hymm::core
+namespace hymm::io
 {
 std::string tableLocation(const std::string& path, size_t line)
 {
@@ -105,4 +105,4 @@ std::vector<LandmarkRecord> readLandmarksCsv(const std::string& path)
     return out;
 }
 
-}  // namespace hymm::core
+}  // namespace hymm::io

@@ -18,32 +18,32 @@
  * or give the rows synthetic times t0 + i * dt to match an estimate stamped the same way.
  *
  * HYMM's simulator writes a TUM path and an "id,x,y,..." landmark CSV; those are read with
- * hymm::core::readTum / readLandmarksCsv (wrapped by loadHymmGroundTruth).
+ * hymm::io::readTum / readLandmarksCsv (wrapped by loadHymmGroundTruth).
  */
 #pragma once
 
-#include <hymm/core/trajectory_io.h>
+#include <hymm/io/trajectory_io.h>
 
 #include <string>
 #include <vector>
 
-namespace hymm::eval
+namespace hymm::io
 {
 struct GroundTruth
 {
-    std::vector<core::StampedPose2D> path;
-    std::vector<core::LandmarkRecord> landmarks;
+    std::vector<StampedPose2D> path;
+    std::vector<LandmarkRecord> landmarks;
     /** False for simul-landmarks: path times are synthetic (t0 + i dt), see the file comment. */
     bool path_has_timestamps = true;
 };
 
 /** Reads a simul-landmarks `*_ground_truth.txt`; LandmarkRecord::extra = {z}. Throws naming
  *  the file and line on malformed content. */
-std::vector<core::LandmarkRecord> readSimulLandmarksLandmarks(const std::string& path);
+std::vector<LandmarkRecord> readSimulLandmarksLandmarks(const std::string& path);
 
 /** Reads a simul-landmarks `*_ground_truth_robot_path.txt` as planar poses (x, y, yaw),
  *  row i stamped t0 + i * dt. Throws on malformed content. */
-std::vector<core::StampedPose2D> readSimulLandmarksPath(
+std::vector<StampedPose2D> readSimulLandmarksPath(
     const std::string& path, double t0 = 0.0, double dt = 1.0);
 
 /** Both files of a simul-landmarks run, named from the rawlog path
@@ -54,4 +54,13 @@ GroundTruth loadSimulLandmarksGroundTruth(
 /** HYMM simulator ground truth: TUM path and landmark CSV. */
 GroundTruth loadHymmGroundTruth(const std::string& tum_path, const std::string& landmarks_csv);
 
-}  // namespace hymm::eval
+/**
+ * Loads ground truth in either supported format, chosen per file:
+ *  - MRPT simul-landmarks (`*_ground_truth_robot_path.txt`, `*_ground_truth.txt`):
+ *    the path has no timestamps; row i is matched with the i-th estimated pose;
+ *  - HYMM (TUM path, `id,x,y,...` landmark CSV): matched by timestamp.
+ * Either file may be empty (not given). Throws on unreadable or malformed files.
+ */
+GroundTruth loadGroundTruth(const std::string& path_file, const std::string& landmarks_file);
+
+}  // namespace hymm::io

@@ -2,7 +2,7 @@
  * @file OdometryRawlogWriter_test.cpp
  * @brief The odometry covariance written into a rawlog is the one read back.
  */
-#include "hymm/core/OdometryRawlogWriter.h"
+#include "hymm/io/OdometryRawlogWriter.h"
 
 #include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/obs/CActionCollection.h>
@@ -27,7 +27,7 @@ TEST(OdometryRawlogWriterTest, CovarianceSurvivesTheRoundTrip)
     cov << 0.04, 0.002, 0.001, 0.002, 0.09, 0.003, 0.001, 0.003, 0.0012;
     const mrpt::poses::CPose2D inc(1.0, 0.1, 0.02);
     {
-        hymm::core::OdometryRawlogWriter w(file);
+        hymm::io::OdometryRawlogWriter w(file);
         auto obs = mrpt::obs::CObservationOdometry::Create();
         obs->timestamp = mrpt::Clock::fromDouble(1.0);
         w.writeFrame(mrpt::Clock::fromDouble(1.0), inc, cov, {obs});

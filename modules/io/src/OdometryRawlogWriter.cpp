@@ -1,4 +1,4 @@
-#include "hymm/core/OdometryRawlogWriter.h"
+#include "hymm/io/OdometryRawlogWriter.h"
 
 #include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/obs/CActionCollection.h>
@@ -9,7 +9,7 @@
 
 #include <stdexcept>
 
-namespace hymm::core
+namespace hymm::io
 {
 OdometryRawlogWriter::OdometryRawlogWriter(const std::string& path, int compression_level)
     : path_(path), out_(std::make_unique<mrpt::io::CFileGZOutputStream>())
@@ -63,4 +63,4 @@ void OdometryRawlogWriter::close()
     if (!ok) throw std::runtime_error("error writing rawlog '" + path_ + "'");
 }
 
-}  // namespace hymm::core
+}  // namespace hymm::io

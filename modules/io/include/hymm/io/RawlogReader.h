@@ -22,7 +22,7 @@ namespace mrpt::io
 class CFileGZInputStream;
 }
 
-namespace hymm::denseslam
+namespace hymm::io
 {
 /** One rawlog entry: an action collection, a sensory frame, or a single observation
  *  (exactly one of the three is set). */
@@ -57,4 +57,4 @@ private:
     size_t entries_ = 0;
 };
 
-}  // namespace hymm::denseslam
+}  // namespace hymm::io

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-namespace hymm::denseslam
+namespace hymm::app
 {
 struct MapPlot
 {
@@ -34,4 +34,4 @@ struct MapPlot
  *  be written. Legend: grey = truth, blue = estimate, red = n-sigma ellipses. */
 void writeMapPng(const MapPlot& plot, const std::string& path);
 
-}  // namespace hymm::denseslam
+}  // namespace hymm::app

@@ -1,4 +1,4 @@
-#include "hymm/denseslam/MapPlot.h"
+#include "hymm/app/MapPlot.h"
 
 #include <Eigen/Eigenvalues>
 #include <opencv2/imgcodecs.hpp>
@@ -9,7 +9,7 @@
 #include <limits>
 #include <stdexcept>
 
-namespace hymm::denseslam
+namespace hymm::app
 {
 namespace
 {
@@ -99,4 +99,4 @@ void writeMapPng(const MapPlot& plot, const std::string& path)
     if (!cv::imwrite(path, img)) throw std::runtime_error("cannot write PNG '" + path + "'");
 }
 
-}  // namespace hymm::denseslam
+}  // namespace hymm::app

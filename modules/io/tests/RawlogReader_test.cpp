@@ -1,5 +1,5 @@
 #include <gtest/gtest.h>
-#include <hymm/denseslam/RawlogReader.h>
+#include <hymm/io/RawlogReader.h>
 #include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/io/CFileOutputStream.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
@@ -12,8 +12,8 @@
 
 namespace
 {
-using hymm::denseslam::RawlogEntry;
-using hymm::denseslam::RawlogReader;
+using hymm::io::RawlogEntry;
+using hymm::io::RawlogReader;
 
 // Writes `frames` action/sensory-frame pairs (actions-SF rawlog format).
 std::string writeSampleRawlog(size_t frames, bool gz = true)

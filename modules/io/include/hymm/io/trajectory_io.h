@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-namespace hymm::core
+namespace hymm::io
 {
 /**
  * Reads a text table of numbers: one row per line, columns separated by spaces, tabs or
@@ -57,4 +57,4 @@ void writeLandmarksCsv(
 /** Reads "id,x,y,..." CSV (comma or whitespace separated, '#' comments). */
 std::vector<LandmarkRecord> readLandmarksCsv(const std::string& path);
 
-}  // namespace hymm::core
+}  // namespace hymm::io

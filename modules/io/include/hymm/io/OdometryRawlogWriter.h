@@ -24,7 +24,7 @@ namespace mrpt::io
 class CFileGZOutputStream;
 }
 
-namespace hymm::core
+namespace hymm::io
 {
 class OdometryRawlogWriter
 {
@@ -54,4 +54,4 @@ private:
     size_t frames_ = 0;
 };
 
-}  // namespace hymm::core
+}  // namespace hymm::io

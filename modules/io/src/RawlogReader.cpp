@@ -1,4 +1,4 @@
-#include "hymm/denseslam/RawlogReader.h"
+#include "hymm/io/RawlogReader.h"
 
 #include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/serialization/CArchive.h>
@@ -6,7 +6,7 @@
 
 #include <stdexcept>
 
-namespace hymm::denseslam
+namespace hymm::io
 {
 RawlogReader::RawlogReader(const std::string& path) : path_(path)
 {
@@ -59,4 +59,4 @@ bool RawlogReader::next(RawlogEntry& entry)
     return true;
 }
 
-}  // namespace hymm::denseslam
+}  // namespace hymm::io

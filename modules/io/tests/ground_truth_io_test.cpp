@@ -1,5 +1,5 @@
 #include <gtest/gtest.h>
-#include <hymm/eval/ground_truth_io.h>
+#include <hymm/io/ground_truth_io.h>
 
 #include <cmath>
 #include <filesystem>
@@ -7,7 +7,7 @@
 
 namespace
 {
-using namespace hymm::eval;
+using namespace hymm::io;
 namespace fs = std::filesystem;
 
 // Scratch directory removed at the end of each test.
@@ -104,11 +104,11 @@ TEST_F(GroundTruthIoTest, MalformedSimulFilesNameTheLine)
 
 TEST_F(GroundTruthIoTest, ReadsHymmSimulatorFiles)
 {
-    const std::vector<hymm::core::StampedPose2D> path = {{0.0, 1, 2, 0.5}, {0.1, 1.5, 2.2, -3.0}};
-    const std::vector<hymm::core::LandmarkRecord> lms = {{7, 3.5, -1, {0.3}}, {9, 4, 4, {0.2}}};
+    const std::vector<hymm::io::StampedPose2D> path = {{0.0, 1, 2, 0.5}, {0.1, 1.5, 2.2, -3.0}};
+    const std::vector<hymm::io::LandmarkRecord> lms = {{7, 3.5, -1, {0.3}}, {9, 4, 4, {0.2}}};
     const std::string tum = (dir_ / "gt.tum").string(), csv = (dir_ / "lm.csv").string();
-    hymm::core::writeTum(tum, path);
-    hymm::core::writeLandmarksCsv(csv, lms, "id,x,y,radius");
+    hymm::io::writeTum(tum, path);
+    hymm::io::writeLandmarksCsv(csv, lms, "id,x,y,radius");
     const auto gt = loadHymmGroundTruth(tum, csv);
     EXPECT_TRUE(gt.path_has_timestamps);
     ASSERT_EQ(gt.path.size(), 2u);

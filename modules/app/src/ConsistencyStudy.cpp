@@ -1,19 +1,20 @@
-#include "hymm/denseslam/ConsistencyStudy.h"
+#include "hymm/app/ConsistencyStudy.h"
 
 #include <hymm/core/config_utils.h>
-#include <hymm/core/trajectory_io.h>
 #include <hymm/denseslam/DenseSlam.h>
-#include <hymm/denseslam/RawlogReader.h>
-#include <hymm/denseslam/slam_outputs.h>
+#include <hymm/app/slam_outputs.h>
 #include <hymm/eval/TrajectoryEvaluator.h>
 #include <hymm/eval/nees.h>
+#include <hymm/eval/run_metrics.h>
+#include <hymm/io/RawlogReader.h>
+#include <hymm/io/trajectory_io.h>
 #include <hymm/sim/run_scenario.h>
 
 #include <cmath>
 #include <filesystem>
 #include <stdexcept>
 
-namespace hymm::denseslam
+namespace hymm::app
 {
 namespace
 {
@@ -34,27 +35,22 @@ RunOutcome runOne(const sim::Scenario& scenario, const mrpt::config::CConfigFile
     const std::string base = dir + "/" + scenario.run.name;
 
     DenseSlam slam = DenseSlam::fromConfig(slam_cfg);
-    RawlogReader reader(base + ".rawlog");
-    RawlogEntry e;
+    io::RawlogReader reader(base + ".rawlog");
+    io::RawlogEntry e;
     while (reader.next(e)) slam.processEntry(e);
 
-    GroundTruth gt;
-    gt.path = core::readTum(base + "_gt_path.tum");
-    gt.landmarks = core::readLandmarksCsv(base + "_gt_landmarks.csv");
+    io::GroundTruth gt;
+    gt.path = io::readTum(base + "_gt_path.tum");
+    gt.landmarks = io::readLandmarksCsv(base + "_gt_landmarks.csv");
 
     RunOutcome out;
-    out.vehicle_nees = vehicleNeesSeries(slam, gt);
+    const std::vector<eval::EstimatedPose> path = estimatedPoses(slam);
+    out.vehicle_nees = eval::vehicleNeesSeries(path, gt);
 
     eval::TrajectoryEvaluator::Options to;
     to.association = eval::TrajectoryEvaluator::Association::Nearest;
     to.time_tolerance = 1e-3;
-    const auto traj = eval::TrajectoryEvaluator(to).evaluate(
-        [&] {
-            std::vector<core::StampedPose2D> p;
-            for (const auto& s : slam.path()) p.push_back({s.t, s.pose[0], s.pose[1], s.pose[2]});
-            return p;
-        }(),
-        gt.path);
+    const auto traj = eval::TrajectoryEvaluator(to).evaluate(eval::stampedPoses(path), gt.path);
     out.path_rmse = traj.position_rmse;
     out.final_error = traj.errors.empty() ? std::nan("") : traj.errors.back().position();
 
@@ -67,6 +63,11 @@ RunOutcome runOne(const sim::Scenario& scenario, const mrpt::config::CConfigFile
         if (m.has_nees && m.nees.ok()) out.landmark_nees[m.truth] = m.nees.value;
     return out;
 }
+
+void averageVehicleNees(const std::vector<RunOutcome>& runs, double confidence,
+                        ConsistencyStudy::Result& r);
+void averageLandmarkNees(const std::vector<RunOutcome>& runs, double confidence,
+                         ConsistencyStudy::Result& r);
 }  // namespace
 
 ConsistencyStudy::Result ConsistencyStudy::run() const
@@ -99,7 +100,17 @@ ConsistencyStudy::Result ConsistencyStudy::run() const
         r.landmark_mean_error.push_back(o.landmark_mean_error);
     }
 
-    // Vehicle: average over runs at each step (steps unmatched in any run are left out).
+    averageVehicleNees(runs, confidence, r);
+    averageLandmarkNees(runs, confidence, r);
+    return r;
+}
+
+namespace
+{
+// Vehicle: average over runs at each step (steps unmatched in any run are left out).
+void averageVehicleNees(const std::vector<RunOutcome>& runs, double confidence,
+                        ConsistencyStudy::Result& r)
+{
     const int N = static_cast<int>(r.runs);
     const auto vb = eval::averageNeesBounds(3, N, confidence);
     r.vehicle_band_lower = vb.lower;
@@ -123,9 +134,14 @@ ConsistencyStudy::Result ConsistencyStudy::run() const
     }
     r.vehicle_nees_mean = counted ? sum / counted : std::nan("");
     r.vehicle_fraction_inside = eval::fractionInsideBounds(r.vehicle_nees, vb);
+}
 
-    // Landmarks: each true landmark averaged over the runs that mapped it; the band is
-    // computed for the number of runs that contribute (most landmarks: all of them).
+// Landmarks: each true landmark averaged over the runs that mapped it; the band is
+// computed for the number of runs that contribute (most landmarks: all of them).
+void averageLandmarkNees(const std::vector<RunOutcome>& runs, double confidence,
+                         ConsistencyStudy::Result& r)
+{
+    const int N = static_cast<int>(r.runs);
     const size_t L = runs.front().landmark_nees.size();
     r.landmark_nees.assign(L, std::nan(""));
     size_t inside = 0, tested = 0;
@@ -145,7 +161,7 @@ ConsistencyStudy::Result ConsistencyStudy::run() const
         if (b.contains(r.landmark_nees[l])) ++inside;
     }
     r.landmark_fraction_inside = tested ? static_cast<double>(inside) / tested : std::nan("");
-    return r;
 }
+}  // namespace
 
-}  // namespace hymm::denseslam
+}  // namespace hymm::app
