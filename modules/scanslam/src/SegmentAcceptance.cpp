@@ -84,9 +84,12 @@ SegmentAcceptance::Outcome SegmentAcceptance::test(const PointSet& segment, doub
     {
         // A re-observation of the segment: fresh noise of each point's own covariance,
         // then the whole copy displaced by a random rigid motion.
-        const Vec3 disp(options_.displacement_xy_m * rng_.drawGaussian1D_normalized(),
-                        options_.displacement_xy_m * rng_.drawGaussian1D_normalized(),
-                        options_.displacement_phi * rng_.drawGaussian1D_normalized());
+        // Fixed magnitudes in random directions: a Gaussian draw can come out near zero
+        // and make the error/displacement ratio meaningless.
+        const double dir = rng_.drawUniform(-M_PI, M_PI);
+        const double sgn = rng_.drawUniform(0.0, 1.0) < 0.5 ? -1.0 : 1.0;
+        const Vec3 disp(options_.displacement_xy_m * std::cos(dir),
+                        options_.displacement_xy_m * std::sin(dir), sgn * options_.displacement_phi);
         PointSet copy;
         for (size_t i = 0; i < segment.size(); ++i)
         {

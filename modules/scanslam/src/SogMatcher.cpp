@@ -22,7 +22,11 @@ void SogMatcher::Options::load(const mrpt::config::CConfigFileBase& cfg, const s
     using namespace hymm::core;
     checkKnownKeys(cfg, section,
                    {"objective", "scales_m", "max_iterations", "gate_sigma",
-                    "min_matched_fraction", "cov_inflation"});
+                    "min_matched_fraction", "max_correction_m", "max_correction_deg",
+                    "cov_inflation"});
+    max_correction_m = readDoubleMin(cfg, section, "max_correction_m", max_correction_m, 0, true);
+    max_correction = M_PI / 180 * readDoubleMin(cfg, section, "max_correction_deg",
+                                                max_correction * 180 / M_PI, 0, true);
     const std::string obj = readString(cfg, section, "objective",
                                        objective == Objective::product ? "product" : "sum");
     if (obj == "product")
@@ -214,6 +218,15 @@ AlignResult SogMatcher::align(const PointSet& tpl, const PointSet& scan, const V
     }
     res.z = z;
     res.score = cur.log_l;
+    // Sliding along a corridor or a single wall can carry the optimum far from the
+    // prediction: such a result is not an observation of this landmark.
+    const Vec3 corr = poseDifference(z, z0);
+    if (corr.head<2>().norm() > options_.max_correction_m ||
+        std::abs(corr.z()) > options_.max_correction)
+    {
+        res.failure = "diverged";
+        return res;
+    }
     if (static_cast<double>(cur.matched) <
         options_.min_matched_fraction * static_cast<double>(tpl.size()))
     {

@@ -167,7 +167,7 @@ TEST(SegmentAcceptanceTest, CornersAcceptedFeaturelessSegmentsRejected)
             wall_ratio = ratio;
         else
         {
-            EXPECT_EQ(out, SegmentAcceptance::Outcome::accepted);
+            EXPECT_EQ(out, SegmentAcceptance::Outcome::accepted) << "ratio " << ratio;
             corner_ratio = std::max(corner_ratio, ratio);
         }
     }

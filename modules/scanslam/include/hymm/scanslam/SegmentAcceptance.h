@@ -28,8 +28,8 @@ public:
     struct Options
     {
         int trials = 3;                    //!< perturbed copies registered per segment
-        double displacement_xy_m = 0.3;    //!< std of the random translation [m]
-        double displacement_phi = 3 * M_PI / 180;  //!< std of the random rotation [rad]
+        double displacement_xy_m = 0.3;    //!< length of the random translation [m]
+        double displacement_phi = 3 * M_PI / 180;  //!< size of the random rotation (either sign) [rad]
         double max_error_fraction = 0.1;   //!< thesis 5.7: 10 % of the displacement
         double max_cov_trace = 0;          //!< also require trace(R_xy) below this [m^2] (0: off)
         double min_extent_m = 0.5;         //!< segments shorter end to end are rejected [m]

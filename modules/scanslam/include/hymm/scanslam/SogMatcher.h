@@ -40,6 +40,8 @@ public:
         int max_iterations = 40;         //!< Newton steps per level
         double gate_sigma = 4.0;         //!< pairs further apart are left out [sigma]
         double min_matched_fraction = 0.5;  //!< template points within 3 sigma of the scan
+        double max_correction_m = 1.0;   //!< result further from z0 than this: diverged [m]
+        double max_correction = 15 * M_PI / 180;  //!< same for the angle [rad] (ini: _deg)
         double cov_inflation = 1.0;      //!< covariance multiplier (README: measured)
 
         void load(const mrpt::config::CConfigFileBase& cfg, const std::string& section);
