@@ -63,6 +63,20 @@ struct UpdateReport
     std::string rejection_reason;    //!< why an update was skipped (empty if none)
 };
 
+/** Outcome of one pose-landmark observation (EkfSlamPoseLandmarks.cpp). */
+struct PoseUpdateReport
+{
+    enum class Outcome
+    {
+        updated,
+        gated,    //!< NIS beyond the gate (thesis 5.5): not used
+        numeric,  //!< innovation covariance not PD or non-finite gain: skipped
+        invalid   //!< NaN/inf z or R, or R not PD: skipped
+    };
+    Outcome outcome = Outcome::invalid;
+    double nis = 0;  //!< normalised innovation squared (3 DOF)
+};
+
 /**
  * Where the filter evaluates its Jacobians.
  *  - Current: the standard EKF, at the latest estimate.
@@ -201,6 +215,19 @@ public:
      */
     long addLandmark(const Eigen::VectorXd& mean, const Eigen::MatrixXd& G_v,
                      const Eigen::MatrixXd& noise_cov, long id = -1);
+    // ---- 3-DOF pose landmarks (Scan-SLAM, thesis ch. 5; EkfSlamPoseLandmarks.cpp) ----
+
+    /** Adds a pose landmark from its observation z (landmark frame in the sensor frame,
+     *  covariance R) by exact augmentation (pose_landmark_model.h). Returns the id. */
+    long addPoseLandmark(const Eigen::Vector3d& z, const Eigen::Matrix3d& R,
+                         const Eigen::Vector3d& sensor, long id = -1);
+    /** Updates with an observation of pose landmark `id`, gated at `gate_prob` of
+     *  chi-square(3) (0 or 1: no gate). Throws if `id` is unknown or not 3-DOF; bad
+     *  input and numeric failures leave the state untouched and are reported. */
+    PoseUpdateReport updatePoseLandmark(long id, const Eigen::Vector3d& z,
+                                        const Eigen::Matrix3d& R, const Eigen::Vector3d& sensor,
+                                        double gate_prob);
+
     /** Marginalises a landmark out (deletes its rows and columns). Throws if unknown. */
     void removeLandmark(long id);
 

@@ -1,0 +1,193 @@
+// 3-DOF pose landmarks (Scan-SLAM, thesis ch. 5): the observation model of Eq. 5.15 with a
+// sensor mounting and its inverse against numeric differentiation, and the filter with
+// pose landmarks over Monte Carlo runs (accuracy and NEES), the gate and bad input.
+#include <gtest/gtest.h>
+#include <hymm/ekf/EkfSlam.h>
+#include <hymm/ekf/pose_composition.h>
+#include <hymm/ekf/pose_landmark_model.h>
+#include <mrpt/math/distributions.h>
+#include <mrpt/math/wrap2pi.h>
+#include <mrpt/poses/CPosePDFGaussian.h>
+
+#include <Eigen/Cholesky>
+#include <random>
+
+#include "test_helpers.h"
+
+using namespace hymm::ekf;
+using hymm::ekf::testing::numericJacobian;
+
+TEST(PoseLandmarkModelTest, Eq515WithoutMounting)
+{
+    const Eigen::Vector3d xv(1, 2, 0.3), xl(4, -1, 2.0);
+    const Eigen::Vector3d z = poseLandmarkObservation(xv, xl, Eigen::Vector3d::Zero());
+    const double c = std::cos(0.3), s = std::sin(0.3);
+    EXPECT_NEAR(z.x(), 3 * c + (-3) * s, 1e-12);
+    EXPECT_NEAR(z.y(), -3 * s + (-3) * c, 1e-12);
+    EXPECT_NEAR(z.z(), 1.7, 1e-12);
+}
+
+TEST(PoseLandmarkModelTest, JacobiansMatchNumericDifferentiation)
+{
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> u(-3, 3);
+    for (int t = 0; t < 20; ++t)
+    {
+        const Eigen::Vector3d xv(u(rng), u(rng), u(rng)), xl(u(rng), u(rng), u(rng));
+        const Eigen::Vector3d sensor(0.5 * u(rng), 0.3 * u(rng), 0.5 * u(rng));
+        Eigen::Matrix3d Hv, Hl;
+        const Eigen::Vector3d z = poseLandmarkObservation(xv, xl, sensor, &Hv, &Hl);
+        const auto fv = [&](const Eigen::VectorXd& x) -> Eigen::VectorXd {
+            return poseLandmarkObservation(x, xl, sensor);
+        };
+        const auto fl = [&](const Eigen::VectorXd& x) -> Eigen::VectorXd {
+            return poseLandmarkObservation(xv, x, sensor);
+        };
+        EXPECT_LT((Hv - numericJacobian(fv, xv, {2})).norm(), 1e-6);
+        EXPECT_LT((Hl - numericJacobian(fl, xl, {2})).norm(), 1e-6);
+
+        Eigen::Matrix3d Gv, Gz;
+        const Eigen::Vector3d back = poseLandmarkFromObservation(xv, z, sensor, &Gv, &Gz);
+        EXPECT_LT((back.head<2>() - xl.head<2>()).norm(), 1e-9);
+        EXPECT_NEAR(std::remainder(back.z() - xl.z(), 2 * M_PI), 0, 1e-9);
+        const auto gv = [&](const Eigen::VectorXd& x) -> Eigen::VectorXd {
+            return poseLandmarkFromObservation(x, z, sensor);
+        };
+        const auto gz = [&](const Eigen::VectorXd& x) -> Eigen::VectorXd {
+            return poseLandmarkFromObservation(xv, x, sensor);
+        };
+        EXPECT_LT((Gv - numericJacobian(gv, xv, {2})).norm(), 1e-6);
+        EXPECT_LT((Gz - numericJacobian(gz, z, {2})).norm(), 1e-6);
+    }
+}
+
+namespace
+{
+Eigen::Vector3d draw(std::mt19937& rng, const Eigen::Matrix3d& cov)
+{
+    std::normal_distribution<double> g(0, 1);
+    const Eigen::Matrix3d L = cov.llt().matrixL();
+    return L * Eigen::Vector3d(g(rng), g(rng), g(rng));
+}
+
+double nees(const Eigen::Vector3d& est, const Eigen::Vector3d& truth, const Eigen::Matrix3d& P)
+{
+    Eigen::Vector3d e = est - truth;
+    e.z() = mrpt::math::wrapToPi(e.z());
+    return e.dot(P.ldlt().solve(e));
+}
+}  // namespace
+
+TEST(EkfPoseLandmarksTest, ConsistentOverMonteCarloRuns)
+{
+    const int runs = 25, steps = 80;
+    const Eigen::Vector3d sensor(0.3, 0.1, 0.05);
+    const std::vector<Eigen::Vector3d> landmarks{{8, 3, 0.4}, {12, -4, -1.0}, {20, 2, 2.5}};
+    Eigen::Matrix3d Q = Eigen::Vector3d(0.03 * 0.03, 0.02 * 0.02, std::pow(0.8 * M_PI / 180, 2)).asDiagonal();
+    Eigen::Matrix3d R = Eigen::Vector3d(0.05 * 0.05, 0.04 * 0.04, std::pow(0.6 * M_PI / 180, 2)).asDiagonal();
+    R(0, 1) = R(1, 0) = 0.0005;
+    std::vector<double> veh_nees(steps, 0.0);
+    double lm_nees = 0, lm_err = 0;
+    int lm_count = 0, updates = 0, gated = 0;
+    for (int run = 0; run < runs; ++run)
+    {
+        std::mt19937 rng(100 + run);
+        EkfSlam f{EkfSlam::Options{}};
+        Eigen::Vector3d truth = Eigen::Vector3d::Zero();
+        f.reset(truth, Eigen::Matrix3d::Identity() * 1e-8);
+        std::vector<long> ids;
+        for (const auto& l : landmarks)
+        {
+            const Eigen::Vector3d z = poseLandmarkObservation(truth, l, sensor) + draw(rng, R);
+            ids.push_back(f.addPoseLandmark(z, R, sensor));
+        }
+        const Eigen::Vector3d d_true(0.25, 0.0, 0.01);
+        for (int k = 0; k < steps; ++k)
+        {
+            truth = composePose(truth, d_true);
+            const Eigen::Vector3d d_meas = d_true + draw(rng, Q);
+            mrpt::math::CMatrixDouble33 Qm;
+            for (int r = 0; r < 3; ++r)
+                for (int c = 0; c < 3; ++c) Qm(r, c) = Q(r, c);
+            f.predictOdometry(mrpt::poses::CPosePDFGaussian(
+                mrpt::poses::CPose2D(d_meas.x(), d_meas.y(), d_meas.z()), Qm));
+            // Every other step, the landmarks in front of the sensor are observed.
+            if (k % 2 == 0)
+                for (size_t i = 0; i < landmarks.size(); ++i)
+                {
+                    const Eigen::Vector3d zt = poseLandmarkObservation(truth, landmarks[i], sensor);
+                    if (zt.x() < 0.5) continue;
+                    const auto rep = f.updatePoseLandmark(ids[i], zt + draw(rng, R), R, sensor, 0.999);
+                    ++updates;
+                    gated += rep.outcome == PoseUpdateReport::Outcome::gated;
+                    EXPECT_NE(rep.outcome, PoseUpdateReport::Outcome::numeric);
+                }
+            veh_nees[static_cast<size_t>(k)] += nees(f.vehiclePose(), truth, f.vehicleCov());
+            ASSERT_TRUE(f.mean().allFinite());
+        }
+        for (size_t i = 0; i < landmarks.size(); ++i)
+        {
+            const Eigen::VectorXd m = f.landmarkBlockMean(ids[i]);
+            const Eigen::MatrixXd P = f.landmarkBlockCov(ids[i]);
+            lm_nees += nees(m, landmarks[i], P);
+            lm_err += (m.head<2>() - landmarks[i].head<2>()).norm();
+            ++lm_count;
+        }
+    }
+    // Mean over runs of the vehicle NEES: inside the two-sided 95 % band on >= 90 % of steps.
+    const double lo = mrpt::math::chi2inv(0.025, 3 * runs) / runs;
+    const double hi = mrpt::math::chi2inv(0.975, 3 * runs) / runs;
+    int inside = 0;
+    for (double v : veh_nees) inside += (v / runs > lo && v / runs < hi);
+    EXPECT_GE(inside, static_cast<int>(0.9 * steps)) << "steps inside " << inside << "/" << steps;
+    const double lm_mean = lm_nees / lm_count;
+    EXPECT_GT(lm_mean, mrpt::math::chi2inv(0.005, 3 * lm_count) / lm_count);
+    EXPECT_LT(lm_mean, mrpt::math::chi2inv(0.995, 3 * lm_count) / lm_count);
+    EXPECT_LT(lm_err / lm_count, 0.1);
+    // Correct observations fall outside the 99.9 % gate about once in a thousand.
+    EXPECT_GT(updates, 1500);
+    EXPECT_LT(gated, updates / 200);
+}
+
+TEST(EkfPoseLandmarksTest, GateBadInputAndWrongBlocks)
+{
+    EkfSlam f{EkfSlam::Options{}};
+    f.reset(Eigen::Vector3d::Zero(), Eigen::Matrix3d::Identity() * 0.01);
+    const Eigen::Vector3d sensor = Eigen::Vector3d::Zero();
+    const Eigen::Matrix3d R = Eigen::Matrix3d::Identity() * 1e-3;
+    const long id = f.addPoseLandmark(Eigen::Vector3d(5, 1, 0.2), R, sensor);
+    EXPECT_EQ(f.landmarkBlock(id).dim, 3);
+    // Exact augmentation: the new block's covariance is G_v P_vv G_v^T + G_z R G_z^T.
+    Eigen::Matrix3d Gv, Gz;
+    poseLandmarkFromObservation(Eigen::Vector3d::Zero(), Eigen::Vector3d(5, 1, 0.2), sensor, &Gv, &Gz);
+    const Eigen::Matrix3d expect = Gv * (Eigen::Matrix3d::Identity() * 0.01) * Gv.transpose() +
+                                   Gz * R * Gz.transpose();
+    EXPECT_LT((f.landmarkBlockCov(id) - Eigen::MatrixXd(expect)).norm(), 1e-12);
+
+    const Eigen::VectorXd x0 = f.mean();
+    const Eigen::MatrixXd P0 = f.cov();
+    // 2 m off: outside the 99.9 % gate, state untouched.
+    auto rep = f.updatePoseLandmark(id, Eigen::Vector3d(7, 1, 0.2), R, sensor, 0.999);
+    EXPECT_EQ(rep.outcome, PoseUpdateReport::Outcome::gated);
+    EXPECT_GT(rep.nis, 16.27);
+    EXPECT_EQ(f.mean(), x0);
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    EXPECT_EQ(f.updatePoseLandmark(id, Eigen::Vector3d(nan, 1, 0.2), R, sensor, 0.999).outcome,
+              PoseUpdateReport::Outcome::invalid);
+    EXPECT_EQ(f.updatePoseLandmark(id, Eigen::Vector3d(5, 1, 0.2), -R, sensor, 0.999).outcome,
+              PoseUpdateReport::Outcome::invalid);
+    EXPECT_EQ(f.mean(), x0);
+    EXPECT_EQ(f.cov(), P0);
+    EXPECT_THROW(f.addPoseLandmark(Eigen::Vector3d(nan, 0, 0), R, sensor), std::invalid_argument);
+    // A consistent observation near +-pi wraps instead of jumping by 2 pi.
+    const long id2 = f.addPoseLandmark(Eigen::Vector3d(3, 0, M_PI - 0.01), R, sensor);
+    rep = f.updatePoseLandmark(id2, Eigen::Vector3d(3, 0, -M_PI + 0.01), R, sensor, 0.999);
+    EXPECT_EQ(rep.outcome, PoseUpdateReport::Outcome::updated);
+    EXPECT_LT(rep.nis, 1.0);
+    EXPECT_LE(std::abs(f.landmarkBlockMean(id2)(2)), M_PI);
+    // A point landmark is not a pose block.
+    const long pid = f.addLandmark(Eigen::Vector2d(1, 1), Eigen::MatrixXd::Zero(2, 3),
+                                   Eigen::Matrix2d::Identity());
+    EXPECT_THROW(f.updatePoseLandmark(pid, Eigen::Vector3d(1, 1, 0), R, sensor, 0.999),
+                 std::invalid_argument);
+}

@@ -1,0 +1,32 @@
+/**
+ * @file ScanTemplate.h
+ * @brief A scan landmark's template (thesis 5.2.1, 5.2.3): the accepted points as a
+ *        sum of Gaussians in a frame local to the landmark, origin at their centroid,
+ *        orientation that of the sensor at creation. The template stays outside the
+ *        EKF state; only the frame's pose enters it.
+ */
+#pragma once
+
+#include "hymm/scanslam/PointSet.h"
+#include "hymm/scanslam/Segmenter.h"
+
+namespace hymm::scanslam
+{
+struct ScanTemplate
+{
+    PointSet sog;  //!< points and covariances in the landmark frame
+    /** Pose of the landmark frame in the sensor frame it was made from (centroid, 0). */
+    Vec3 frame_in_sensor = Vec3::Zero();
+
+    /** Template of the points `segment` of `scan` (sensor frame). */
+    static ScanTemplate fromSegment(const PointSet& scan, const Segmenter::Segment& segment);
+    /** Template of all points of `points` (sensor frame). */
+    static ScanTemplate fromPoints(const PointSet& points);
+};
+
+/** Fraction of the template's points that fall inside the sensor's view (range below
+ *  `max_range_m`, |bearing| <= fov/2) when the template frame sits at `z` in the sensor
+ *  frame. Thesis 5.7: a landmark is in view when this exceeds 0.9. */
+double fractionInView(const ScanTemplate& tpl, const Vec3& z, double max_range_m, double fov);
+
+}  // namespace hymm::scanslam

@@ -1,0 +1,230 @@
+/**
+ * @file CorrelativeMatcher.cpp
+ * @brief Exhaustive two-level correlative search with the score-surface covariance.
+ */
+#include "hymm/scanslam/CorrelativeMatcher.h"
+
+#include <mrpt/math/wrap2pi.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "hymm/core/config_utils.h"
+
+namespace hymm::scanslam
+{
+CorrelativeMatcher::CorrelativeMatcher() : options_() {}
+
+void CorrelativeMatcher::Options::load(const mrpt::config::CConfigFileBase& cfg,
+                                       const std::string& section)
+{
+    using namespace hymm::core;
+    checkKnownKeys(cfg, section,
+                   {"sigma_m", "gate_sigma", "grid_resolution_m", "search_xy_m", "search_phi_deg",
+                    "coarse_step_m", "fine_step_m", "min_matched_fraction", "cov_inflation"});
+    sigma_m = readDoubleMin(cfg, section, "sigma_m", sigma_m, 0, true);
+    gate_sigma = readDoubleMin(cfg, section, "gate_sigma", gate_sigma, 0, true);
+    grid_resolution_m = readDoubleMin(cfg, section, "grid_resolution_m", grid_resolution_m, 0, true);
+    search_xy_m = readDoubleMin(cfg, section, "search_xy_m", search_xy_m, 0, false);
+    search_phi = M_PI / 180 *
+                 readDoubleMin(cfg, section, "search_phi_deg", search_phi * 180 / M_PI, 0, false);
+    coarse_step_m = readDoubleMin(cfg, section, "coarse_step_m", coarse_step_m, 0, true);
+    fine_step_m = readDoubleMin(cfg, section, "fine_step_m", fine_step_m, 0, true);
+    min_matched_fraction =
+        readDoubleMin(cfg, section, "min_matched_fraction", min_matched_fraction, 0, false);
+    cov_inflation = readDoubleMin(cfg, section, "cov_inflation", cov_inflation, 0, true);
+}
+
+namespace
+{
+/** Log-likelihood lookup: -min(d^2 / 2 sigma^2, floor) with d to the nearest scan point. */
+class LikelihoodGrid
+{
+public:
+    LikelihoodGrid(const Vec2& lo, const Vec2& hi, double res, double sigma, double gate,
+                   const PointSet& scan)
+        : lo_(lo), res_(res), floor_(0.5 * gate * gate)
+    {
+        nx_ = static_cast<int>(std::ceil((hi.x() - lo.x()) / res)) + 2;
+        ny_ = static_cast<int>(std::ceil((hi.y() - lo.y()) / res)) + 2;
+        cells_.assign(static_cast<size_t>(nx_) * static_cast<size_t>(ny_), -floor_);
+        const double reach = gate * sigma;
+        const int rc = static_cast<int>(std::ceil(reach / res));
+        const double k = 0.5 / (sigma * sigma);
+        for (const Vec2& q : scan.points)
+        {
+            const int cx = static_cast<int>(std::floor((q.x() - lo.x()) / res));
+            const int cy = static_cast<int>(std::floor((q.y() - lo.y()) / res));
+            if (cx < -rc || cy < -rc || cx >= nx_ + rc || cy >= ny_ + rc) continue;
+            for (int y = std::max(0, cy - rc); y <= std::min(ny_ - 1, cy + rc); ++y)
+                for (int x = std::max(0, cx - rc); x <= std::min(nx_ - 1, cx + rc); ++x)
+                {
+                    const Vec2 c(lo.x() + x * res, lo.y() + y * res);
+                    const double v = -std::min(k * (c - q).squaredNorm(), floor_);
+                    float& cell = cells_[static_cast<size_t>(y) * static_cast<size_t>(nx_) +
+                                         static_cast<size_t>(x)];
+                    cell = std::max(cell, static_cast<float>(v));
+                }
+        }
+    }
+
+    /** Bilinear interpolation; the floor outside the grid. */
+    double at(double px, double py) const
+    {
+        const double fx = (px - lo_.x()) / res_, fy = (py - lo_.y()) / res_;
+        const int x = static_cast<int>(std::floor(fx)), y = static_cast<int>(std::floor(fy));
+        if (x < 0 || y < 0 || x + 1 >= nx_ || y + 1 >= ny_) return -floor_;
+        const double ax = fx - x, ay = fy - y;
+        const size_t i = static_cast<size_t>(y) * static_cast<size_t>(nx_) + static_cast<size_t>(x);
+        const size_t n = static_cast<size_t>(nx_);
+        return (1 - ay) * ((1 - ax) * cells_[i] + ax * cells_[i + 1]) +
+               ay * ((1 - ax) * cells_[i + n] + ax * cells_[i + n + 1]);
+    }
+
+    double floorValue() const { return -floor_; }
+
+private:
+    Vec2 lo_;
+    double res_;
+    double floor_;
+    int nx_ = 0, ny_ = 0;
+    std::vector<float> cells_;
+};
+
+double score(const LikelihoodGrid& g, const std::vector<Vec2>& rotated, double tx, double ty)
+{
+    double s = 0;
+    for (const Vec2& p : rotated) s += g.at(p.x() + tx, p.y() + ty);
+    return s;
+}
+
+std::vector<Vec2> rotate(const std::vector<Vec2>& pts, double phi)
+{
+    const Mat2 r = rotation(phi);
+    std::vector<Vec2> out;
+    out.reserve(pts.size());
+    for (const Vec2& p : pts) out.push_back(r * p);
+    return out;
+}
+}  // namespace
+
+AlignResult CorrelativeMatcher::align(const PointSet& tpl, const PointSet& scan, const Vec3& z0) const
+{
+    AlignResult res;
+    res.z = z0;
+    const auto& o = options_;
+    if (tpl.size() < 3 || scan.size() < 3)
+    {
+        res.failure = "too_few_points";
+        return res;
+    }
+    if (!z0.allFinite())
+    {
+        res.failure = "bad_initial_guess";
+        return res;
+    }
+    double radius = 0;
+    for (const Vec2& p : tpl.points) radius = std::max(radius, p.norm());
+    radius = std::max(radius, 0.5);
+    const double coarse_sigma = std::max(o.sigma_m, o.coarse_step_m);
+    const double margin = o.search_xy_m + radius + o.gate_sigma * coarse_sigma + 2 * o.grid_resolution_m;
+    const Vec2 lo = z0.head<2>() - Vec2::Constant(margin);
+    const Vec2 hi = z0.head<2>() + Vec2::Constant(margin);
+    const LikelihoodGrid coarse(lo, hi, o.grid_resolution_m, coarse_sigma, o.gate_sigma, scan);
+    const LikelihoodGrid fine(lo, hi, o.grid_resolution_m, o.sigma_m, o.gate_sigma, scan);
+
+    // Coarse search: translation steps of coarse_step, angle steps moving the template's
+    // furthest point by about the same distance.
+    const double cphi = o.coarse_step_m / radius;
+    const int nxy = static_cast<int>(std::ceil(o.search_xy_m / o.coarse_step_m));
+    const int nphi = static_cast<int>(std::ceil(o.search_phi / cphi));
+    double best = -std::numeric_limits<double>::infinity();
+    Vec3 zc = z0;
+    for (int k = -nphi; k <= nphi; ++k)
+    {
+        const double phi = z0.z() + k * cphi;
+        const auto rot = rotate(tpl.points, phi);
+        for (int iy = -nxy; iy <= nxy; ++iy)
+            for (int ix = -nxy; ix <= nxy; ++ix)
+            {
+                const double tx = z0.x() + ix * o.coarse_step_m, ty = z0.y() + iy * o.coarse_step_m;
+                const double s = score(coarse, rot, tx, ty);
+                ++res.iterations;
+                if (s > best)
+                {
+                    best = s;
+                    zc = Vec3(tx, ty, phi);
+                }
+            }
+    }
+
+    // Fine search around the coarse cell; the score surface gives mean and covariance.
+    const double fphi = o.fine_step_m / radius;
+    const int fxy = static_cast<int>(std::ceil(o.coarse_step_m / o.fine_step_m));
+    const int fph = static_cast<int>(std::ceil(cphi / fphi));
+    std::vector<std::pair<Vec3, double>> samples;
+    samples.reserve(static_cast<size_t>((2 * fxy + 1) * (2 * fxy + 1) * (2 * fph + 1)));
+    double fbest = -std::numeric_limits<double>::infinity();
+    Vec3 zbest = zc;
+    for (int k = -fph; k <= fph; ++k)
+    {
+        const double dphi = k * fphi;
+        const auto rot = rotate(tpl.points, zc.z() + dphi);
+        for (int iy = -fxy; iy <= fxy; ++iy)
+            for (int ix = -fxy; ix <= fxy; ++ix)
+            {
+                const Vec3 d(ix * o.fine_step_m, iy * o.fine_step_m, dphi);
+                const double s = score(fine, rot, zc.x() + d.x(), zc.y() + d.y());
+                ++res.iterations;
+                samples.emplace_back(d, s);
+                if (s > fbest)
+                {
+                    fbest = s;
+                    zbest = zc + d;
+                }
+            }
+    }
+    double wsum = 0;
+    Vec3 mean = Vec3::Zero();
+    Mat3 second = Mat3::Zero();
+    for (const auto& [d, s] : samples)
+    {
+        const double w = std::exp(s - fbest);
+        wsum += w;
+        mean += w * d;
+        second += w * d * d.transpose();
+    }
+    mean /= wsum;
+    Mat3 cov = second / wsum - mean * mean.transpose();
+    cov(0, 0) += o.fine_step_m * o.fine_step_m / 12;
+    cov(1, 1) += o.fine_step_m * o.fine_step_m / 12;
+    cov(2, 2) += fphi * fphi / 12;
+    res.z = zc + mean;
+    res.z.z() = mrpt::math::wrapToPi(res.z.z());
+    res.score = fbest;
+
+    // Matched points at the best pose: above the floor of the fine grid.
+    size_t matched = 0;
+    for (const Vec2& p : tpl.points)
+    {
+        const Vec2 q = transformPoint(zbest, p);
+        if (fine.at(q.x(), q.y()) > fine.floorValue() + 1e-9) ++matched;
+    }
+    if (static_cast<double>(matched) < o.min_matched_fraction * static_cast<double>(tpl.size()))
+    {
+        res.failure = "too_few_matches";
+        return res;
+    }
+    cov = 0.5 * (cov + cov.transpose()).eval() * o.cov_inflation;
+    if (!res.z.allFinite() || !isCovariance(cov))
+    {
+        res.failure = "covariance_not_positive";
+        return res;
+    }
+    res.R = cov;
+    res.ok = true;
+    return res;
+}
+
+}  // namespace hymm::scanslam

@@ -1,0 +1,285 @@
+/**
+ * @file SogMatcher.cpp
+ * @brief Sum-of-Gaussians scan correlation and its covariance (thesis 5.3.1, 5.4).
+ */
+#include "hymm/scanslam/SogMatcher.h"
+
+#include <mrpt/math/wrap2pi.h>
+
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
+#include <cmath>
+
+#include "hymm/core/config_utils.h"
+#include "hymm/scanslam/quadratic_fit.h"
+
+namespace hymm::scanslam
+{
+SogMatcher::SogMatcher() : options_() {}
+
+void SogMatcher::Options::load(const mrpt::config::CConfigFileBase& cfg, const std::string& section)
+{
+    using namespace hymm::core;
+    checkKnownKeys(cfg, section,
+                   {"objective", "scales_m", "max_iterations", "gate_sigma",
+                    "min_matched_fraction", "max_correction_m", "max_correction_deg",
+                    "cov_inflation"});
+    max_correction_m = readDoubleMin(cfg, section, "max_correction_m", max_correction_m, 0, true);
+    max_correction = M_PI / 180 * readDoubleMin(cfg, section, "max_correction_deg",
+                                                max_correction * 180 / M_PI, 0, true);
+    const std::string obj = readString(cfg, section, "objective",
+                                       objective == Objective::product ? "product" : "sum");
+    if (obj == "product")
+        objective = Objective::product;
+    else if (obj == "sum")
+        objective = Objective::sum;
+    else
+        throwConfigError(section, "objective", obj, "expected product or sum");
+    scales_m = readDoubleList(cfg, section, "scales_m", scales_m);
+    if (scales_m.empty()) throwConfigError(section, "scales_m", "", "needs at least one level");
+    for (double s : scales_m)
+        if (!(s >= 0)) throwConfigError(section, "scales_m", std::to_string(s), "must be >= 0");
+    max_iterations = static_cast<int>(readInt(cfg, section, "max_iterations", max_iterations));
+    if (max_iterations < 1)
+        throwConfigError(section, "max_iterations", std::to_string(max_iterations), "must be >= 1");
+    gate_sigma = readDoubleMin(cfg, section, "gate_sigma", gate_sigma, 0, true);
+    min_matched_fraction =
+        readDoubleMin(cfg, section, "min_matched_fraction", min_matched_fraction, 0, false);
+    cov_inflation = readDoubleMin(cfg, section, "cov_inflation", cov_inflation, 0, true);
+}
+
+SogMatcher::Evaluation SogMatcher::evaluate(const PointSet& tpl, const PointSet& scan,
+                                            const Vec3& z, double extra_var, double cov_phi,
+                                            bool derivatives) const
+{
+    Evaluation ev;
+    const double c = std::cos(z.z()), s = std::sin(z.z());
+    const Mat2 rc = rotation(cov_phi);
+    const double gate2 = options_.gate_sigma * options_.gate_sigma;
+    const bool product = options_.objective == Objective::product;
+    double total = 0;          // sum objective: Lambda of Eq. 5.13
+    double log_sum = 0;        // product objective: sum_i ln Lambda_i
+    Vec3 g_total = Vec3::Zero();
+    Mat3 h_total = Mat3::Zero();
+    Vec3 g_prod = Vec3::Zero();
+    Mat3 h_prod = Mat3::Zero();
+    for (size_t i = 0; i < tpl.size(); ++i)
+    {
+        const Vec2& p = tpl.points[i];
+        const Vec2 rp(c * p.x() - s * p.y(), s * p.x() + c * p.y());
+        const Vec2 tp = rp + z.head<2>();
+        const Vec2 a(-rp.y(), rp.x());  // d(R p)/dphi
+        const Mat2 pi = rc * tpl.covs[i] * rc.transpose();
+        const double tr_p = pi.trace() + 2 * extra_var;
+        bool matched = false;
+        double li = 0;
+        Vec3 gi = Vec3::Zero();
+        Mat3 hi = Mat3::Zero();
+        for (size_t j = 0; j < scan.size(); ++j)
+        {
+            const Vec2 d = tp - scan.points[j];
+            const double d2 = d.squaredNorm();
+            // |d|^2 <= gate^2 * lambda_max(Sigma) <= gate^2 * trace(Sigma) for any pair
+            // within the Mahalanobis gate.
+            if (d2 > gate2 * (tr_p + scan.covs[j].trace())) continue;
+            Mat2 sig = pi + scan.covs[j];
+            sig(0, 0) += extra_var;
+            sig(1, 1) += extra_var;
+            const double det = sig.determinant();
+            if (!(det > 0)) continue;
+            const Mat2 inv = sig.inverse();
+            const Vec2 u = inv * d;
+            const double m2 = d.dot(u);
+            if (m2 > gate2) continue;
+            if (m2 < 9) matched = true;
+            // gamma_ij of Eq. 5.13: a Gaussian in d with covariance P_i + Q_j.
+            const double f = std::exp(-0.5 * m2) / (2 * M_PI * std::sqrt(det));
+            li += f;
+            if (!derivatives) continue;
+            // d = R p + t - q: dd/dz = [I | a], d2d/dphi2 = -R p.
+            const Vec3 jtu(u.x(), u.y(), a.dot(u));
+            Eigen::Matrix<double, 2, 3> jm;
+            jm << 1, 0, a.x(), 0, 1, a.y();
+            gi -= f * jtu;
+            Mat3 hh = f * (jtu * jtu.transpose()) - f * (jm.transpose() * inv * jm);
+            hh(2, 2) += f * u.dot(rp);
+            hi += hh;
+        }
+        if (matched) ++ev.matched;
+        total += li;
+        g_total += gi;
+        h_total += hi;
+        if (!product) continue;
+        // A point with no scan point within the gate contributes the constant floor:
+        // the value of one pair at the gate distance (an outlier-robust kernel).
+        const double floor_i =
+            std::exp(-0.5 * gate2) / (2 * M_PI * std::sqrt((pi + Mat2::Identity() * extra_var).determinant() + 1e-300));
+        if (li > floor_i)
+        {
+            log_sum += std::log(li);
+            if (derivatives)
+            {
+                const Vec3 g = gi / li;
+                g_prod += g;
+                h_prod += hi / li - g * g.transpose();
+            }
+        }
+        else
+            log_sum += std::log(floor_i);
+    }
+    if (!(total > 0)) return ev;
+    if (product)
+    {
+        ev.log_l = log_sum;
+        ev.gradient = g_prod;
+        ev.hessian = h_prod;
+        return ev;
+    }
+    ev.log_l = std::log(total);
+    if (derivatives)
+    {
+        ev.gradient = g_total / total;
+        ev.hessian = h_total / total - ev.gradient * ev.gradient.transpose();
+    }
+    return ev;
+}
+
+AlignResult SogMatcher::align(const PointSet& tpl, const PointSet& scan, const Vec3& z0) const
+{
+    AlignResult res;
+    res.z = z0;
+    if (tpl.size() < 3 || scan.size() < 3)
+    {
+        res.failure = "too_few_points";
+        return res;
+    }
+    if (!z0.allFinite())
+    {
+        res.failure = "bad_initial_guess";
+        return res;
+    }
+    // Only scan points that can reach the template at some level take part.
+    double radius = 0;
+    for (const Vec2& p : tpl.points) radius = std::max(radius, p.norm());
+    double smax = 0;
+    for (double s : options_.scales_m) smax = std::max(smax, s);
+    const double reach = radius + 2.0 + options_.gate_sigma * (smax + 1.0);
+    PointSet near;
+    for (size_t j = 0; j < scan.size(); ++j)
+        if ((scan.points[j] - z0.head<2>()).norm() < reach) near.add(scan.points[j], scan.covs[j]);
+    if (near.size() < 3)
+    {
+        res.failure = "too_few_points";
+        return res;
+    }
+
+    Vec3 z = z0;
+    Evaluation cur;
+    for (double scale : options_.scales_m)
+    {
+        const double ev = scale * scale;
+        cur = evaluate(tpl, near, z, ev, z.z(), true);
+        if (!std::isfinite(cur.log_l))
+        {
+            res.failure = "no_overlap";
+            return res;
+        }
+        double lambda = 1e-3;
+        for (int it = 0; it < options_.max_iterations; ++it)
+        {
+            ++res.iterations;
+            Mat3 a = -cur.hessian;
+            for (int k = 0; k < 3; ++k) a(k, k) += lambda * std::max(std::abs(a(k, k)), 1e-9);
+            Eigen::LDLT<Mat3> ldlt(a);
+            if (ldlt.info() != Eigen::Success || !ldlt.isPositive() ||
+                ldlt.vectorD().minCoeff() <= 0)
+            {
+                lambda *= 10;
+                if (lambda > 1e10) break;
+                continue;
+            }
+            const Vec3 step = ldlt.solve(cur.gradient);
+            Vec3 zn = z + step;
+            zn.z() = mrpt::math::wrapToPi(zn.z());
+            const Evaluation nxt = evaluate(tpl, near, zn, ev, zn.z(), true);
+            if (std::isfinite(nxt.log_l) && nxt.log_l >= cur.log_l)
+            {
+                z = zn;
+                cur = nxt;
+                lambda = std::max(lambda * 0.1, 1e-9);
+                if (step.head<2>().norm() < 1e-6 && std::abs(step.z()) < 1e-7) break;
+            }
+            else
+            {
+                lambda *= 10;
+                if (lambda > 1e10) break;
+            }
+        }
+    }
+    res.z = z;
+    res.score = cur.log_l;
+    // Sliding along a corridor or a single wall can carry the optimum far from the
+    // prediction: such a result is not an observation of this landmark.
+    const Vec3 corr = poseDifference(z, z0);
+    if (corr.head<2>().norm() > options_.max_correction_m ||
+        std::abs(corr.z()) > options_.max_correction)
+    {
+        res.failure = "diverged";
+        return res;
+    }
+    if (static_cast<double>(cur.matched) <
+        options_.min_matched_fraction * static_cast<double>(tpl.size()))
+    {
+        res.failure = "too_few_matches";
+        return res;
+    }
+
+    // Thesis 5.4: sample the likelihood (last level's smoothing) around the maximum at
+    // about one conditional sigma per axis and fit P^-1 by least squares.
+    const double ev_last = options_.scales_m.back() * options_.scales_m.back();
+    Vec3 step;
+    for (int k = 0; k < 3; ++k)
+    {
+        const double curv = -cur.hessian(k, k);
+        step(k) = curv > 0 ? 1.0 / std::sqrt(curv) : (k < 2 ? 0.1 : 0.01);
+    }
+    step.x() = std::clamp(step.x(), 1e-4, 0.5);
+    step.y() = std::clamp(step.y(), 1e-4, 0.5);
+    step.z() = std::clamp(step.z(), 1e-5, 0.2);
+    std::vector<Vec3> offsets = quadraticFitStencil(step);
+    std::vector<double> values;
+    values.reserve(offsets.size());
+    for (const Vec3& d : offsets)
+    {
+        const Vec3 zs = z + d;
+        const double l = evaluate(tpl, near, zs, ev_last, zs.z(), false).log_l;
+        values.push_back(std::isfinite(l) ? -2.0 * (l - cur.log_l) : 1e6);
+    }
+    const auto inv = fitInverseCovariance(offsets, values);
+    Mat3 cov;
+    if (inv)
+        cov = inv->inverse();
+    else
+    {
+        // Fall back to the curvature at the maximum when the fit is not positive
+        // definite (a likelihood far from Gaussian within one sigma).
+        Eigen::LDLT<Mat3> ldlt(-cur.hessian);
+        if (ldlt.info() != Eigen::Success || !ldlt.isPositive())
+        {
+            res.failure = "covariance_not_positive";
+            return res;
+        }
+        cov = ldlt.solve(Mat3::Identity());
+    }
+    cov = 0.5 * (cov + cov.transpose()).eval() * options_.cov_inflation;
+    if (!isCovariance(cov) || !z.allFinite())
+    {
+        res.failure = "covariance_not_positive";
+        return res;
+    }
+    res.R = cov;
+    res.ok = true;
+    return res;
+}
+
+}  // namespace hymm::scanslam
