@@ -22,12 +22,19 @@
  * Information flows one way (Sec. 3.2, UIF): the dense part reads the filter through
  * EkfCovarianceView and never writes to it, so the feature map and the path are the
  * same, bit for bit, with or without dense layers.
+ *
+ * Motion layers (optional, [DynamicSlam] enabled, Sec. 6.3; needs the occupancy layer):
+ * a dynamic::SlamMotionHook is called before each EKF update (observations in dynamic
+ * cells create no landmark) and after step 5 (slow/fast differencing, flagging and
+ * pruning of landmarks on moving objects). This is the one place where the dense part
+ * acts on the feature map, by choice of the user: with the hook off nothing changes.
  */
 #pragma once
 
 #include <hymm/dense/ClassicOccupancyGrid.h>
 #include <hymm/dense/HybridMetricMap.h>
 #include <hymm/denseslam/RawlogReader.h>
+#include <hymm/dynamic/SlamMotionHook.h>
 #include <hymm/ekf/EkfSlam.h>
 #include <hymm/extract/ReflectorExtractor.h>
 #include <hymm/extract/TreeExtractor.h>
@@ -139,8 +146,9 @@ public:
         uif::DelayedDenseStore::Options delayed;        //!< [DelayedDenseStore] (Sec. 3.7.3)
         dense::HybridMetricMap::Options hybrid;
         dense::ClassicOccupancyGrid::Options classic;
+        dynamic::SlamMotionHook::Options dynamic;  //!< [DynamicSlam], [MotionDetector] (Sec. 6.3)
 
-        /** Reads the five sections (absent sections keep the defaults; unknown keys are
+        /** Reads the five sections, [DynamicSlam] and [MotionDetector] (absent sections keep the defaults; unknown keys are
          *  errors). */
         void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg);
     };
@@ -234,6 +242,8 @@ public:
     const std::set<long>& virtualLandmarkIds() const { return virtual_ids_; }
     /** The delayed-initialisation store (Sec. 3.7.3); nullptr unless enabled. */
     const uif::DelayedDenseStore* delayedStore() const { return store_.get(); }
+    /** The motion layers and their use (Sec. 6.3); nullptr unless [DynamicSlam] enabled. */
+    const dynamic::SlamMotionHook* motionHook() const { return motion_.get(); }
     /** The classic grid baseline; nullptr unless classic_grid is on. */
     const dense::ClassicOccupancyGrid* classicGrid() const { return classic_.get(); }
 
@@ -271,6 +281,8 @@ private:
     std::unique_ptr<ltr::RegionPartition> partition_;
     std::unique_ptr<dense::HybridMetricMap> hybrid_;
     std::unique_ptr<dense::ClassicOccupancyGrid> classic_;
+    std::unique_ptr<dynamic::SlamMotionHook> motion_;  //!< nullptr unless enabled
+    double frame_t_ = 0;  //!< [s] time of the frame being processed (motion hook)
     ltr::VirtualLandmarkOptions virtual_options_;
     std::unique_ptr<uif::DelayedDenseStore> store_;  //!< nullptr unless enabled
     std::set<long> virtual_ids_;  //!< passive blocks of ekf_ that are virtual landmarks
