@@ -110,11 +110,12 @@ MotionScore scoreMotionLayer(const DenseSlam& slam, MotionKind kind, const Motio
     const MotionRaster r = rasterMotionLayer(slam, kind, resolution);
     MotionScore s;
     s.covered_cells = r.covered.count();
-    eval::CellMask all = r.covered;
-    std::fill(all.bits.begin(), all.bits.end(), std::uint8_t{0});
+    eval::CellMask empty = r.covered;
+    std::fill(empty.bits.begin(), empty.bits.end(), std::uint8_t{0});
+    eval::CellMask all = empty;
     for (const auto& [name, polys] : truth.moving)
     {
-        eval::CellMask m = all;
+        eval::CellMask m = empty;
         for (const auto& poly : polys) m.fillPolygon(poly);
         // Thin objects: their cells are the band around the outline too.
         for (const auto& poly : polys) m.markOutline(poly, 0.5 * resolution);
@@ -144,8 +145,10 @@ void writeMotionMetrics(eval::MetricsJson& j, const DenseSlam& slam, const Motio
     j.set("dynamic.landmarks_pruned", st.landmarks_pruned);
     j.set("dynamic.fast.differencings", st.fast_differencings);
     j.set("dynamic.slow.differencings", st.slow_differencings);
+    const auto& det = hook->detector().options();
     for (auto kind : {MotionKind::Fast, MotionKind::Slow})
     {
+        if (!(kind == MotionKind::Fast ? det.enable_fast : det.enable_slow)) continue;
         const std::string k = std::string("dynamic.") + dynamic::motionKindName(kind);
         const auto s = scoreMotionLayer(slam, kind, truth, res, 1);
         j.set(k + ".precision", s.total.precision);
@@ -181,8 +184,10 @@ void writeMotionOutputs(const DenseSlam& slam, const std::string& dir, bool png)
     const std::string d = dir.empty() || dir.back() == '/' ? dir : dir + "/";
     const auto& p = *slam.partition();
     const double res = slam.hybridMap()->options().occupancy.cell_size_m;
+    const auto& det = hook->detector().options();
     for (auto kind : {MotionKind::Fast, MotionKind::Slow})
     {
+        if (!(kind == MotionKind::Fast ? det.enable_fast : det.enable_slow)) continue;
         const std::string name = dynamic::motionKindName(kind);
         mrpt::maps::COccupancyGridMap2D grid;
         slam.hybridMap()->renderOccupancy(p, res, grid);
