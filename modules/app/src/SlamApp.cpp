@@ -1,4 +1,7 @@
 #include "hymm/app/SlamApp.h"
+#include "hymm/app/motion_outputs.h"
+
+#include <hymm/sim/ground_truth_io.h>
 
 #include <hymm/core/config_utils.h>
 #include <hymm/io/RawlogReader.h>
@@ -73,15 +76,20 @@ void SlamApp::run(std::ostream& log)
         gt = io::loadGroundTruth(args_.gt_path, args_.gt_landmarks);
     std::vector<dense::Polygon> outlines;
     if (!args_.gt_objects.empty()) outlines = loadObjectOutlines(args_.gt_objects);
+    // Motion layers (Sec. 6.3) are scored against which objects moved and when.
+    const MotionTruth motion_truth = args_.gt_objects.empty()
+                                         ? MotionTruth{}
+                                         : motionTruthFromRecords(sim::readObjectOutlines(args_.gt_objects));
 
     std::vector<FrameTiming> timing;
     const double run_s = processRawlog(*slam_, reader, args_.quiet, timing, log);
     if (reader.entriesRead() == 0)
         throw std::runtime_error("rawlog '" + args_.rawlog + "' holds no entries");
-    writeOutputs(gt ? &*gt : nullptr, outlines, timing, run_s, reader.entriesRead(), log);
+    writeOutputs(gt ? &*gt : nullptr, outlines, motion_truth, timing, run_s, reader.entriesRead(), log);
 }
 
 void SlamApp::writeOutputs(const io::GroundTruth* gt, const std::vector<dense::Polygon>& outlines,
+                           const MotionTruth& motion_truth,
                            const std::vector<FrameTiming>& timing, double run_s, size_t entries,
                            std::ostream& log)
 {
@@ -95,10 +103,12 @@ void SlamApp::writeOutputs(const io::GroundTruth* gt, const std::vector<dense::P
     writeEstimatedLandmarks(slam_->ekf(), out + "landmarks.csv");
     if (args_.png) writeMapPng(makeMapPlot(*slam_, gt), out + "map.png");
     writeDenseOutputs(*slam_, out, args_.png);
+    writeMotionOutputs(*slam_, out, args_.png);
     if (gt)
     {
         auto metrics = computeMetrics(*slam_, *gt, run_s);
         writeDenseMetrics(metrics, *slam_, outlines, trueTrunks(gt->landmarks));
+        if (!args_.gt_objects.empty()) writeMotionMetrics(metrics, *slam_, motion_truth);
         metrics.save(out + "metrics.json");
     }
     writeSummary(*slam_, run_s, entries, out + "summary.txt");

@@ -84,6 +84,13 @@ DenseSlam::DenseSlam(const Options& opts, const ekf::EkfSlam::Options& ekf_opts,
     if (options_.classic_grid)
         classic_ = std::make_unique<dense::ClassicOccupancyGrid>(dense_opts.classic,
                                                                  dense_opts.hybrid.occupancy);
+    if (dense_opts.dynamic.enabled)
+    {
+        if (!options_.dense_occupancy)
+            throw std::invalid_argument(
+                "[DynamicSlam] enabled = true needs the occupancy layer ([DenseSlam] dense_layers)");
+        motion_ = std::make_unique<dynamic::SlamMotionHook>(dense_opts.dynamic);
+    }
 }
 
 void DenseSlam::processEntry(const io::RawlogEntry& entry)
@@ -149,6 +156,7 @@ void DenseSlam::processFrame(const mrpt::obs::CSensoryFrame& frame)
         if (!o) continue;
         if (std::isnan(t) && o->timestamp != INVALID_TIMESTAMP)
             t = mrpt::Clock::toDouble(o->timestamp);
+        if (!std::isnan(t)) frame_t_ = t;
         if (auto br = std::dynamic_pointer_cast<mrpt::obs::CObservationBearingRange>(o))
         {
             if (options_.landmark_source == LandmarkSource::BearingRange ||
@@ -317,6 +325,15 @@ void DenseSlam::processDense(const mrpt::obs::CSensoryFrame& frame, double t, bo
     for (const auto& o : frame)
         if (const auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(o))
             insertDenseScan(*scan, vehicle, accept, t);
+    updateMotionLayers(t);
+}
+
+void DenseSlam::updateMotionLayers(double t)
+{
+    if (!motion_ || !hybrid_) return;
+    mrpt::system::CTimeLoggerEntry tle(profiler_, "denseslam.6_motion");
+    const auto removed = motion_->afterFrame(*hybrid_, *partition_, ekf_, t);
+    for (long id : removed) features_.erase(id);
 }
 
 void DenseSlam::createVirtualLandmarks(const std::vector<Eigen::Vector2d>& unassigned, double t)
@@ -491,6 +508,25 @@ ekf::UpdateReport DenseSlam::update(const std::vector<ekf::RangeBearingObs>& obs
     if (obs.empty()) return {};
     mrpt::system::CTimeLoggerEntry tle(profiler_, "denseslam.3_update");
     stats_.observations += obs.size();
+    if (motion_)
+    {
+        // Sec. 6.3: observations in dynamic cells create no landmark; the report is
+        // given back per observation of `obs` (-1 for those dropped).
+        std::vector<size_t> kept;
+        const auto passed = motion_->filterObservations(obs, ekf_, partition_.get(), sensor, kept);
+        ekf::UpdateReport r = passed.empty() ? ekf::UpdateReport{} : ekf_.updateRangeBearing(passed, sensor);
+        if (!passed.empty()) ++updates_;
+        motion_->noteUpdate(r, frame_t_);
+        std::vector<long> ids(obs.size(), -1);
+        for (size_t i = 0; i < kept.size() && i < r.assigned_ids.size(); ++i) ids[kept[i]] = r.assigned_ids[i];
+        r.assigned_ids = std::move(ids);
+        stats_.associated += r.associated;
+        stats_.created += r.created;
+        stats_.rejected_gate += r.rejected_gate;
+        stats_.ambiguous += r.ambiguous;
+        stats_.rejected_numeric += r.rejected_numeric;
+        return r;
+    }
     const auto r = ekf_.updateRangeBearing(obs, sensor);
     ++updates_;
     stats_.associated += r.associated;

@@ -142,6 +142,7 @@ void DenseSlam::DenseOptions::loadFromConfigFile(const mrpt::config::CConfigFile
     delayed.loadFromConfigFile(cfg, "DelayedDenseStore");
     hybrid.loadAll(cfg);
     classic.loadFromConfigFile(cfg, "ClassicOccupancyGrid");
+    dynamic.loadAll(cfg, "DynamicSlam");
 }
 
 DenseSlam DenseSlam::fromConfig(const mrpt::config::CConfigFileBase& cfg)

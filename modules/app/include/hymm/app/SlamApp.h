@@ -22,6 +22,7 @@
  */
 #pragma once
 
+#include <hymm/app/motion_outputs.h>
 #include <hymm/app/slam_outputs.h>
 #include <hymm/denseslam/DenseSlam.h>
 #include <hymm/io/ground_truth_io.h>
@@ -59,6 +60,7 @@ public:
 private:
     /** Everything after the rawlog: files, figures, metrics, summary, timing. */
     void writeOutputs(const io::GroundTruth* gt, const std::vector<dense::Polygon>& outlines,
+                      const MotionTruth& motion_truth,
                       const std::vector<FrameTiming>& timing, double run_s, size_t entries,
                       std::ostream& log);
 

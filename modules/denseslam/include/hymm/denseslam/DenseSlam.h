@@ -22,6 +22,12 @@
  * Information flows one way (Sec. 3.2, UIF): the dense part reads the filter through
  * EkfCovarianceView and never writes to it, so the feature map and the path are the
  * same, bit for bit, with or without dense layers.
+ *
+ * Motion layers (optional, [DynamicSlam] enabled, Sec. 6.3; needs the occupancy layer):
+ * a dynamic::SlamMotionHook is called before each EKF update (observations in dynamic
+ * cells create no landmark) and after step 5 (slow/fast differencing, flagging and
+ * pruning of landmarks on moving objects). This is the one place where the dense part
+ * acts on the feature map, by choice of the user: with the hook off nothing changes.
  */
 #pragma once
 
@@ -29,6 +35,7 @@
 #include <hymm/dense/HybridMetricMap.h>
 #include <hymm/dense/ScanPoints.h>
 #include <hymm/io/RawlogReader.h>
+#include <hymm/dynamic/SlamMotionHook.h>
 #include <hymm/ekf/EkfSlam.h>
 #include <hymm/extract/ReflectorExtractor.h>
 #include <hymm/extract/TreeExtractor.h>
@@ -141,8 +148,9 @@ public:
         uif::DelayedDenseStore::Options delayed;        //!< [DelayedDenseStore] (Sec. 3.7.3)
         dense::HybridMetricMap::Options hybrid;
         dense::ClassicOccupancyGrid::Options classic;
+        dynamic::SlamMotionHook::Options dynamic;  //!< [DynamicSlam], [MotionDetector] (Sec. 6.3)
 
-        /** Reads the five sections (absent sections keep the defaults; unknown keys are
+        /** Reads the five sections, [DynamicSlam] and [MotionDetector] (absent sections keep the defaults; unknown keys are
          *  errors). */
         void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg);
     };
@@ -236,6 +244,8 @@ public:
     const std::set<long>& virtualLandmarkIds() const { return virtual_ids_; }
     /** The delayed-initialisation store (Sec. 3.7.3); nullptr unless enabled. */
     const uif::DelayedDenseStore* delayedStore() const { return store_.get(); }
+    /** The motion layers and their use (Sec. 6.3); nullptr unless [DynamicSlam] enabled. */
+    const dynamic::SlamMotionHook* motionHook() const { return motion_.get(); }
     /** The classic grid baseline; nullptr unless classic_grid is on. */
     const dense::ClassicOccupancyGrid* classicGrid() const { return classic_.get(); }
 
@@ -282,6 +292,9 @@ private:
     /** Step 5b: returns no region holds into the delayed store as passive states. */
     void storeUnassigned(const dense::ScanPoints& pts,
                          const std::vector<Eigen::Vector2d>& unassigned, double t);
+    /** Step 6 (Sec. 6.3): motion layers by differencing the regions in view (fast) and
+     *  the regions due (slow); landmarks on moving objects flagged, pruned once gone. */
+    void updateMotionLayers(double t);
 
     Options options_;
     ekf::EkfSlam ekf_;
@@ -295,6 +308,8 @@ private:
     std::unique_ptr<ltr::RegionPartition> partition_;
     std::unique_ptr<dense::HybridMetricMap> hybrid_;
     std::unique_ptr<dense::ClassicOccupancyGrid> classic_;
+    std::unique_ptr<dynamic::SlamMotionHook> motion_;  //!< nullptr unless enabled
+    double frame_t_ = 0;  //!< [s] time of the frame being processed (motion hook)
     ltr::VirtualLandmarkOptions virtual_options_;
     std::unique_ptr<uif::DelayedDenseStore> store_;  //!< nullptr unless enabled
     std::set<long> virtual_ids_;  //!< passive blocks of ekf_ that are virtual landmarks

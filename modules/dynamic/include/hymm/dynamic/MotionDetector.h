@@ -1,0 +1,213 @@
+/**
+ * @file MotionDetector.h
+ * @brief Slow- and fast-motion layers by local map differencing (thesis Sec. 6.3).
+ *
+ * Dynamic objects are found by differencing occupancy maps taken at different times
+ * (Sec. 6.3, after ROMA [4]). In DenseSLAM the map is split into regions whose dense
+ * content lives in the coordinates of each region's reference triangle, so maps taken
+ * at different times are differenced region by region, cell by cell, without any
+ * registration of two global maps of different uncertainty (Sec. 6.3.1).
+ *
+ * Per region this class keeps two motion layers, "slow" and "fast" (MotionLayer):
+ * binary grids on the geometry of the region's occupancy grid, in reference-triangle
+ * coordinates, so they move with the landmarks like every other layer (Sec. 6.3.2).
+ *
+ * One differencing of a region (differenceOccupancy):
+ *   D = |P_now - P_then|                   per cell, P = P(occupied) of the occupancy layer
+ *   D' = G_sigma * D                       Gaussian low-pass (optional; Fig. 6.9 d)
+ *   M = D' > threshold                     (thesis: 0.5)
+ *   layer |= M
+ * The absolute difference is filtered (a moved object leaves +1 and -1 side by side,
+ * which a signed low-pass would cancel). A cell first observed between the two
+ * snapshots moves from the prior 0.5 by at most 0.5, so with threshold 0.5 newly seen
+ * space is never "motion"; only cells that went from free to occupied or back are.
+ * The low-pass removes the one-cell-wide flicker of static contours (range noise moves
+ * a wall's return between neighbouring cells) while a moving object's swept area is
+ * wider than the kernel.
+ *
+ * Fast motion (Sec. 6.3.2): every fast_period_s, only the regions under the sensor's
+ * view (the caller passes them: HybridMetricMap::InsertStats or
+ * RegionPartition::regionsInBox of the scan) are differenced against their own
+ * snapshot fast_period_s earlier. Cost per call: O(cells of the regions in view).
+ *
+ * Slow motion (Sec. 6.3.1): every slow_period_s each region is differenced against its
+ * snapshot slow_period_s earlier. A region's first reference snapshot is taken when it
+ * first leaves the sensor's view (so it holds a whole pass, not the few scans of its
+ * creation); from then on it is due every slow_period_s. Due regions wait in a queue
+ * ordered by due time and at most slow_max_regions_per_call are processed per call,
+ * so the slow work is amortised over calls and does not grow with map size per call.
+ */
+#pragma once
+
+#include "hymm/dynamic/MotionLayer.h"
+
+#include <hymm/dense/HybridMetricMap.h>
+#include <hymm/ltr/RegionPartition.h>
+#include <mrpt/config/CLoadableOptions.h>
+#include <mrpt/maps/COccupancyGridMap2D.h>
+
+#include <Eigen/Core>
+#include <map>
+#include <optional>
+#include <queue>
+#include <set>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace hymm::dynamic
+{
+/** The two motion layers (Sec. 6.3.3). */
+enum class MotionKind
+{
+    Slow,
+    Fast
+};
+/** "slow" / "fast": layer names in metrics keys and figure names. */
+const char* motionKindName(MotionKind k);
+
+/** Result of one differencing (differenceOccupancy); images row-major, nx * ny. */
+struct Difference
+{
+    int nx = 0, ny = 0;
+    std::vector<float> raw;       //!< |P_now - P_then| (0 outside the triangle)
+    std::vector<float> filtered;  //!< after the low-pass (== raw without it)
+    std::vector<std::uint8_t> mask;  //!< filtered > threshold
+    size_t marked() const;
+};
+
+/** One per-region occupancy snapshot: P(occupied) of every cell, the grid geometry
+ *  and which cells belong to the region (updatable). */
+struct OccupancySnapshot
+{
+    double t = 0;
+    Eigen::Vector2d origin = Eigen::Vector2d::Zero();
+    double cell_size = 0;
+    int nx = 0, ny = 0;
+    std::vector<float> p;
+    std::vector<std::uint8_t> inside;
+
+    static OccupancySnapshot take(const dense::OccupancyLayer& occ, double t);
+    bool sameGeometry(const OccupancySnapshot& o) const;
+};
+
+/** D, G * D and the threshold mask between two snapshots of the same geometry
+ *  (throws std::invalid_argument otherwise). `sigma_cells` <= 0: no low-pass. */
+Difference differenceOccupancy(
+    const OccupancySnapshot& then, const OccupancySnapshot& now, double sigma_cells,
+    double threshold);
+
+class MotionDetector
+{
+public:
+    /** Ini section [MotionDetector]; unknown keys are errors. */
+    struct Options : public mrpt::config::CLoadableOptions
+    {
+        bool enable_fast = true;          //!< fast-motion layer (Sec. 6.3.2)
+        bool enable_slow = true;          //!< slow-motion layer (Sec. 6.3.1)
+        double fast_period_s = 1.0;       //!< [s] thesis: 1 s
+        double slow_period_s = 150.0;     //!< [s] thesis: 150 s
+        double threshold = 0.5;           //!< on the filtered |dP| (thesis: 0.5)
+        bool lowpass = true;              //!< Gaussian low-pass before the threshold
+        double lowpass_sigma_m = 0.1;     //!< [m] its standard deviation
+        /** Slow differencings per call at most (the rest wait for the next calls). */
+        int slow_max_regions_per_call = 4;
+
+        void loadFromConfigFile(
+            const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
+        void saveToConfigFile(
+            mrpt::config::CConfigFileBase& cfg, const std::string& section) const override;
+        void validate(const std::string& section = "MotionDetector") const;
+    };
+
+    /** What one step() did. */
+    struct StepReport
+    {
+        size_t fast_differenced = 0;   //!< regions differenced for fast motion
+        size_t slow_differenced = 0;   //!< regions differenced for slow motion
+        size_t fast_cells_marked = 0;  //!< cells above threshold (before the OR)
+        size_t slow_cells_marked = 0;
+        size_t geometry_resets = 0;    //!< snapshots retaken after a coarsening
+        size_t slow_pending = 0;       //!< slow entries still due after this call
+    };
+
+    /** Throws std::invalid_argument on invalid options. */
+    explicit MotionDetector(const Options& options);
+
+    const Options& options() const { return options_; }
+
+    /** Runs the due differencings at time `t` [s]. `regions_in_view` are the regions
+     *  the current scan covers (any order, duplicates allowed). Reads only. */
+    StepReport step(const dense::HybridMetricMap& map, const std::vector<long>& regions_in_view,
+                    double t);
+
+    /** Drops the layers and snapshots of regions `map` no longer holds. */
+    void removeStaleRegions(const dense::HybridMetricMap& map);
+
+    /** The layer of a region, or nullptr. */
+    const MotionLayer* layer(MotionKind kind, long region_id) const;
+    /** Regions holding motion state. */
+    size_t size() const { return regions_.size(); }
+    /** Cells set in the layers of `kind`, summed over regions. */
+    size_t markedCells(MotionKind kind) const;
+
+    /** True if the global point `p` lies in a cell marked in the layer of `kind` of the
+     *  region whose CURRENT triangle contains it. */
+    bool isDynamic(MotionKind kind, const ltr::RegionPartition& partition,
+                   const Eigen::Vector2d& p) const;
+    /** Either layer. */
+    bool isDynamic(const ltr::RegionPartition& partition, const Eigen::Vector2d& p) const;
+
+    /** Draws the layer of `kind` into `out` (sized by the caller): cells whose centre
+     *  lies in a current triangle with a marked local cell get 1, others untouched. */
+    void renderInto(MotionKind kind, const ltr::RegionPartition& partition,
+                    mrpt::maps::COccupancyGridMap2D& out) const;
+    /** HybridMetricMap::renderOccupancy, then every cell marked in either motion layer
+     *  set back to the prior 0.5: the static occupancy map (Sec. 6.3). */
+    void renderStaticOccupancy(const dense::HybridMetricMap& map,
+                               const ltr::RegionPartition& partition, double resolution_m,
+                               mrpt::maps::COccupancyGridMap2D& out) const;
+
+    /** The last differencing of each kind with any cell marked (for figures as
+     *  Fig. 6.9 c-d): region id, the snapshots' time span, and the images. */
+    struct LastDifference
+    {
+        long region = -1;
+        double t_then = 0, t_now = 0;
+        Difference diff;
+    };
+    const LastDifference& lastDifference(MotionKind kind) const
+    {
+        return kind == MotionKind::Slow ? last_slow_ : last_fast_;
+    }
+
+private:
+    struct RegionState
+    {
+        MotionLayer slow, fast;
+        std::optional<OccupancySnapshot> fast_ref, slow_ref;
+        bool seen = false;  //!< in view at some call
+    };
+
+    /** Differences `st`'s snapshot against the region's occupancy now; ORs into
+     *  `layer`, replaces the snapshot. Returns cells marked. */
+    size_t differenceRegion(long id, const dense::OccupancyLayer& occ,
+                            std::optional<OccupancySnapshot>& ref, MotionLayer& layer, double t,
+                            LastDifference& last, StepReport& rep);
+    /** Sets every cell of `out` whose centre lies on a cell marked in a layer of
+     *  `kinds` to `value`. */
+    void paint(const std::vector<MotionKind>& kinds, const ltr::RegionPartition& partition,
+               mrpt::maps::COccupancyGridMap2D& out, float value) const;
+    double sigmaCells(double cell_size) const;
+
+    const Options options_;
+    std::map<long, RegionState> regions_;
+    std::set<long> in_view_;  //!< regions in view at the previous call
+    /** (due time, region id), earliest first. */
+    std::priority_queue<std::pair<double, long>, std::vector<std::pair<double, long>>,
+                        std::greater<>>
+        slow_due_;
+    LastDifference last_slow_, last_fast_;
+};
+
+}  // namespace hymm::dynamic

@@ -1,0 +1,325 @@
+#include "hymm/dynamic/MotionDetector.h"
+
+#include <hymm/core/config_utils.h>
+#include <hymm/dense/OccupancyLayer.h>
+#include <hymm/dense/geometry.h>
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace hymm::dynamic
+{
+const char* motionKindName(MotionKind k) { return k == MotionKind::Slow ? "slow" : "fast"; }
+
+size_t Difference::marked() const
+{
+    return static_cast<size_t>(std::count(mask.begin(), mask.end(), std::uint8_t{1}));
+}
+
+OccupancySnapshot OccupancySnapshot::take(const dense::OccupancyLayer& occ, double t)
+{
+    const auto& g = occ.grid();
+    OccupancySnapshot s;
+    s.t = t;
+    s.origin = g.origin();
+    s.cell_size = g.cellSize();
+    s.nx = g.sizeX();
+    s.ny = g.sizeY();
+    const size_t n = static_cast<size_t>(s.nx) * static_cast<size_t>(s.ny);
+    s.p.resize(n);
+    s.inside.resize(n);
+    for (int iy = 0; iy < s.ny; ++iy)
+        for (int ix = 0; ix < s.nx; ++ix)
+        {
+            const size_t k = static_cast<size_t>(iy) * static_cast<size_t>(s.nx) + static_cast<size_t>(ix);
+            s.p[k] = static_cast<float>(dense::logistic(g.logOdds(ix, iy)));
+            s.inside[k] = g.updatable(ix, iy) ? 1 : 0;
+        }
+    return s;
+}
+
+bool OccupancySnapshot::sameGeometry(const OccupancySnapshot& o) const
+{
+    return nx == o.nx && ny == o.ny && std::abs(cell_size - o.cell_size) < 1e-12 &&
+           (origin - o.origin).norm() < 1e-9;
+}
+
+Difference differenceOccupancy(
+    const OccupancySnapshot& then, const OccupancySnapshot& now, double sigma_cells, double threshold)
+{
+    if (!then.sameGeometry(now))
+        throw std::invalid_argument("differenceOccupancy: snapshots on different grids");
+    Difference d;
+    d.nx = now.nx;
+    d.ny = now.ny;
+    const size_t n = now.p.size();
+    d.raw.assign(n, 0.0f);
+    for (size_t k = 0; k < n; ++k)
+        if (now.inside[k] && then.inside[k]) d.raw[k] = std::abs(now.p[k] - then.p[k]);
+    if (sigma_cells > 0)
+    {
+        // Gaussian low-pass (Sec. 6.3.3, Fig. 6.9 d); kernel to +-3 sigma. Cells outside
+        // the triangle are 0 (no evidence), the grid border replicates.
+        const cv::Mat src(d.ny, d.nx, CV_32F, d.raw.data());
+        cv::Mat dst;
+        const int half = std::max(1, static_cast<int>(std::ceil(3.0 * sigma_cells)));
+        cv::GaussianBlur(src, dst, cv::Size(2 * half + 1, 2 * half + 1), sigma_cells, sigma_cells,
+                         cv::BORDER_REPLICATE);
+        d.filtered.assign(dst.ptr<float>(0), dst.ptr<float>(0) + n);
+    }
+    else
+        d.filtered = d.raw;
+    d.mask.assign(n, 0);
+    for (size_t k = 0; k < n; ++k)
+        if (now.inside[k] && d.filtered[k] > threshold) d.mask[k] = 1;
+    return d;
+}
+
+void MotionDetector::Options::loadFromConfigFile(
+    const mrpt::config::CConfigFileBase& cfg, const std::string& s)
+{
+    using namespace hymm::core;
+    checkKnownKeys(cfg, s,
+                   {"enable_fast", "enable_slow", "fast_period_s", "slow_period_s", "threshold",
+                    "lowpass", "lowpass_sigma_m", "slow_max_regions_per_call"});
+    enable_fast = readBool(cfg, s, "enable_fast", enable_fast);
+    enable_slow = readBool(cfg, s, "enable_slow", enable_slow);
+    fast_period_s = readDouble(cfg, s, "fast_period_s", fast_period_s);
+    slow_period_s = readDouble(cfg, s, "slow_period_s", slow_period_s);
+    threshold = readDouble(cfg, s, "threshold", threshold);
+    lowpass = readBool(cfg, s, "lowpass", lowpass);
+    lowpass_sigma_m = readDouble(cfg, s, "lowpass_sigma_m", lowpass_sigma_m);
+    slow_max_regions_per_call =
+        static_cast<int>(readInt(cfg, s, "slow_max_regions_per_call", slow_max_regions_per_call));
+    validate(s);
+}
+
+void MotionDetector::Options::saveToConfigFile(
+    mrpt::config::CConfigFileBase& cfg, const std::string& s) const
+{
+    cfg.write(s, "enable_fast", enable_fast);
+    cfg.write(s, "enable_slow", enable_slow);
+    cfg.write(s, "fast_period_s", fast_period_s);
+    cfg.write(s, "slow_period_s", slow_period_s);
+    cfg.write(s, "threshold", threshold);
+    cfg.write(s, "lowpass", lowpass);
+    cfg.write(s, "lowpass_sigma_m", lowpass_sigma_m);
+    cfg.write(s, "slow_max_regions_per_call", slow_max_regions_per_call);
+}
+
+void MotionDetector::Options::validate(const std::string& s) const
+{
+    auto bad = [&](const std::string& key, double v, const std::string& what) {
+        throw std::invalid_argument("[" + s + "] " + key + "=" + std::to_string(v) + ": " + what);
+    };
+    if (!(fast_period_s > 0)) bad("fast_period_s", fast_period_s, "must be > 0");
+    if (!(slow_period_s > 0)) bad("slow_period_s", slow_period_s, "must be > 0");
+    if (!(threshold > 0 && threshold < 1)) bad("threshold", threshold, "must be in (0, 1)");
+    if (!(lowpass_sigma_m > 0)) bad("lowpass_sigma_m", lowpass_sigma_m, "must be > 0");
+    if (slow_max_regions_per_call < 1)
+        bad("slow_max_regions_per_call", slow_max_regions_per_call, "must be >= 1");
+}
+
+MotionDetector::MotionDetector(const Options& options) : options_(options) { options_.validate(); }
+
+double MotionDetector::sigmaCells(double cell_size) const
+{
+    return options_.lowpass ? options_.lowpass_sigma_m / cell_size : 0.0;
+}
+
+size_t MotionDetector::differenceRegion(long id, const dense::OccupancyLayer& occ,
+                                        std::optional<OccupancySnapshot>& ref, MotionLayer& layer,
+                                        double t, LastDifference& last, StepReport& rep)
+{
+    OccupancySnapshot now = OccupancySnapshot::take(occ, t);
+    if (!ref || !ref->sameGeometry(now))
+    {
+        // The grid was coarsened (Sec. 4.1.3) since: restart from the new grid.
+        if (ref) ++rep.geometry_resets;
+        ref = std::move(now);
+        return 0;
+    }
+    Difference d = differenceOccupancy(*ref, now, sigmaCells(now.cell_size), options_.threshold);
+    const size_t marked = d.marked();
+    layer.orMask(now.origin, now.cell_size, now.nx, now.ny, d.mask);
+    if (marked > 0)
+    {
+        last.region = id;
+        last.t_then = ref->t;
+        last.t_now = t;
+        last.diff = std::move(d);
+    }
+    ref = std::move(now);
+    return marked;
+}
+
+MotionDetector::StepReport MotionDetector::step(
+    const dense::HybridMetricMap& map, const std::vector<long>& regions_in_view, double t)
+{
+    StepReport rep;
+    auto occupancyOf = [&](long id) -> const dense::OccupancyLayer* {
+        const auto* local = map.localMap(id);
+        return local ? local->layerAs<dense::OccupancyLayer>(dense::OccupancyLayer::kKind) : nullptr;
+    };
+    std::set<long> view;
+    for (long id : regions_in_view)
+    {
+        const auto* occ = occupancyOf(id);
+        if (!occ || !view.insert(id).second) continue;
+        auto& st = regions_[id];
+        st.seen = true;
+        if (!options_.enable_fast) continue;
+        // Sec. 6.3.2: only the regions under the sensor's view, every fast_period_s.
+        if (!st.fast_ref)
+            st.fast_ref = OccupancySnapshot::take(*occ, t);
+        else if (t - st.fast_ref->t >= options_.fast_period_s - 1e-9)
+        {
+            rep.fast_cells_marked += differenceRegion(id, *occ, st.fast_ref, st.fast, t, last_fast_, rep);
+            ++rep.fast_differenced;
+        }
+    }
+    if (options_.enable_slow)
+    {
+        // A region's first slow reference: when it leaves the view (a whole pass).
+        for (long id : in_view_)
+        {
+            if (view.count(id)) continue;
+            const auto it = regions_.find(id);
+            const auto* occ = occupancyOf(id);
+            if (it == regions_.end() || !occ || it->second.slow_ref) continue;
+            it->second.slow_ref = OccupancySnapshot::take(*occ, t);
+            slow_due_.emplace(t + options_.slow_period_s, id);
+        }
+        // Sec. 6.3.1: due regions, a bounded number per call (amortised).
+        int done = 0;
+        while (!slow_due_.empty() && slow_due_.top().first <= t + 1e-9 &&
+               done < options_.slow_max_regions_per_call)
+        {
+            const long id = slow_due_.top().second;
+            slow_due_.pop();
+            const auto it = regions_.find(id);
+            const auto* occ = occupancyOf(id);
+            if (it == regions_.end() || !occ || !it->second.slow_ref) continue;  // region gone
+            rep.slow_cells_marked +=
+                differenceRegion(id, *occ, it->second.slow_ref, it->second.slow, t, last_slow_, rep);
+            ++rep.slow_differenced;
+            ++done;
+            slow_due_.emplace(t + options_.slow_period_s, id);
+        }
+        rep.slow_pending = 0;
+        // Counting the due entries left would walk the queue; the top tells whether any is.
+        if (!slow_due_.empty() && slow_due_.top().first <= t + 1e-9) rep.slow_pending = 1;
+    }
+    in_view_ = std::move(view);
+    return rep;
+}
+
+void MotionDetector::removeStaleRegions(const dense::HybridMetricMap& map)
+{
+    for (auto it = regions_.begin(); it != regions_.end();)
+        it = map.localMap(it->first) ? std::next(it) : regions_.erase(it);
+    // Queue entries of removed regions are skipped when they come due.
+}
+
+const MotionLayer* MotionDetector::layer(MotionKind kind, long region_id) const
+{
+    const auto it = regions_.find(region_id);
+    if (it == regions_.end()) return nullptr;
+    return kind == MotionKind::Slow ? &it->second.slow : &it->second.fast;
+}
+
+size_t MotionDetector::markedCells(MotionKind kind) const
+{
+    size_t n = 0;
+    for (const auto& [id, st] : regions_) n += (kind == MotionKind::Slow ? st.slow : st.fast).count();
+    return n;
+}
+
+bool MotionDetector::isDynamic(MotionKind kind, const ltr::RegionPartition& partition,
+                               const Eigen::Vector2d& p) const
+{
+    for (long id : partition.findRegions(p))
+    {
+        const auto* l = layer(kind, id);
+        if (!l || l->count() == 0) continue;
+        try
+        {
+            if (l->at(partition.referenceToCurrent(id).inverseMapPoint(p))) return true;
+        }
+        catch (const std::exception&)
+        {
+            // A folded current triangle has no reference -> current map: nothing to read.
+        }
+    }
+    return false;
+}
+
+bool MotionDetector::isDynamic(const ltr::RegionPartition& partition, const Eigen::Vector2d& p) const
+{
+    return isDynamic(MotionKind::Slow, partition, p) || isDynamic(MotionKind::Fast, partition, p);
+}
+
+void MotionDetector::paint(const std::vector<MotionKind>& kinds, const ltr::RegionPartition& partition,
+                           mrpt::maps::COccupancyGridMap2D& out, float value) const
+{
+    for (const auto& [id, st] : regions_)
+    {
+        if (!partition.has(id)) continue;
+        std::vector<const MotionLayer*> layers;
+        for (auto k : kinds)
+            if (const auto* l = layer(k, id); l && l->count() > 0) layers.push_back(l);
+        if (layers.empty()) continue;
+        ltr::AffineRegionMap ref_to_cur;
+        try
+        {
+            ref_to_cur = partition.referenceToCurrent(id);
+        }
+        catch (const std::exception&)
+        {
+            continue;  // folded triangle: not drawn
+        }
+        const auto& cur = partition.region(id).current;
+        Eigen::Vector2d lo = cur[0], hi = cur[0];
+        for (const auto& v : cur)
+        {
+            lo = lo.cwiseMin(v);
+            hi = hi.cwiseMax(v);
+        }
+        const int x0 = std::max(0, out.x2idx(lo.x())), y0 = std::max(0, out.y2idx(lo.y()));
+        const int x1 = std::min(static_cast<int>(out.getSizeX()) - 1, out.x2idx(hi.x()));
+        const int y1 = std::min(static_cast<int>(out.getSizeY()) - 1, out.y2idx(hi.y()));
+        for (int cy = y0; cy <= y1; ++cy)
+            for (int cx = x0; cx <= x1; ++cx)
+            {
+                const Eigen::Vector2d c(out.idx2x(static_cast<size_t>(cx)), out.idx2y(static_cast<size_t>(cy)));
+                if (!dense::triangleContains(cur, c, 1e-9)) continue;
+                const Eigen::Vector2d r = ref_to_cur.inverseMapPoint(c);
+                for (const auto* l : layers)
+                    if (l->at(r))
+                    {
+                        out.setCell(cx, cy, value);
+                        break;
+                    }
+            }
+    }
+}
+
+void MotionDetector::renderInto(MotionKind kind, const ltr::RegionPartition& partition,
+                                mrpt::maps::COccupancyGridMap2D& out) const
+{
+    paint({kind}, partition, out, 1.0f);
+}
+
+void MotionDetector::renderStaticOccupancy(const dense::HybridMetricMap& map,
+                                           const ltr::RegionPartition& partition, double resolution_m,
+                                           mrpt::maps::COccupancyGridMap2D& out) const
+{
+    map.renderOccupancy(partition, resolution_m, out);
+    paint({MotionKind::Slow, MotionKind::Fast}, partition, out, 0.5f);
+}
+
+}  // namespace hymm::dynamic

@@ -1,0 +1,153 @@
+#include "hymm/dynamic/SlamMotionHook.h"
+
+#include <hymm/core/config_utils.h>
+
+#include <cmath>
+#include <stdexcept>
+
+namespace hymm::dynamic
+{
+void SlamMotionHook::Options::loadFromConfigFile(
+    const mrpt::config::CConfigFileBase& cfg, const std::string& s)
+{
+    using namespace hymm::core;
+    checkKnownKeys(cfg, s,
+                   {"enabled", "block_creation", "creation_guard_m", "flag_landmarks",
+                    "prune_flagged", "prune_unseen_s", "view_range_m", "view_fov_deg"});
+    enabled = readBool(cfg, s, "enabled", enabled);
+    block_creation = readBool(cfg, s, "block_creation", block_creation);
+    creation_guard_m = readDoubleMin(cfg, s, "creation_guard_m", creation_guard_m, 0.0, false);
+    flag_landmarks = readBool(cfg, s, "flag_landmarks", flag_landmarks);
+    prune_flagged = readBool(cfg, s, "prune_flagged", prune_flagged);
+    prune_unseen_s = readDoubleMin(cfg, s, "prune_unseen_s", prune_unseen_s, 0.0, false);
+    view_range_m = readDoubleMin(cfg, s, "view_range_m", view_range_m, 0.0, true);
+    view_fov_deg = readDoubleMin(cfg, s, "view_fov_deg", view_fov_deg, 0.0, true);
+}
+
+void SlamMotionHook::Options::saveToConfigFile(
+    mrpt::config::CConfigFileBase& cfg, const std::string& s) const
+{
+    cfg.write(s, "enabled", enabled);
+    cfg.write(s, "block_creation", block_creation);
+    cfg.write(s, "creation_guard_m", creation_guard_m);
+    cfg.write(s, "flag_landmarks", flag_landmarks);
+    cfg.write(s, "prune_flagged", prune_flagged);
+    cfg.write(s, "prune_unseen_s", prune_unseen_s);
+    cfg.write(s, "view_range_m", view_range_m);
+    cfg.write(s, "view_fov_deg", view_fov_deg);
+    detector.saveToConfigFile(cfg, "MotionDetector");
+}
+
+void SlamMotionHook::Options::loadAll(const mrpt::config::CConfigFileBase& cfg, const std::string& s)
+{
+    loadFromConfigFile(cfg, s);
+    detector.loadFromConfigFile(cfg, "MotionDetector");
+}
+
+SlamMotionHook::SlamMotionHook(const Options& options) : options_(options), detector_(options.detector)
+{
+}
+
+std::vector<ekf::RangeBearingObs> SlamMotionHook::filterObservations(
+    const std::vector<ekf::RangeBearingObs>& obs, const ekf::EkfSlam& ekf,
+    const ltr::RegionPartition* partition, const mrpt::poses::CPose3D& sensor, std::vector<size_t>& kept)
+{
+    kept.clear();
+    std::vector<ekf::RangeBearingObs> out;
+    out.reserve(obs.size());
+    const bool check = options_.block_creation && partition && detector_.size() > 0;
+    const Eigen::Vector3d v = ekf.vehiclePose();
+    // Sensor pose in the global frame (planar part of the mounting).
+    const double sx = v[0] + std::cos(v[2]) * sensor.x() - std::sin(v[2]) * sensor.y();
+    const double sy = v[1] + std::sin(v[2]) * sensor.x() + std::cos(v[2]) * sensor.y();
+    const double sphi = v[2] + sensor.yaw();
+    const auto ids = check ? ekf.landmarkIds() : std::vector<long>{};
+    for (size_t i = 0; i < obs.size(); ++i)
+    {
+        const auto& o = obs[i];
+        bool pass = true;
+        if (check && !(o.id >= 0 && ekf.hasLandmark(o.id)))
+        {
+            const Eigen::Vector2d p(sx + o.z[0] * std::cos(sphi + o.z[1]), sy + o.z[0] * std::sin(sphi + o.z[1]));
+            if (detector_.isDynamic(*partition, p))
+            {
+                pass = false;
+                if (o.id < 0)
+                    for (long id : ids)
+                        if (ekf.landmarkBlock(id).dim == 2 &&
+                            (ekf.landmarkMean(id) - p).norm() <= options_.creation_guard_m)
+                        {
+                            pass = true;  // it will associate with that landmark
+                            break;
+                        }
+            }
+        }
+        if (pass)
+        {
+            kept.push_back(i);
+            out.push_back(o);
+        }
+        else
+            ++stats_.creations_blocked;
+    }
+    return out;
+}
+
+void SlamMotionHook::noteUpdate(const ekf::UpdateReport& report, double t)
+{
+    for (long id : report.assigned_ids)
+        if (id >= 0) last_seen_[id] = t;
+}
+
+std::vector<long> SlamMotionHook::afterFrame(const dense::HybridMetricMap& map,
+                                             const ltr::RegionPartition& partition, ekf::EkfSlam& ekf,
+                                             double t)
+{
+    const Eigen::Vector3d v = ekf.vehiclePose();
+    const Eigen::Vector2d r = Eigen::Vector2d::Constant(options_.view_range_m);
+    detector_.removeStaleRegions(map);
+    const auto rep = detector_.step(map, partition.regionsInBox(v.head<2>() - r, v.head<2>() + r), t);
+    stats_.fast_differencings += rep.fast_differenced;
+    stats_.slow_differencings += rep.slow_differenced;
+    std::vector<long> removed;
+    // Landmarks that left the filter leave the bookkeeping.
+    for (auto it = flagged_.begin(); it != flagged_.end();)
+        it = ekf.hasLandmark(*it) ? std::next(it) : flagged_.erase(it);
+    if (!options_.flag_landmarks) return removed;
+    for (long id : ekf.landmarkIds())
+    {
+        if (ekf.landmarkBlock(id).dim != 2) continue;
+        const Eigen::Vector2d p = ekf.landmarkMean(id);
+        if ((p - v.head<2>()).cwiseAbs().maxCoeff() > options_.view_range_m) continue;
+        if (!flagged_.count(id) && detector_.isDynamic(partition, p))
+        {
+            flagged_.insert(id);
+            ++stats_.landmarks_flagged;
+        }
+    }
+    if (!options_.prune_flagged) return removed;
+    for (auto it = flagged_.begin(); it != flagged_.end();)
+    {
+        // Only a landmark in the sensor's view and not observed counts as gone; one
+        // merely out of view keeps its place.
+        const Eigen::Vector2d d = ekf.landmarkMean(*it) - v.head<2>();
+        const double bearing = std::remainder(std::atan2(d.y(), d.x()) - v[2], 2 * M_PI);
+        const bool in_view = d.norm() <= options_.view_range_m &&
+                             std::abs(bearing) <= 0.5 * options_.view_fov_deg * M_PI / 180.0;
+        const auto seen = last_seen_.find(*it);
+        const double last = seen == last_seen_.end() ? -1e300 : seen->second;
+        if (in_view && t - last > options_.prune_unseen_s)
+        {
+            ekf.removeLandmark(*it);
+            removed.push_back(*it);
+            last_seen_.erase(*it);
+            it = flagged_.erase(it);
+            ++stats_.landmarks_pruned;
+        }
+        else
+            ++it;
+    }
+    return removed;
+}
+
+}  // namespace hymm::dynamic

@@ -1,0 +1,382 @@
+// MotionDetector (thesis Sec. 6.3): differencing, low-pass, fast motion limited to the
+// regions in view, amortised slow motion, layers that move with the landmarks. Scenes
+// are simulated analytically on the lattice partition of the dense tests.
+#include "../../dense/tests/synthetic_partition.h"
+
+#include <gtest/gtest.h>
+#include <hymm/dense/HybridMetricMap.h>
+#include <hymm/dynamic/MotionDetector.h>
+#include <mrpt/config/CConfigFileMemory.h>
+#include <mrpt/random/RandomGenerators.h>
+
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <stdexcept>
+#include <vector>
+
+namespace
+{
+using namespace hymm::dense::synthetic;
+using hymm::dense::HybridMetricMap;
+using hymm::dynamic::MotionDetector;
+using hymm::dynamic::MotionKind;
+
+struct Box
+{
+    Eigen::Vector2d lo, hi;
+    bool contains(const Eigen::Vector2d& p, double margin = 0) const
+    {
+        return p.x() >= lo.x() - margin && p.x() <= hi.x() + margin && p.y() >= lo.y() - margin &&
+               p.y() <= hi.y() + margin;
+    }
+};
+
+/** Ray / axis-aligned box (slab test); entry distance or nullopt. */
+std::optional<double> rayBox(const Eigen::Vector2d& o, const Eigen::Vector2d& d, const Box& b)
+{
+    double t0 = 0, t1 = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < 2; ++k)
+    {
+        if (std::abs(d[k]) < 1e-12)
+        {
+            if (o[k] < b.lo[k] || o[k] > b.hi[k]) return std::nullopt;
+            continue;
+        }
+        double a = (b.lo[k] - o[k]) / d[k], c = (b.hi[k] - o[k]) / d[k];
+        if (a > c) std::swap(a, c);
+        t0 = std::max(t0, a);
+        t1 = std::min(t1, c);
+    }
+    if (t0 > t1) return std::nullopt;
+    return t0;
+}
+
+/** Sensor at (1, 7.5) looking +x over the 5 x 4 lattice ([0, 20] x [0, 15]); a wall
+ *  x in [17, 17.4] and the given boxes; ranges with noise `std_range`. */
+hymm::dense::ScanPoints scanOf(const std::vector<Box>& boxes, double std_range,
+                               mrpt::random::CRandomGenerator& rng)
+{
+    hymm::dense::ScanPoints s;
+    const Eigen::Vector2d o(1.0, 7.5);
+    std::vector<Box> all = boxes;
+    all.push_back({{17.0, 0.0}, {17.4, 15.0}});
+    for (int k = 0; k <= 320; ++k)
+    {
+        const double th = (-80.0 + 0.5 * k) * M_PI / 180.0;
+        const Eigen::Vector2d d(std::cos(th), std::sin(th));
+        double r = std::numeric_limits<double>::infinity();
+        for (const auto& b : all)
+            if (const auto t = rayBox(o, d, b)) r = std::min(r, *t);
+        if (!std::isfinite(r) || r > 24) continue;
+        r += rng.drawGaussian1D(0.0, std_range);
+        s.points.emplace_back(r * std::cos(th), r * std::sin(th));
+    }
+    return s;
+}
+
+const mrpt::math::TPose2D kSensorPose{1.0, 7.5, 0.0};
+
+HybridMetricMap::Options mapOptions()
+{
+    HybridMetricMap::Options o;
+    o.enable_points = false;
+    o.occupancy.cell_size_m = 0.2;
+    return o;
+}
+
+std::vector<long> inView(const hymm::ltr::RegionPartition& p)
+{
+    return p.regionsInBox(Eigen::Vector2d(1.0 - 24, 7.5 - 24), Eigen::Vector2d(1.0 + 24, 7.5 + 24));
+}
+
+hymm::dynamic::OccupancySnapshot blank(int n, float p)
+{
+    hymm::dynamic::OccupancySnapshot s;
+    s.nx = s.ny = n;
+    s.cell_size = 0.1;
+    s.p.assign(static_cast<size_t>(n * n), p);
+    s.inside.assign(static_cast<size_t>(n * n), 1);
+    return s;
+}
+
+TEST(MotionDifference, LowPassRemovesThinLinesKeepsBlobsIgnoresNewlySeen)
+{
+    const int n = 40;
+    auto then = blank(n, 0.03f), now = blank(n, 0.03f);
+    auto at = [&](auto& s, int x, int y) -> float& { return s.p[static_cast<size_t>(y * n + x)]; };
+    for (int y = 5; y < 35; ++y) at(now, 5, y) = 0.97f;  // a one-cell line appears
+    for (int y = 15; y < 23; ++y)
+        for (int x = 20; x < 28; ++x) at(then, x, y) = 0.97f;  // an 8 x 8 object leaves
+    for (int y = 30; y < 38; ++y)
+        for (int x = 20; x < 38; ++x) at(then, x, y) = 0.5f;  // unknown, now seen free
+    const auto raw = hymm::dynamic::differenceOccupancy(then, now, 0.0, 0.5);
+    const auto lp = hymm::dynamic::differenceOccupancy(then, now, 2.0, 0.5);
+    auto m = [&](const hymm::dynamic::Difference& d, int x, int y) {
+        return d.mask[static_cast<size_t>(y * n + x)] != 0;
+    };
+    EXPECT_TRUE(m(raw, 5, 20));
+    EXPECT_FALSE(m(lp, 5, 20));  // the thin line is filtered out
+    EXPECT_TRUE(m(raw, 24, 19));
+    EXPECT_TRUE(m(lp, 24, 19));  // the object's interior survives the filter
+    EXPECT_FALSE(m(raw, 30, 33));  // 0.5 -> 0.03 is not above 0.5
+    EXPECT_FALSE(m(lp, 30, 33));
+    EXPECT_NEAR(raw.raw[static_cast<size_t>(19 * n + 24)], 0.94f, 1e-6);
+    EXPECT_EQ(raw.marked(), 30u + 64u);
+    EXPECT_LT(lp.marked(), 64u);
+    EXPECT_GT(lp.marked(), 20u);
+    auto other = blank(n + 1, 0.03f);
+    EXPECT_THROW(hymm::dynamic::differenceOccupancy(then, other, 0.0, 0.5), std::invalid_argument);
+}
+
+/** A box 1 x 1 m moving north along x in [9, 10] at 1.3 m/s in front of a wall. */
+struct FastScene
+{
+    WallWorld w;
+    HybridMetricMap map{mapOptions()};
+    mrpt::random::CRandomGenerator rng{7};
+    Box moverAt(double t) const
+    {
+        const double y = 1.0 + 1.3 * t;
+        return {{9.0, y}, {10.0, y + 1.0}};
+    }
+    /** Runs 10 s of scans at 10 Hz, stepping `det`. */
+    void run(MotionDetector& det, std::vector<MotionDetector::StepReport>* reps = nullptr)
+    {
+        for (int k = 0; k <= 100; ++k)
+        {
+            const double t = 0.1 * k;
+            map.insertScan(scanOf({moverAt(t)}, 0.1, rng), kSensorPose, w.partition);
+            const auto r = det.step(map, inView(w.partition), t);
+            if (reps) reps->push_back(r);
+        }
+    }
+};
+
+/** Marked cells of the rendered fast layer: on the mover's swept band vs elsewhere. */
+struct Score
+{
+    size_t on_swept = 0, off_swept = 0, near_wall = 0;
+};
+Score scoreFast(const MotionDetector& det, const hymm::ltr::RegionPartition& p)
+{
+    mrpt::maps::COccupancyGridMap2D g(0.0f, 20.0f, 0.0f, 15.0f, 0.1f);
+    det.renderInto(MotionKind::Fast, p, g);
+    Score s;
+    const Box swept{{9.0, 1.0}, {10.0, 15.0}};
+    for (unsigned cy = 0; cy < g.getSizeY(); ++cy)
+        for (unsigned cx = 0; cx < g.getSizeX(); ++cx)
+        {
+            if (g.getCell(cx, cy) < 0.9f) continue;
+            const Eigen::Vector2d c(g.idx2x(cx), g.idx2y(cy));
+            if (swept.contains(c, 0.3))
+                ++s.on_swept;
+            else
+                ++s.off_swept;
+            if (std::abs(c.x() - 17.0) < 0.5) ++s.near_wall;
+        }
+    return s;
+}
+
+TEST(MotionDetector, FastMotionMarksTheSweptBandOnlyInView)
+{
+    FastScene sc;
+    MotionDetector::Options o;
+    o.enable_slow = false;
+    MotionDetector det(o);
+    std::vector<MotionDetector::StepReport> reps;
+    sc.run(det, &reps);
+    // Every region is differenced at most once per second: never in the first second,
+    // all that were seen at t = 0 at t = 1 s, and at most 10 times in 10 s.
+    size_t differenced = 0;
+    for (size_t k = 1; k < 10; ++k) EXPECT_EQ(reps[k].fast_differenced, 0u) << k;
+    EXPECT_GT(reps[10].fast_differenced, 0u);
+    for (const auto& r : reps) differenced += r.fast_differenced;
+    EXPECT_LE(differenced, 10 * sc.w.partition.size());
+    EXPECT_GT(differenced, 0u);
+    EXPECT_EQ(reps.back().slow_differenced, 0u);
+    const auto s = scoreFast(det, sc.w.partition);
+    EXPECT_GT(s.on_swept, 40u);  // the near face of the box, about 13 m of it
+    EXPECT_LT(static_cast<double>(s.off_swept), 0.25 * static_cast<double>(s.on_swept));
+    EXPECT_EQ(det.markedCells(MotionKind::Slow), 0u);
+}
+
+TEST(MotionDetector, WithoutLowPassTheStaticContourFlickers)
+{
+    FastScene a, b;
+    MotionDetector::Options o;
+    o.enable_slow = false;
+    MotionDetector with(o);
+    o.lowpass = false;
+    MotionDetector without(o);
+    a.run(with);
+    b.run(without);
+    const auto sw = scoreFast(with, a.w.partition), so = scoreFast(without, b.w.partition);
+    // Range noise moves the wall's returns between cells; the low-pass removes most of
+    // that flicker (Fig. 6.9 c-d).
+    EXPECT_GT(so.near_wall, 3 * sw.near_wall);
+    EXPECT_GT(so.off_swept, 3 * sw.off_swept);
+}
+
+TEST(MotionDetector, OnlyRegionsInViewAreDifferencedForFastMotion)
+{
+    FastScene sc;
+    MotionDetector::Options o;
+    o.enable_slow = false;
+    MotionDetector det(o);
+    // Only the regions whose box holds the sensor: a strict subset of those scanned.
+    const auto near = sc.w.partition.regionsInBox(Eigen::Vector2d(0.5, 7.0), Eigen::Vector2d(1.5, 8.0));
+    ASSERT_LT(near.size(), inView(sc.w.partition).size());
+    size_t total = 0;
+    for (int k = 0; k <= 20; ++k)
+    {
+        sc.map.insertScan(scanOf({sc.moverAt(0.1 * k)}, 0.05, sc.rng), kSensorPose, sc.w.partition);
+        total += det.step(sc.map, near, 0.1 * k).fast_differenced;
+    }
+    // Each near region twice (t = 1 s and 2 s) at most; some get their first
+    // occupancy only after the first scans.
+    EXPECT_GT(total, 0u);
+    EXPECT_LE(total, 2 * near.size());
+    for (long id : sc.w.partition.regionIds())
+        if (std::find(near.begin(), near.end(), id) == near.end())
+        {
+            const auto* l = det.layer(MotionKind::Fast, id);
+            EXPECT_TRUE(!l || !l->initialised()) << id;
+        }
+}
+
+TEST(MotionDetector, SlowMotionFindsARemovedObjectAmortised)
+{
+    WallWorld w;
+    HybridMetricMap map(mapOptions());
+    mrpt::random::CRandomGenerator rng(3);
+    const Box container{{8.0, 6.0}, {11.0, 9.0}};
+    MotionDetector::Options o;
+    o.enable_fast = false;
+    o.slow_period_s = 20.0;
+    o.slow_max_regions_per_call = 1;
+    MotionDetector det(o);
+    const auto view = inView(w.partition);
+    size_t max_per_call = 0, differenced = 0;
+    double t = 0;
+    auto pass = [&](const std::vector<Box>& boxes, int scans) {
+        for (int k = 0; k < scans; ++k, t += 0.1)
+        {
+            map.insertScan(scanOf(boxes, 0.05, rng), kSensorPose, w.partition);
+            const auto r = det.step(map, view, t);
+            max_per_call = std::max(max_per_call, r.slow_differenced);
+            differenced += r.slow_differenced;
+        }
+    };
+    auto away = [&](double until) {
+        for (; t < until; t += 0.1)
+        {
+            const auto r = det.step(map, {}, t);
+            max_per_call = std::max(max_per_call, r.slow_differenced);
+            differenced += r.slow_differenced;
+        }
+    };
+    pass({container}, 30);  // first pass: the container is there
+    away(15.0);             // the vehicle is elsewhere; first references taken on leaving
+    EXPECT_EQ(det.markedCells(MotionKind::Slow), 0u);
+    pass({}, 30);  // second pass: it is gone
+    away(60.0);
+    EXPECT_EQ(max_per_call, 1u);  // amortised: one region per call
+    EXPECT_GE(differenced, view.size());  // yet every region was differenced
+    // The container's near face (x = 8) is marked; the wall and the free space are not.
+    size_t on_face = 0, elsewhere = 0;
+    mrpt::maps::COccupancyGridMap2D g(0.0f, 20.0f, 0.0f, 15.0f, 0.1f);
+    det.renderInto(MotionKind::Slow, w.partition, g);
+    for (unsigned cy = 0; cy < g.getSizeY(); ++cy)
+        for (unsigned cx = 0; cx < g.getSizeX(); ++cx)
+        {
+            if (g.getCell(cx, cy) < 0.9f) continue;
+            const Eigen::Vector2d c(g.idx2x(cx), g.idx2y(cy));
+            ++(container.contains(c, 0.4) ? on_face : elsewhere);
+        }
+    EXPECT_GT(on_face, 10u);
+    EXPECT_EQ(elsewhere, 0u);
+    EXPECT_TRUE(det.isDynamic(MotionKind::Slow, w.partition, Eigen::Vector2d(8.0, 7.5)) ||
+                det.isDynamic(MotionKind::Slow, w.partition, Eigen::Vector2d(8.05, 7.55)) ||
+                det.isDynamic(MotionKind::Slow, w.partition, Eigen::Vector2d(7.95, 7.45)));
+    EXPECT_FALSE(det.isDynamic(w.partition, Eigen::Vector2d(17.0, 7.5)));
+
+    // Static occupancy without the dynamic cells: the marked cells read the prior.
+    mrpt::maps::COccupancyGridMap2D full, stat;
+    map.renderOccupancy(w.partition, 0.1, full);
+    det.renderStaticOccupancy(map, w.partition, 0.1, stat);
+    size_t changed = 0;
+    for (unsigned cy = 0; cy < stat.getSizeY(); ++cy)
+        for (unsigned cx = 0; cx < stat.getSizeX(); ++cx)
+            if (std::abs(stat.getCell(cx, cy) - full.getCell(cx, cy)) > 1e-3)
+            {
+                EXPECT_NEAR(stat.getCell(cx, cy), 0.5f, 0.01f);
+                ++changed;
+            }
+    EXPECT_GT(changed, 0u);
+}
+
+TEST(MotionDetector, LayersMoveWithTheLandmarks)
+{
+    FastScene sc;
+    MotionDetector::Options o;
+    o.enable_slow = false;
+    MotionDetector det(o);
+    sc.run(det);
+    // A marked point before the correction.
+    std::optional<Eigen::Vector2d> marked;
+    for (double y = 2.0; y < 14 && !marked; y += 0.05)
+        for (double x = 8.5; x < 10.5 && !marked; x += 0.05)
+            if (det.isDynamic(MotionKind::Fast, sc.w.partition, Eigen::Vector2d(x, y)))
+                marked = Eigen::Vector2d(x, y);
+    ASSERT_TRUE(marked.has_value());
+    // Every landmark shifted by (3, -2) (a rigid correction): the mark follows.
+    std::map<long, Eigen::Vector2d> moved = sc.w.lattice.landmarks();
+    for (auto& [id, p] : moved) p += Eigen::Vector2d(3.0, -2.0);
+    const auto view = makeDenseView(moved, Eigen::Vector3d::Zero());
+    sc.w.partition.updateVertexPositions(view);
+    EXPECT_TRUE(det.isDynamic(MotionKind::Fast, sc.w.partition, *marked + Eigen::Vector2d(3.0, -2.0)));
+    mrpt::maps::COccupancyGridMap2D g(0.0f, 25.0f, -3.0f, 15.0f, 0.1f);
+    det.renderInto(MotionKind::Fast, sc.w.partition, g);
+    EXPECT_GT(g.getPos(static_cast<float>(marked->x() + 3.0), static_cast<float>(marked->y() - 2.0)), 0.9f);
+}
+
+TEST(MotionDetector, RegionsRemovedFromTheMapLeaveTheDetector)
+{
+    FastScene sc;
+    MotionDetector det(MotionDetector::Options{});
+    sc.run(det);
+    const size_t before = det.size();
+    ASSERT_GT(before, 0u);
+    const long victim = sc.w.partition.regionIds().front();
+    sc.w.partition.removeRegion(victim);
+    sc.map.removeStaleRegions(sc.w.partition);
+    det.removeStaleRegions(sc.map);
+    EXPECT_EQ(det.layer(MotionKind::Fast, victim), nullptr);
+    // Its queued slow entry is skipped when due.
+    EXPECT_NO_THROW(det.step(sc.map, {}, 1000.0));
+}
+
+TEST(MotionDetectorOptions, ReadsValidatesAndRejectsUnknownKeys)
+{
+    mrpt::config::CConfigFileMemory cfg("[MotionDetector]\nfast_period_s = 0.5\nlowpass = false\n");
+    MotionDetector::Options o;
+    o.loadFromConfigFile(cfg, "MotionDetector");
+    EXPECT_DOUBLE_EQ(o.fast_period_s, 0.5);
+    EXPECT_FALSE(o.lowpass);
+    EXPECT_DOUBLE_EQ(o.slow_period_s, 150.0);
+    mrpt::config::CConfigFileMemory typo("[MotionDetector]\nfast_perod_s = 0.5\n");
+    EXPECT_THROW(o.loadFromConfigFile(typo, "MotionDetector"), std::invalid_argument);
+    mrpt::config::CConfigFileMemory bad("[MotionDetector]\nthreshold = 1.5\n");
+    EXPECT_THROW(o.loadFromConfigFile(bad, "MotionDetector"), std::invalid_argument);
+    // Round trip.
+    mrpt::config::CConfigFileMemory out;
+    o = MotionDetector::Options{};
+    o.slow_period_s = 42;
+    o.saveToConfigFile(out, "MotionDetector");
+    MotionDetector::Options back;
+    back.loadFromConfigFile(out, "MotionDetector");
+    EXPECT_DOUBLE_EQ(back.slow_period_s, 42.0);
+}
+
+}  // namespace

@@ -1,0 +1,160 @@
+// SlamMotionHook (thesis Sec. 6.3): no landmark is created from a dynamic cell,
+// landmarks on a moved object are flagged and, once unobserved while in view, pruned;
+// static ones are left alone. The scene is MotionDetector_test's removed container.
+#include "../../dense/tests/synthetic_partition.h"
+
+#include <gtest/gtest.h>
+#include <hymm/dense/HybridMetricMap.h>
+#include <hymm/dynamic/SlamMotionHook.h>
+#include <mrpt/config/CConfigFileMemory.h>
+
+#include <cmath>
+#include <stdexcept>
+
+namespace
+{
+using namespace hymm::dense::synthetic;
+using hymm::dynamic::SlamMotionHook;
+
+/** Returns of a sensor at (1, 7.5) heading +x: the wall x = 17 and, if `box`, the
+ *  near face x = 8 of a container over y in [6, 9]. */
+hymm::dense::ScanPoints scan(bool box)
+{
+    hymm::dense::ScanPoints s;
+    for (int k = 0; k <= 320; ++k)
+    {
+        const double th = (-80.0 + 0.5 * k) * M_PI / 180.0;
+        const double yw = 7.5 + 16.0 * std::tan(th), yb = 7.5 + 7.0 * std::tan(th);
+        double r = 0;
+        if (box && yb >= 6.0 && yb <= 9.0)
+            r = 7.0 / std::cos(th);
+        else if (yw >= 0.0 && yw <= 15.0)
+            r = 16.0 / std::cos(th);
+        else
+            continue;
+        s.points.emplace_back(r * std::cos(th), r * std::sin(th));
+    }
+    return s;
+}
+
+void setVehicle(hymm::ekf::EkfSlam& ekf, const Eigen::Vector3d& pose)
+{
+    // Vehicle plus whichever of the landmarks 1 (on the container's face) and
+    // 2 (on the wall) are still in the filter.
+    std::vector<std::pair<long, int>> blocks;
+    std::vector<Eigen::Vector2d> means;
+    if (ekf.hasLandmark(1) || ekf.numLandmarks() == 0)
+    {
+        blocks.push_back({1, 2});
+        means.push_back({8.0, 7.5});
+    }
+    blocks.push_back({2, 2});
+    means.push_back({17.0, 3.0});
+    Eigen::VectorXd x(3 + 2 * static_cast<int>(means.size()));
+    x.head<3>() = pose;
+    for (size_t i = 0; i < means.size(); ++i) x.segment<2>(3 + 2 * static_cast<int>(i)) = means[i];
+    ekf.setActiveState(x, 1e-4 * Eigen::MatrixXd::Identity(x.size(), x.size()), blocks);
+}
+
+TEST(SlamMotionHook, KeepsLandmarksOffAMovedObject)
+{
+    WallWorld w;
+    hymm::dense::HybridMetricMap::Options mo;
+    mo.enable_points = false;
+    mo.occupancy.cell_size_m = 0.2;
+    hymm::dense::HybridMetricMap map(mo);
+    SlamMotionHook::Options o;
+    o.enabled = true;
+    o.detector.enable_fast = false;
+    o.detector.slow_period_s = 20.0;
+    SlamMotionHook hook(o);
+    hymm::ekf::EkfSlam ekf{hymm::ekf::EkfSlam::Options{}};
+    const Eigen::Vector3d here(1.0, 7.5, 0.0), away(200.0, 200.0, 0.0);
+    setVehicle(ekf, here);
+    double t = 0;
+    hymm::ekf::UpdateReport seen;
+    seen.assigned_ids = {1, 2};
+    auto pass = [&](bool box) {
+        setVehicle(ekf, here);
+        for (int k = 0; k < 30; ++k, t += 0.1)
+        {
+            map.insertScan(scan(box), {1.0, 7.5, 0.0}, w.partition);
+            hook.noteUpdate(seen, t);
+            EXPECT_TRUE(hook.afterFrame(map, w.partition, ekf, t).empty());
+        }
+    };
+    auto elsewhere = [&](double until) {
+        setVehicle(ekf, away);
+        for (; t < until; t += 0.1) EXPECT_TRUE(hook.afterFrame(map, w.partition, ekf, t).empty());
+    };
+    pass(true);
+    elsewhere(15.0);
+    pass(false);  // the container is gone
+    elsewhere(60.0);
+    ASSERT_GT(hook.detector().markedCells(hymm::dynamic::MotionKind::Slow), 0u);
+    EXPECT_TRUE(hook.flagged().empty());  // landmarks are looked at only near the vehicle
+    EXPECT_TRUE(ekf.hasLandmark(1));
+
+    // Creation: an observation of a dynamic cell far from any landmark is dropped, one
+    // that will associate with landmark 1 passes, one of the wall passes.
+    setVehicle(ekf, here);
+    Eigen::Vector2d far_mark(0, 0);
+    bool found = false;
+    for (double y = 6.0; y <= 9.0 && !found; y += 0.05)
+        for (double x = 7.6; x <= 8.4 && !found; x += 0.05)
+            if (hook.detector().isDynamic(w.partition, {x, y}) && (Eigen::Vector2d(x, y) - Eigen::Vector2d(8, 7.5)).norm() > 1.2)
+            {
+                far_mark = {x, y};
+                found = true;
+            }
+    ASSERT_TRUE(found);
+    auto obsAt = [&](const Eigen::Vector2d& p, long id) {
+        hymm::ekf::RangeBearingObs z;
+        const Eigen::Vector2d d = p - here.head<2>();
+        z.z = {d.norm(), std::atan2(d.y(), d.x())};
+        z.R = 0.01 * Eigen::Matrix2d::Identity();
+        z.id = id;
+        return z;
+    };
+    std::vector<size_t> kept;
+    const auto passed = hook.filterObservations(
+        {obsAt(far_mark, -1), obsAt({8.0, 7.5}, -1), obsAt({17.0, 3.0}, -1), obsAt(far_mark, 7)}, ekf,
+        &w.partition, mrpt::poses::CPose3D(), kept);
+    ASSERT_EQ(kept.size(), 2u);
+    EXPECT_EQ(kept[0], 1u);
+    EXPECT_EQ(kept[1], 2u);
+    EXPECT_EQ(passed.size(), 2u);
+    EXPECT_EQ(hook.stats().creations_blocked, 2u);
+
+    // Back in view: landmark 1 (just observed) is flagged, not pruned; the wall's not.
+    hook.noteUpdate(seen, t);
+    EXPECT_TRUE(hook.afterFrame(map, w.partition, ekf, t).empty());
+    EXPECT_TRUE(hook.flagged().count(1));
+    EXPECT_FALSE(hook.flagged().count(2));
+    t += 0.1;
+    // No longer observed: after prune_unseen_s the flagged landmark
+    // leaves the filter, the wall's stays.
+    std::vector<long> removed;
+    for (int k = 0; k < 60 && removed.empty(); ++k, t += 0.1)
+        removed = hook.afterFrame(map, w.partition, ekf, t);
+    ASSERT_EQ(removed.size(), 1u);
+    EXPECT_EQ(removed[0], 1);
+    EXPECT_FALSE(ekf.hasLandmark(1));
+    EXPECT_TRUE(ekf.hasLandmark(2));
+    EXPECT_EQ(hook.stats().landmarks_pruned, 1u);
+}
+
+TEST(SlamMotionHookOptions, ReadsBothSections)
+{
+    mrpt::config::CConfigFileMemory cfg(
+        "[DynamicSlam]\nenabled = true\nprune_unseen_s = 2\n[MotionDetector]\nslow_period_s = 30\n");
+    SlamMotionHook::Options o;
+    o.loadAll(cfg);
+    EXPECT_TRUE(o.enabled);
+    EXPECT_DOUBLE_EQ(o.prune_unseen_s, 2.0);
+    EXPECT_DOUBLE_EQ(o.detector.slow_period_s, 30.0);
+    mrpt::config::CConfigFileMemory typo("[DynamicSlam]\nenable = true\n");
+    EXPECT_THROW(o.loadAll(typo), std::invalid_argument);
+}
+
+}  // namespace
