@@ -420,17 +420,27 @@ void DenseSlam::processDense(const mrpt::obs::CSensoryFrame& frame, double t, bo
             stats_.no_return_beams += st.no_return;
             stats_.failed_readings += pts.skipped;
             ++stats_.dense_scans;
+            stats_.returns_fallback += st.returns_fallback;
+            stats_.returns_withheld_fallback += st.withheld_fallback;
+            for (size_t i = 0; i < st.unassigned.size() && outside_.size() < kMaxOutsideRecords; ++i)
+                outside_.push_back({st.unassigned[i], st.unassigned_kept[i] != 0});
             if (virtual_options_.enabled) createVirtualLandmarks(st.unassigned, t);
-            if (store_ && !st.unassigned.empty())
+            // What the fallback kept is in a dense layer; the rest may wait in the store.
+            std::vector<Eigen::Vector2d> dropped;
+            for (size_t i = 0; i < st.unassigned.size(); ++i)
+                if (!st.unassigned_kept[i]) dropped.push_back(st.unassigned[i]);
+            stats_.returns_dropped += dropped.size();
+            if (store_ && !dropped.empty())
             {
                 // Step 5b: what no region holds waits in the store as passive states.
                 const Eigen::Matrix2d R = Eigen::Vector2d(options_.laser_std_range * options_.laser_std_range,
                                                           options_.laser_std_bearing * options_.laser_std_bearing)
                                               .asDiagonal();
                 const auto& sv = pts.sensor_on_vehicle;
-                const auto rep = store_->addGlobalPoints(ekf_, *partition_, st.unassigned, R,
+                const auto rep = store_->addGlobalPoints(ekf_, *partition_, dropped, R,
                                                          Eigen::Vector3d(sv.x, sv.y, sv.phi), t);
                 stats_.delayed_stored += rep.stored;
+                stats_.returns_dropped -= rep.stored;
                 stats_.delayed_outside_potential += rep.outside_potential;
                 stats_.delayed_thinned += rep.thinned;
                 stats_.delayed_evicted += rep.evicted_points;

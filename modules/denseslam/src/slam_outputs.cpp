@@ -7,6 +7,8 @@
 #include <hymm/eval/metrics_report.h>
 #include <hymm/eval/nees.h>
 #include <hymm/eval/se2_alignment.h>
+#include <hymm/ltr/outside_causes.h>
+#include "hymm/denseslam/VirtualLandmarkView.h"
 #include <hymm/sim/ground_truth_io.h>
 #include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/maps/CHeightGridMap2D.h>
@@ -22,6 +24,7 @@
 #include <fstream>
 #include <iomanip>
 #include <limits>
+#include <sstream>
 #include <stdexcept>
 #include <utility>
 
@@ -412,6 +415,25 @@ void writeDenseOutputs(const DenseSlam& slam, const std::string& dir, bool png)
 
 namespace
 {
+/** Why the returns in no region fell there (ltr/outside_causes.h), on the final map:
+ *  all of them, and those the fallback did not keep. */
+struct OutsideCauses
+{
+    ltr::OutsideCauseCounts all, dropped;
+};
+OutsideCauses outsideCauses(const DenseSlam& slam)
+{
+    OutsideCauses c;
+    const VirtualLandmarkView view(slam.ekf(), slam.virtualLandmarkIds());
+    for (const auto& r : slam.outsideReturns())
+    {
+        const auto cause = ltr::classifyOutsideReturn(*slam.partition(), view, r.p);
+        ++c.all[cause];
+        if (!r.kept) ++c.dropped[cause];
+    }
+    return c;
+}
+
 // Counts and memory of every layer (metrics.json "dense"; also without --gt-objects).
 void writeLayerCounts(eval::MetricsJson& dj, const DenseSlam& slam)
 {
@@ -497,6 +519,38 @@ void writeDenseMetrics(eval::MetricsJson& j, const DenseSlam& slam,
         dj.set("returns_stored", static_cast<unsigned long>(st.returns_stored));
         dj.set("returns_outside", static_cast<unsigned long>(st.returns_outside));
         dj.set("returns_withheld", static_cast<unsigned long>(st.returns_withheld));
+        dj.set("returns_fallback", static_cast<unsigned long>(st.returns_fallback));
+        dj.set("returns_dropped", static_cast<unsigned long>(st.returns_dropped));
+        {
+            // Where every return within range went: outside = fallback + delayed store + dropped.
+            auto& rj = dj.object("returns");
+            rj.set("total", static_cast<unsigned long>(st.returns_stored + st.returns_withheld + st.returns_outside));
+            rj.set("stored_in_region", static_cast<unsigned long>(st.returns_stored));
+            rj.set("withheld_local_uncertainty", static_cast<unsigned long>(st.returns_withheld));
+            rj.set("withheld_kept_by_fallback", static_cast<unsigned long>(st.returns_withheld_fallback));
+            rj.set("withheld_dropped", static_cast<unsigned long>(st.returns_withheld - st.returns_withheld_fallback));
+            rj.set("outside_regions", static_cast<unsigned long>(st.returns_outside));
+            rj.set("kept_by_fallback", static_cast<unsigned long>(st.returns_fallback));
+            rj.set("delayed_stored", static_cast<unsigned long>(st.delayed_stored));
+            rj.set("delayed_fused", static_cast<unsigned long>(st.delayed_fused));
+            rj.set("dropped_outside", static_cast<unsigned long>(st.returns_dropped));
+            // Returns within max_range_m that are in a dense layer (in a region, kept by the
+            // fallback, or fused later from the delayed store).
+            const size_t total = st.returns_stored + st.returns_withheld + st.returns_outside;
+            const size_t reached = st.returns_stored + st.returns_fallback + st.returns_withheld_fallback + st.delayed_fused;
+            rj.set("reached_dense_map", static_cast<unsigned long>(reached));
+            rj.set("reached_fraction", total ? static_cast<double>(reached) / static_cast<double>(total) : 0.0);
+            const auto causes = outsideCauses(slam);
+            rj.set("outside_recorded", static_cast<unsigned long>(causes.all.total()));
+            auto& cj = rj.object("outside_causes");
+            auto& dcj = rj.object("dropped_causes");
+            for (size_t k = 0; k < causes.all.n.size(); ++k)
+            {
+                const char* name = ltr::toString(static_cast<ltr::OutsideCause>(k));
+                cj.set(name, static_cast<unsigned long>(causes.all.n[k]));
+                dcj.set(name, static_cast<unsigned long>(causes.dropped.n[k]));
+            }
+        }
         dj.set("no_return_beams", static_cast<unsigned long>(st.no_return_beams));
         dj.set("failed_readings", static_cast<unsigned long>(st.failed_readings));
         if (slam.delayedStore())
@@ -565,6 +619,25 @@ void writeDenseMetrics(eval::MetricsJson& j, const DenseSlam& slam,
         mrpt::maps::COccupancyGridMap2D grid;
         renderOccupancy(slam, grid);
         setOutlineMetrics(dj.object("occupancy"), dense::occupiedCellCentres(grid, kOccupiedProbability), truth);
+    }
+    if (hybrid && hybrid->fallbackTiles() > 0)
+    {
+        // The fallback's content alone: its error includes the extrapolated affine maps.
+        auto& fj = dj.object("fallback");
+        fj.set("tiles", static_cast<unsigned long>(hybrid->fallbackTiles()));
+        if (hybrid->options().enable_points)
+        {
+            mrpt::maps::CSimplePointsMap pts;
+            hybrid->renderPoints(*slam.partition(), pts, dense::HybridMetricMap::Content::Fallback);
+            setOutlineMetrics(fj.object("points"), dense::pointsOf(pts), truth);
+        }
+        if (hybrid->options().enable_occupancy)
+        {
+            mrpt::maps::COccupancyGridMap2D grid;
+            hybrid->renderOccupancy(*slam.partition(), hybrid->options().occupancy.cell_size_m, grid,
+                                    dense::HybridMetricMap::Content::Fallback);
+            setOutlineMetrics(fj.object("occupancy"), dense::occupiedCellCentres(grid, kOccupiedProbability), truth);
+        }
     }
     if (particlesOn(slam))
         setOutlineMetrics(dj.object("particles"), particleWeights(renderParticles(slam)).occupied, truth);
@@ -855,9 +928,21 @@ void writeSummary(const DenseSlam& slam, double run_seconds, size_t entries, con
         f << "regions (LTR)        " << p->size() << " (created " << s.regions_created << ", removed "
           << s.regions_removed << ", partition updates " << s.partition_updates << ")\n"
           << "dense scans          " << s.dense_scans << " (returns stored " << s.returns_stored
-          << ", outside regions " << s.returns_outside << ", withheld " << s.returns_withheld
+          << ", outside regions " << s.returns_outside << " [kept by the fallback "
+          << s.returns_fallback << ", in the delayed store " << s.delayed_stored << ", dropped "
+          << s.returns_dropped << "], withheld " << s.returns_withheld << " [kept by the fallback "
+          << s.returns_withheld_fallback << "]"
           << "; no-return beams as free space " << s.no_return_beams << ", failed readings "
           << s.failed_readings << ")\n"
+          << "outside, why (final) " << [&] {
+                 // ltr/outside_causes.h, on the final map; in brackets: of the dropped ones.
+                 const auto c = outsideCauses(slam);
+                 std::ostringstream o;
+                 for (size_t k = 0; k < c.all.n.size(); ++k)
+                     o << (k ? ", " : "") << ltr::toString(static_cast<ltr::OutsideCause>(k)) << " "
+                       << c.all.n[k] << " [" << c.dropped.n[k] << "]";
+                 return o.str();
+             }() << "\n"
           << "virtual landmarks    " << slam.virtualLandmarkIds().size() << " (created "
           << s.virtual_landmarks << ", apexes rejected " << s.virtual_rejected << ")\n";
     if (const auto* store = slam.delayedStore())
