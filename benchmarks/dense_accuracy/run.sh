@@ -7,14 +7,26 @@
 # metrics.json. Needs python3 for the table.
 #   benchmarks/dense_accuracy/run.sh [OUT_DIR] [BUILD_DIR]
 #       the scenarios' own seed, before / after the closure / end of run: OUT_DIR/summary.md
-#   benchmarks/dense_accuracy/run.sh --seeds N [OUT_DIR] [BUILD_DIR]
-#       after the closure only, noise seeds 1..N of both scenarios (same world):
-#       per-seed rows, medians and how many seeds meet the targets, OUT_DIR/seeds.md
+#   benchmarks/dense_accuracy/run.sh --seeds N [--duration S] [--configs DIR] [OUT_DIR] [BUILD_DIR]
+#       noise seeds 1..N of both scenarios (same world), cut at S seconds (default 110:
+#       after the closure; 0 = the whole run), with DIR/ch3_slam.ini and DIR/ch4_slam.ini
+#       (default configs/): per-seed rows, medians and how many seeds meet the targets,
+#       OUT_DIR/seeds.md; and the coverage of every HYMM layer relative to the classic
+#       grid of the same run with where the laser returns went, OUT_DIR/coverage.md
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 root="$(cd "$here/../.." && pwd)"
 seeds=0
-if [ "${1:-}" = "--seeds" ]; then seeds="$2"; shift 2; fi
+duration=110
+configs="$root/configs"
+while [ "${1:-}" = "--seeds" ] || [ "${1:-}" = "--duration" ] || [ "${1:-}" = "--configs" ]; do
+    case "$1" in
+        --seeds) seeds="$2" ;;
+        --duration) duration="$2" ;;
+        --configs) configs="$(cd "$2" && pwd)" ;;
+    esac
+    shift 2
+done
 out="${1:-$root/out/dense_accuracy}"
 bin="${2:-$root/build}/bin"
 mkdir -p "$out"
@@ -36,7 +48,7 @@ run() {  # name scenario.ini slam.ini duration_s(0 = whole run) [noise seed]
 if [ "$seeds" -gt 0 ]; then
     for ch in ch3 ch4; do
         for s in $(seq 1 "$seeds"); do
-            run "${ch}_after_s$s" "$root/configs/sim/${ch}_objects.ini" "$root/configs/${ch}_slam.ini" 110 "$s" &
+            run "${ch}_after_s$s" "$root/configs/sim/${ch}_objects.ini" "$configs/${ch}_slam.ini" "$duration" "$s" &
             if (( s % 2 == 0 )); then wait; fi
         done
         wait
@@ -101,6 +113,52 @@ for ch in ["ch3", "ch4"]:
 text = "\n".join(summary) + "\n\n" + "\n".join(rows) + "\n"
 open(os.path.join(out, "seeds.md"), "w").write(text)
 print(text)
+PY
+    python3 - "$out" "$seeds" <<'PY'
+import json, sys, os, statistics as st
+out, n = sys.argv[1], int(sys.argv[2])
+layers = ["occupancy", "points", "particles", "sog"]
+rows = ["| run | seed | layer | coverage | / classic | mean [m] | aligned [m] | classic coverage | classic mean [m] | classic aligned [m] | fallback mean [m] |",
+        "|---|---|---|---|---|---|---|---|---|---|---|"]
+books = ["| run | seed | returns | in a region | fallback (outside) | fallback (withheld) | withheld, dropped | outside, dropped | delayed fused | reached | outside causes (final map): in region now / no landmark triangle / long edge / shape / correlation / overlap / not grown |",
+         "|---|---|---|---|---|---|---|---|---|---|---|"]
+summary = ["| run | layer | seeds | coverage / classic, median (min) | >= 0.95 | mean [m], median (max) | < 0.3 m | aligned <= classic aligned | reached, median (min) |",
+           "|---|---|---|---|---|---|---|---|---|"]
+for ch in ["ch3", "ch4"]:
+    per = {l: [] for l in layers}
+    reached = []
+    for s in range(1, n + 1):
+        m = json.load(open(os.path.join(out, "%s_after_s%d" % (ch, s), "metrics.json")))
+        d = m["dense"]; c = d["classic_grid"]; fb = d.get("fallback", {})
+        for l in layers:
+            if l not in d or "coverage" not in d[l]: continue
+            x = d[l]
+            r = x["coverage"] / c["coverage"] if c["coverage"] > 0 else float("nan")
+            per[l].append((r, x["mean_distance_m"], x["aligned"]["mean_distance_m"] <= c["aligned"]["mean_distance_m"]))
+            fbm = fb.get(l, {}).get("mean_distance_m", float("nan"))
+            rows.append("| %s | %d | %s | %.1f%% | %.2f | %.3f | %.3f | %.1f%% | %.3f | %.3f | %.3f |" % (
+                ch, s, l, 100 * x["coverage"], r, x["mean_distance_m"], x["aligned"]["mean_distance_m"],
+                100 * c["coverage"], c["mean_distance_m"], c["aligned"]["mean_distance_m"], fbm))
+        rj = d.get("returns", {})
+        if rj:
+            reached.append(rj["reached_fraction"])
+            oc = rj["outside_causes"]
+            books.append("| %s | %d | %d | %d | %d | %d | %d | %d | %d | %.1f%% | %s |" % (
+                ch, s, rj["total"], rj["stored_in_region"], rj["kept_by_fallback"], rj["withheld_kept_by_fallback"],
+                rj["withheld_dropped"], rj["dropped_outside"], rj["delayed_fused"], 100 * rj["reached_fraction"],
+                " / ".join(str(oc[k]) for k in ["in_region_now", "no_landmark_triangle", "long_edge", "shape",
+                                                 "correlation", "overlap", "not_grown"])))
+    for l in layers:
+        v = per[l]
+        if not v: continue
+        ratios = [x[0] for x in v]; means = [x[1] for x in v]
+        summary.append("| %s | %s | %d | %.2f (%.2f) | %d | %.3f (%.3f) | %d | %d | %s |" % (
+            ch, l, len(v), st.median(ratios), min(ratios), sum(r >= 0.95 for r in ratios), st.median(means),
+            max(means), sum(x < 0.3 for x in means), sum(x[2] for x in v),
+            "%.1f%% (%.1f%%)" % (100 * st.median(reached), 100 * min(reached)) if reached else "-"))
+text = "\n".join(summary) + "\n\n" + "\n".join(books) + "\n\n" + "\n".join(rows) + "\n"
+open(os.path.join(out, "coverage.md"), "w").write(text)
+print("\n".join(summary))
 PY
     exit 0
 fi

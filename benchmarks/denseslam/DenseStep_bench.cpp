@@ -22,7 +22,9 @@
  * covariance (landmark = vehicle position + rotated offset + independent noise).
  *
  * BM_DenseStep/N/R/local: the dense step alone (the filter is not changed between
- * iterations). BM_EkfVsDense/N/R/m/local: per iteration one EKF step (odometry
+ * iterations). local = 2: local refresh with the fallback on ([HybridMetricMap]
+ * fallback_max_distance_m = 25) and a 20 m room, so that part of the returns lie
+ * beyond the local regions and go to fallback tiles. BM_EkfVsDense/N/R/m/local: per iteration one EKF step (odometry
  * prediction + update with m known-id range-bearing observations) followed by the
  * dense step; the counters report the medians of the two parts and
  * ratio = (ekf + dense) / ekf.
@@ -62,13 +64,13 @@ const V2 kVehicle(4.5, 8.0);         // inside the local lattice, room inside it
 const V2 kFarOrigin(1000.0, 0.0);    // the rest of the map
 const mrpt::poses::CPose3D kSensor;  // range-bearing sensor at the vehicle origin
 
-ScanPoints roomScan()
+ScanPoints roomScan(double half_side = 7.0)
 {
     ScanPoints s;
     for (int k = 0; k < 361; ++k)
     {
         const double a = -M_PI / 2 + M_PI * k / 360.0;
-        const double r = 7.0 / std::max(std::abs(std::cos(a)), std::abs(std::sin(a)));
+        const double r = half_side / std::max(std::abs(std::cos(a)), std::abs(std::sin(a)));
         s.points.emplace_back(r * std::cos(a), r * std::sin(a));
     }
     return s;
@@ -88,7 +90,7 @@ struct World
     std::unique_ptr<HybridMetricMap> map;
     size_t landmarks = 0;
 
-    World(size_t n_landmarks, size_t n_regions, bool local)
+    World(size_t n_landmarks, size_t n_regions, bool local, bool fallback = false)
     {
         if (n_landmarks < 9 || n_regions < kLocalRegions)
             throw std::invalid_argument("World: too small");
@@ -159,13 +161,14 @@ struct World
         HybridMetricMap::Options mo;
         mo.occupancy.cell_size_m = 0.1;
         mo.points.voxel_size_m = 0.02;  // bounds memory over many identical iterations
+        mo.fallback_max_distance_m = fallback ? 25.0 : 0.0;
         map = std::make_unique<HybridMetricMap>(mo);
     }
 };
 
 struct StepStats
 {
-    size_t created = 0, stale = 0, returns_stored = 0, regions_visited = 0;
+    size_t created = 0, stale = 0, returns_stored = 0, regions_visited = 0, returns_fallback = 0;
 };
 
 /** DenseSlam::processDense for one frame with an EKF update and one scan. */
@@ -188,6 +191,7 @@ StepStats denseStep(World& w, const ScanPoints& scan, double t)
     const Eigen::Vector3d v = w.ekf->vehiclePose();
     const auto ins = w.map->insertScan(scan, mrpt::math::TPose2D(v[0], v[1], v[2]), *w.partition);
     st.returns_stored = ins.returns_stored;
+    st.returns_fallback = ins.returns_fallback;
     st.regions_visited = ins.regions_visited;
     return st;
 }
@@ -207,8 +211,9 @@ bool checkStep(benchmark::State& state, const StepStats& st)
 /** Args: landmarks, regions, local (0/1). */
 void BM_DenseStep(benchmark::State& state)
 {
-    World w(static_cast<size_t>(state.range(0)), static_cast<size_t>(state.range(1)), state.range(2) != 0);
-    const ScanPoints scan = roomScan();
+    World w(static_cast<size_t>(state.range(0)), static_cast<size_t>(state.range(1)), state.range(2) != 0,
+            state.range(2) == 2);
+    const ScanPoints scan = roomScan(state.range(2) == 2 ? 10.0 : 7.0);
     StepStats st = denseStep(w, scan, 0.0);  // warm-up: allocates the local maps
     if (!checkStep(state, st)) return;
     double t = 1.0;
@@ -219,6 +224,12 @@ void BM_DenseStep(benchmark::State& state)
         benchmark::DoNotOptimize(st.returns_stored);
     }
     if (!checkStep(state, st)) return;
+    if (state.range(2) == 2 && st.returns_fallback == 0)
+    {
+        state.SkipWithError("fallback mode: no return went to the fallback");
+        return;
+    }
+    state.counters["returns_fallback"] = static_cast<double>(st.returns_fallback);
     state.counters["landmarks"] = static_cast<double>(w.landmarks);
     state.counters["regions"] = static_cast<double>(w.partition->size());
     state.counters["returns_stored"] = static_cast<double>(st.returns_stored);
@@ -227,7 +238,7 @@ void BM_DenseStep(benchmark::State& state)
 
 void denseArgs(benchmark::internal::Benchmark* b)
 {
-    for (int local : {0, 1})
+    for (int local : {0, 1, 2})
     {
         for (int n : {100, 250, 500, 1000, 2000}) b->Args({n, 100, local});  // landmarks
         for (int r : {10, 500, 1000, 2000}) b->Args({2000, r, local});       // regions

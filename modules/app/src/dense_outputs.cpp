@@ -4,11 +4,13 @@
 #include <hymm/dense/map_images.h>
 #include <hymm/eval/se2_alignment.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
+#include <mrpt/maps/CSimplePointsMap.h>
 
 #include <cmath>
 #include <limits>
 
 #include "layer_outputs.h"
+#include "return_books.h"
 
 namespace hymm::app
 {
@@ -123,6 +125,7 @@ void writeRegionCounters(eval::MetricsJson& dj, const DenseSlam& slam)
     dj.set("returns_stored", static_cast<unsigned long>(st.returns_stored));
     dj.set("returns_outside", static_cast<unsigned long>(st.returns_outside));
     dj.set("returns_withheld", static_cast<unsigned long>(st.returns_withheld));
+    writeReturnBooks(dj, slam);
     dj.set("no_return_beams", static_cast<unsigned long>(st.no_return_beams));
     dj.set("failed_readings", static_cast<unsigned long>(st.failed_readings));
     if (slam.delayedStore())
@@ -178,6 +181,30 @@ void writeLandmarkAlignment(eval::MetricsJson& dj, const DenseSlam& slam,
     aj.set("landmark_mean_error_m", before / static_cast<double>(pairs.est.size()));
     aj.set("landmark_mean_error_aligned_m", after / static_cast<double>(pairs.est.size()));
 }
+
+// The fallback's content alone (returns kept outside every region in the frame of a
+// nearby region): its error includes the extrapolated affine maps, so it is scored apart.
+void writeFallbackMetrics(eval::MetricsJson& dj, const DenseSlam& slam, const TrueSurfaces& truth)
+{
+    const auto* hybrid = slam.hybridMap();
+    if (!hybrid || hybrid->fallbackTiles() == 0) return;
+    auto& fj = dj.object("fallback");
+    fj.set("tiles", static_cast<unsigned long>(hybrid->fallbackTiles()));
+    if (hybrid->options().enable_points)
+    {
+        mrpt::maps::CSimplePointsMap pts;
+        hybrid->renderPoints(*slam.partition(), pts, dense::HybridMetricMap::Content::Fallback);
+        setOutlineMetrics(fj.object("points"), dense::pointsOf(pts), truth);
+    }
+    if (hybrid->options().enable_occupancy)
+    {
+        mrpt::maps::COccupancyGridMap2D grid;
+        hybrid->renderOccupancy(*slam.partition(), hybrid->options().occupancy.cell_size_m, grid,
+                                dense::HybridMetricMap::Content::Fallback);
+        setOutlineMetrics(fj.object("occupancy"), dense::occupiedCellCentres(grid, kOccupiedProbability),
+                          truth);
+    }
+}
 }  // namespace
 
 void writeDenseOutputs(const DenseSlam& slam, const std::string& dir, bool png)
@@ -218,6 +245,7 @@ void writeDenseMetrics(eval::MetricsJson& j, const DenseSlam& slam,
     writeLandmarkAlignment(dj, slam, true_landmarks, truth);
     for (const auto* layer : enabledLayerOutputs(slam))
         setOutlineMetrics(dj.object(layer->kind), layer->scored_points(slam), truth);
+    writeFallbackMetrics(dj, slam, truth);
     if (const auto* classic = slam.classicGrid())
     {
         mrpt::maps::COccupancyGridMap2D grid;

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "layer_outputs.h"
+#include "return_books.h"
 
 namespace hymm::app
 {
@@ -36,9 +37,14 @@ void writeRegionSummary(std::ostream& f, const DenseSlam& slam)
         f << "regions (LTR)        " << p->size() << " (created " << s.regions_created << ", removed "
           << s.regions_removed << ", partition updates " << s.partition_updates << ")\n"
           << "dense scans          " << s.dense_scans << " (returns stored " << s.returns_stored
-          << ", outside regions " << s.returns_outside << ", withheld " << s.returns_withheld
+          << ", outside regions " << s.returns_outside << " [kept by the fallback "
+          << s.returns_fallback << ", in the delayed store " << s.delayed_stored << ", dropped "
+          << s.returns_dropped << "], withheld " << s.returns_withheld << " [kept by the fallback "
+          << s.returns_withheld_fallback << "]"
           << "; no-return beams as free space " << s.no_return_beams << ", failed readings "
           << s.failed_readings << ")\n"
+          // ltr/outside_causes.h, on the final map; in brackets: of the dropped ones.
+          << "outside, why (final) " << describeOutsideCauses(slam) << "\n"
           << "virtual landmarks    " << slam.virtualLandmarkIds().size() << " (created "
           << s.virtual_landmarks << ", apexes rejected " << s.virtual_rejected << ")\n";
     if (const auto* store = slam.delayedStore())

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <istream>
 #include <limits>
+#include <optional>
 #include <ostream>
 #include <stdexcept>
 #include <unordered_map>
@@ -26,7 +27,7 @@ constexpr double kEndParamTol = 1e-9;
 struct Candidate
 {
     long id;
-    const hymm::ltr::Region* region;
+    Vertices reference;  // the region's reference triangle (a fallback tile's triangle)
     AffineRegionMap to_current;
     Eigen::Vector2d lo, hi;  // current bounding box
     bool withheld = false;   // refused by insertScan's `accept`
@@ -44,7 +45,7 @@ bool boxesOverlap(
  *  line goes on into its bounding box grown by the margin (RegionScan::shadow_returns). */
 void clipBeams(const WorldScan& w, const Candidate& c, RegionScan& rs, double shadow_margin)
 {
-    const Vertices& ref = c.region->reference;
+    const Vertices& ref = c.reference;
     rs.sensor = c.to_current.inverseMapPoint(w.sensor);
     const bool shadows = shadow_margin >= 0;
     const Eigen::Vector2d glo = c.lo.array() - shadow_margin, ghi = c.hi.array() + shadow_margin;
@@ -121,8 +122,60 @@ LocalDenseMap& HybridMetricMap::localMapFor(long region_id, const Vertices& refe
         slot = std::make_unique<LocalDenseMap>(region_id, reference);
         for (const std::string& kind : enabledKinds())
             if (auto layer = makeLayer(kind, reference)) slot->addLayer(std::move(layer));
+        // With the fallback, a region's unobserved cells must not hide what a fallback
+        // tile under it saw.
+        if (auto* occ = dynamic_cast<OccupancyLayer*>(slot->layer(OccupancyLayer::kKind));
+            occ && options_.fallback_max_distance_m > 0)
+            occ->setRenderMode(OccupancyLayer::RenderMode::ObservedOnly);
     }
     return *slot;
+}
+
+LocalDenseMap& HybridMetricMap::fallbackMapFor(const FallbackTileKey& key)
+{
+    auto& slot = fallback_[key];
+    if (!slot)
+    {
+        const Vertices reference = fallbackTileTriangle(key, options_.fallback_tile_m);
+        slot = std::make_unique<LocalDenseMap>(key.anchor, reference);
+        for (const std::string& kind : enabledKinds())
+            if (auto layer = makeLayer(kind, reference)) slot->addLayer(std::move(layer));
+        // Tiles of different anchors overlap: each draws only what it observed, the most
+        // occupied value winning.
+        if (auto* occ = dynamic_cast<OccupancyLayer*>(slot->layer(OccupancyLayer::kKind)))
+            occ->setRenderMode(OccupancyLayer::RenderMode::MaxObserved);
+    }
+    return *slot;
+}
+
+void HybridMetricMap::forEachMap(
+    const RegionPartition& partition, Content content,
+    const std::function<void(const LocalDenseMap&, const AffineRegionMap&)>& fn) const
+{
+    const auto current = [&](long id) -> std::optional<AffineRegionMap> {
+        if (!partition.has(id)) return std::nullopt;
+        try
+        {
+            return partition.referenceToCurrent(id);
+        }
+        catch (const std::invalid_argument&)
+        {
+            return std::nullopt;  // degenerate current triangle: no valid position for its content
+        }
+    };
+    if (content != Content::Regions)
+    {
+        long last = -1;
+        std::optional<AffineRegionMap> to_current;
+        for (const auto& [key, map] : fallback_)
+        {
+            if (key.anchor != last) to_current = current(last = key.anchor);
+            if (to_current) fn(*map, *to_current);
+        }
+    }
+    if (content != Content::Fallback)
+        for (const auto& [id, map] : maps_)
+            if (const auto to_current = current(id)) fn(*map, *to_current);
 }
 
 HybridMetricMap::InsertStats HybridMetricMap::insertScan(
@@ -147,7 +200,7 @@ HybridMetricMap::InsertStats HybridMetricMap::insertScan(
             const auto& r = partition.region(id);
             try
             {
-                Candidate c{id, &r, partition.referenceToCurrent(id), {}, {}, false};
+                Candidate c{id, r.reference, partition.referenceToCurrent(id), {}, {}, false};
                 c.lo = r.current[0].cwiseMin(r.current[1]).cwiseMin(r.current[2]);
                 c.hi = r.current[0].cwiseMax(r.current[1]).cwiseMax(r.current[2]);
                 if (accept && !accept(id))
@@ -166,8 +219,47 @@ HybridMetricMap::InsertStats HybridMetricMap::insertScan(
         st.regions_visited = cands.size() + st.regions_degenerate;
     }
 
-    // 2. Owner of each return: one region (lowest id on shared borders).
+    // 2. Owner of each return: one region (lowest id on shared borders); a return in no
+    // region goes to a fallback tile of the nearest usable region when the fallback is on.
     std::vector<RegionScan> per_region(cands.size());
+    const double fb_dist = options_.fallback_max_distance_m;
+    std::map<FallbackTileKey, RegionScan> fb_hits;
+    std::unordered_map<long, std::optional<AffineRegionMap>> anchor_maps;  // nullopt: unusable
+    const auto anchorMap = [&](long id) -> const std::optional<AffineRegionMap>& {
+        const auto [it, fresh] = anchor_maps.try_emplace(id);
+        if (fresh)
+        {
+            const auto c = index_of.find(id);
+            if (c != index_of.end())
+            {
+                if (!cands[c->second].withheld) it->second = cands[c->second].to_current;
+            }
+            else if (!accept || accept(id))
+            {
+                try
+                {
+                    it->second = partition.referenceToCurrent(id);
+                }
+                catch (const std::invalid_argument&)
+                {
+                }
+            }
+        }
+        return it->second;
+    };
+    // Keeps return b in a fallback tile of the nearest usable region; false if none is near.
+    const auto keepInFallback = [&](const WorldBeam& b) {
+        if (!(fb_dist > 0)) return false;
+        const auto anchor =
+            nearestRegion(partition, b.end, fb_dist, [&](long id) { return anchorMap(id).has_value(); });
+        if (!anchor) return false;
+        const Eigen::Vector2d p_ref = anchorMap(*anchor)->inverseMapPoint(b.end);
+        RegionScan& rs = fb_hits[fallbackTileOf(*anchor, p_ref, options_.fallback_tile_m)];
+        rs.hits.push_back(p_ref);
+        if (!scan.values.empty()) rs.hit_values.push_back(scan.values[b.source]);
+        if (!scan.value_stds.empty()) rs.hit_value_stds.push_back(scan.value_stds[b.source]);
+        return true;
+    };
     {
         mrpt::system::CTimeLoggerEntry t2(profiler_, "dense.insertScan.2_assign");
         for (const WorldBeam& b : w.beams)
@@ -179,12 +271,19 @@ HybridMetricMap::InsertStats HybridMetricMap::insertScan(
             {
                 ++st.returns_outside;
                 st.unassigned.push_back(b.end);
+                const bool kept = keepInFallback(b);
+                st.returns_fallback += kept;
+                st.unassigned_kept.push_back(kept);
                 continue;
             }
             if (cands[it->second].withheld)
             {
                 ++st.returns_withheld;
                 st.withheld.push_back(b.end);
+                // The owner's frame is not known well enough now; a usable region nearby is.
+                const bool kept = keepInFallback(b);
+                st.withheld_fallback += kept;
+                st.withheld_kept.push_back(kept);
                 continue;
             }
             RegionScan& rs = per_region[it->second];
@@ -214,9 +313,60 @@ HybridMetricMap::InsertStats HybridMetricMap::insertScan(
             rs.range_std_m = scan.range_std_m;
             rs.bearing_std_rad = scan.bearing_std_rad;
             rs.to_reference_linear = cands[k].to_current.inverse().linear();
-            localMapFor(cands[k].id, cands[k].region->reference).insert(rs);
+            localMapFor(cands[k].id, cands[k].reference).insert(rs);
             last_scan_regions_.insert(cands[k].id);
             ++st.regions_updated;
+        }
+    }
+
+    // 3b. Fallback tiles near the scan: the new returns, and the free space of every beam
+    // crossing a tile (existing tiles too, so that their cells can be revised).
+    if (fb_dist > 0)
+    {
+        mrpt::system::CTimeLoggerEntry t3b(profiler_, "dense.insertScan.3b_fallback");
+        const double shadow_margin = -1.0;
+        std::set<long> anchors;
+        for (const auto& kv : fb_hits) anchors.insert(kv.first.anchor);
+        const Eigen::Vector2d reach = Eigen::Vector2d::Constant(fb_dist + 2.0 * options_.fallback_tile_m);
+        for (const long id : partition.regionsInBox(w.lo - reach, w.hi + reach))
+            if (fallback_.lower_bound(FallbackTileKey{id, std::numeric_limits<int>::min(), 0, 0}) !=
+                fallback_.lower_bound(FallbackTileKey{id + 1, std::numeric_limits<int>::min(), 0, 0}))
+                anchors.insert(id);
+        for (const long id : anchors)
+        {
+            const auto& to_current = anchorMap(id);
+            if (!to_current) continue;  // withheld or folded anchor: its tiles wait
+            std::set<FallbackTileKey> keys;
+            for (auto it = fallback_.lower_bound(FallbackTileKey{id, std::numeric_limits<int>::min(), 0, 0});
+                 it != fallback_.end() && it->first.anchor == id; ++it)
+                keys.insert(it->first);
+            for (auto it = fb_hits.lower_bound(FallbackTileKey{id, std::numeric_limits<int>::min(), 0, 0});
+                 it != fb_hits.end() && it->first.anchor == id; ++it)
+                keys.insert(it->first);
+            for (const FallbackTileKey& key : keys)
+            {
+                Candidate c{id, fallbackTileTriangle(key, options_.fallback_tile_m), *to_current, {}, {}, false};
+                Vertices cur;
+                for (size_t v = 0; v < 3; ++v) cur[v] = c.to_current.mapPoint(c.reference[v]);
+                c.lo = cur[0].cwiseMin(cur[1]).cwiseMin(cur[2]);
+                c.hi = cur[0].cwiseMax(cur[1]).cwiseMax(cur[2]);
+                if (!boxesOverlap(c.lo, c.hi, w.lo, w.hi)) continue;
+                RegionScan rs;
+                if (const auto h = fb_hits.find(key); h != fb_hits.end()) rs = std::move(h->second);
+                clipBeams(w, c, rs, shadow_margin);
+                // Only the returns the fallback assigned here are this tile's hits: a ray
+                // ending in the tile at a return some region owns marks free space only.
+                for (FreeRay& ray : rs.rays)
+                    if (ray.ends_at_hit &&
+                        std::none_of(rs.hits.begin(), rs.hits.end(),
+                                     [&](const Eigen::Vector2d& h) { return (h - ray.to).squaredNorm() < 1e-12; }))
+                        ray.ends_at_hit = false;
+                if (rs.empty()) continue;
+                rs.range_std_m = scan.range_std_m;
+                rs.bearing_std_rad = scan.bearing_std_rad;
+                rs.to_reference_linear = c.to_current.inverse().linear();
+                fallbackMapFor(key).insert(rs);
+            }
         }
     }
 
@@ -280,60 +430,43 @@ std::vector<long> HybridMetricMap::removeStaleRegions(const RegionPartition& par
         last_scan_regions_.erase(it->first);
         it = maps_.erase(it);
     }
+    // Fallback content hangs off its anchor's frame: it goes with the anchor.
+    for (auto it = fallback_.begin(); it != fallback_.end();)
+        it = partition.has(it->first.anchor) ? std::next(it) : fallback_.erase(it);
     return removed;
 }
 
 void HybridMetricMap::renderLayer(
-    const std::string& kind, const RegionPartition& partition, mrpt::maps::CMetricMap& out) const
+    const std::string& kind, const RegionPartition& partition, mrpt::maps::CMetricMap& out,
+    Content content) const
 {
     mrpt::system::CTimeLoggerEntry tle(profiler_, "dense.render." + kind);
-    for (const auto& [id, map] : maps_)
-    {
-        if (!partition.has(id)) continue;
-        const DenseLayer* layer = map->layer(kind);
-        if (!layer) continue;
-        AffineRegionMap to_current;
-        try
-        {
-            to_current = partition.referenceToCurrent(id);
-        }
-        catch (const std::invalid_argument&)
-        {
-            continue;  // degenerate current triangle: no valid position for its content
-        }
-        layer->renderInto(to_current, out);
-    }
+    forEachMap(partition, content, [&](const LocalDenseMap& map, const AffineRegionMap& to_current) {
+        if (const DenseLayer* layer = map.layer(kind)) layer->renderInto(to_current, out);
+    });
 }
 
 void HybridMetricMap::renderPoints(
-    const RegionPartition& partition, mrpt::maps::CSimplePointsMap& out) const
+    const RegionPartition& partition, mrpt::maps::CSimplePointsMap& out, Content content) const
 {
     out.clear();
-    renderLayer(PointsLayer::kKind, partition, out);
+    renderLayer(PointsLayer::kKind, partition, out, content);
 }
 
 void HybridMetricMap::renderOccupancy(
-    const RegionPartition& partition, double resolution_m, mrpt::maps::COccupancyGridMap2D& out) const
+    const RegionPartition& partition, double resolution_m, mrpt::maps::COccupancyGridMap2D& out,
+    Content content) const
 {
     if (!(resolution_m > 0))
         throw std::invalid_argument("HybridMetricMap::renderOccupancy: resolution must be > 0");
-    Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
-    Eigen::Vector2d hi = -lo;
-    for (const auto& [id, map] : maps_)
-    {
-        if (!partition.has(id) || !map->layer(OccupancyLayer::kKind)) continue;
-        for (const auto& v : partition.region(id).current)
-        {
-            lo = lo.cwiseMin(v);
-            hi = hi.cwiseMax(v);
-        }
-    }
-    if (!(lo.x() <= hi.x())) lo = hi = Eigen::Vector2d::Zero();  // nothing to draw
+    Eigen::Vector2d lo, hi;
+    if (!layerBox(OccupancyLayer::kKind, partition, lo, hi, content))
+        lo = hi = Eigen::Vector2d::Zero();  // nothing to draw
     out.setSize(
         static_cast<float>(lo.x() - resolution_m), static_cast<float>(hi.x() + resolution_m),
         static_cast<float>(lo.y() - resolution_m), static_cast<float>(hi.y() + resolution_m),
         static_cast<float>(resolution_m), 0.5f);
-    renderLayer(OccupancyLayer::kKind, partition, out);
+    renderLayer(OccupancyLayer::kKind, partition, out, content);
 }
 
 const LocalDenseMap* HybridMetricMap::localMap(long region_id) const
@@ -353,6 +486,7 @@ size_t HybridMetricMap::memoryBytes() const
 {
     size_t n = sizeof(*this);
     for (const auto& kv : maps_) n += kv.second->memoryBytes() + 4 * sizeof(void*);
+    for (const auto& kv : fallback_) n += kv.second->memoryBytes() + sizeof(kv.first) + 4 * sizeof(void*);
     return n;
 }
 
@@ -360,6 +494,8 @@ std::map<std::string, size_t> HybridMetricMap::memoryBytesByKind() const
 {
     std::map<std::string, size_t> out;
     for (const auto& kv : maps_)
+        for (const std::string& kind : kv.second->layerKinds()) out[kind] += kv.second->layer(kind)->memoryBytes();
+    for (const auto& kv : fallback_)
         for (const std::string& kind : kv.second->layerKinds()) out[kind] += kv.second->layer(kind)->memoryBytes();
     return out;
 }

@@ -13,7 +13,8 @@ void HybridMetricMap::Options::loadFromConfigFile(
     checkKnownKeys(
         cfg, s,
         {"enable_points", "enable_occupancy", "enable_particles", "enable_sog", "enable_property", "max_range_m",
-         "no_return_free_range_m", "coarsen_every_n_scans", "enable_profiler"});
+         "no_return_free_range_m", "coarsen_every_n_scans", "fallback_max_distance_m", "fallback_tile_m",
+         "enable_profiler"});
     enable_points = readBool(cfg, s, "enable_points", enable_points);
     enable_occupancy = readBool(cfg, s, "enable_occupancy", enable_occupancy);
     enable_particles = readBool(cfg, s, "enable_particles", enable_particles);
@@ -22,6 +23,9 @@ void HybridMetricMap::Options::loadFromConfigFile(
     max_range_m = readDoubleMin(cfg, s, "max_range_m", max_range_m, 0.0, true);
     no_return_free_range_m = readDoubleMin(cfg, s, "no_return_free_range_m", no_return_free_range_m, 0.0, false);
     coarsen_every_n_scans = static_cast<int>(readInt(cfg, s, "coarsen_every_n_scans", coarsen_every_n_scans));
+    fallback_max_distance_m =
+        readDoubleMin(cfg, s, "fallback_max_distance_m", fallback_max_distance_m, 0.0, false);
+    fallback_tile_m = readDoubleMin(cfg, s, "fallback_tile_m", fallback_tile_m, 0.0, true);
     enable_profiler = readBool(cfg, s, "enable_profiler", enable_profiler);
     validate(s);
 }
@@ -37,6 +41,8 @@ void HybridMetricMap::Options::saveToConfigFile(
     cfg.write(s, "max_range_m", max_range_m);
     cfg.write(s, "no_return_free_range_m", no_return_free_range_m);
     cfg.write(s, "coarsen_every_n_scans", coarsen_every_n_scans);
+    cfg.write(s, "fallback_max_distance_m", fallback_max_distance_m);
+    cfg.write(s, "fallback_tile_m", fallback_tile_m);
     cfg.write(s, "enable_profiler", enable_profiler);
 }
 
@@ -76,6 +82,11 @@ void HybridMetricMap::Options::validate(const std::string& s) const
     if (coarsen_every_n_scans < 0)
         hymm::core::throwConfigError(
             s, "coarsen_every_n_scans", std::to_string(coarsen_every_n_scans), "must be >= 0 (0 = off)");
+    if (!(fallback_max_distance_m >= 0) || !std::isfinite(fallback_max_distance_m))
+        hymm::core::throwConfigError(
+            s, "fallback_max_distance_m", std::to_string(fallback_max_distance_m), "must be finite and >= 0 (0 = off)");
+    if (!(fallback_tile_m > 0) || !std::isfinite(fallback_tile_m))
+        hymm::core::throwConfigError(s, "fallback_tile_m", std::to_string(fallback_tile_m), "must be finite and > 0");
     occupancy.validate();
     points.validate();
     particles.validate();

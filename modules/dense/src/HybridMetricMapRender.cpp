@@ -7,39 +7,24 @@
 
 namespace hymm::dense
 {
-namespace
-{
 using hymm::ltr::AffineRegionMap;
 using hymm::ltr::RegionPartition;
 
-/** The region's reference -> current map, or nullopt for a degenerate triangle. */
-std::optional<AffineRegionMap> currentMap(const RegionPartition& partition, long id)
-{
-    try
-    {
-        return partition.referenceToCurrent(id);
-    }
-    catch (const std::invalid_argument&)
-    {
-        return std::nullopt;  // folded triangle: its content has no valid position
-    }
-}
-}  // namespace
-
 bool HybridMetricMap::layerBox(
-    const std::string& kind, const RegionPartition& partition, Eigen::Vector2d& lo, Eigen::Vector2d& hi) const
+    const std::string& kind, const RegionPartition& partition, Eigen::Vector2d& lo, Eigen::Vector2d& hi,
+    Content content) const
 {
     lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
     hi = -lo;
-    for (const auto& [id, map] : maps_)
-    {
-        if (!partition.has(id) || !map->layer(kind)) continue;
-        for (const auto& v : partition.region(id).current)
+    forEachMap(partition, content, [&](const LocalDenseMap& map, const AffineRegionMap& to_current) {
+        if (!map.layer(kind)) return;
+        for (const auto& v : map.reference())
         {
-            lo = lo.cwiseMin(v);
-            hi = hi.cwiseMax(v);
+            const Eigen::Vector2d c = to_current.mapPoint(v);
+            lo = lo.cwiseMin(c);
+            hi = hi.cwiseMax(c);
         }
-    }
+    });
     return lo.x() <= hi.x();
 }
 
@@ -53,28 +38,22 @@ void HybridMetricMap::renderSogSurface(
     if (!layerBox(SogLayer::kKind, partition, lo, hi)) lo = hi = Eigen::Vector2d::Zero();
     const Eigen::Vector2d m = Eigen::Vector2d::Constant(margin_m);
     out = ScalarField::covering(lo - m, hi + m, resolution_m, 0.0);
-    for (const auto& [id, map] : maps_)
-    {
-        const auto* sog = partition.has(id) ? map->layerAs<SogLayer>(SogLayer::kKind) : nullptr;
-        if (!sog) continue;
-        if (const auto to_current = currentMap(partition, id)) sog->addSurface(*to_current, out);
-    }
+    forEachMap(partition, Content::All, [&](const LocalDenseMap& map, const AffineRegionMap& to_current) {
+        if (const auto* sog = map.layerAs<SogLayer>(SogLayer::kKind)) sog->addSurface(to_current, out);
+    });
 }
 
 std::vector<std::vector<Eigen::Vector2d>> HybridMetricMap::renderSogEllipses(
     const RegionPartition& partition, int points) const
 {
     std::vector<std::vector<Eigen::Vector2d>> out;
-    for (const auto& [id, map] : maps_)
-    {
-        const auto* sog = partition.has(id) ? map->layerAs<SogLayer>(SogLayer::kKind) : nullptr;
-        if (!sog) continue;
-        if (const auto to_current = currentMap(partition, id))
+    forEachMap(partition, Content::All, [&](const LocalDenseMap& map, const AffineRegionMap& to_current) {
+        if (const auto* sog = map.layerAs<SogLayer>(SogLayer::kKind))
         {
-            auto e = sog->ellipses(*to_current, points);
+            auto e = sog->ellipses(to_current, points);
             out.insert(out.end(), std::make_move_iterator(e.begin()), std::make_move_iterator(e.end()));
         }
-    }
+    });
     return out;
 }
 
@@ -88,25 +67,20 @@ void HybridMetricMap::renderProperty(
     const double nan = std::numeric_limits<double>::quiet_NaN();
     mean = ScalarField::covering(lo, hi, resolution_m, nan);
     stddev = ScalarField::covering(lo, hi, resolution_m, nan);
-    for (const auto& [id, map] : maps_)
-    {
-        const auto* prop = partition.has(id) ? map->layerAs<PropertyLayer>(PropertyLayer::kKind) : nullptr;
-        if (!prop) continue;
-        if (const auto to_current = currentMap(partition, id)) prop->renderFields(*to_current, mean, &stddev);
-    }
+    forEachMap(partition, Content::All, [&](const LocalDenseMap& map, const AffineRegionMap& to_current) {
+        if (const auto* prop = map.layerAs<PropertyLayer>(PropertyLayer::kKind))
+            prop->renderFields(to_current, mean, &stddev);
+    });
 }
 
 std::vector<mrpt::poses::CPoint2DPDFGaussian> HybridMetricMap::renderSogGaussians(
-    const RegionPartition& partition) const
+    const RegionPartition& partition, Content content) const
 {
     std::vector<mrpt::poses::CPoint2DPDFGaussian> out;
-    for (const auto& [id, map] : maps_)
-    {
-        const auto* sog = partition.has(id) ? map->layerAs<SogLayer>(SogLayer::kKind) : nullptr;
-        if (!sog) continue;
-        if (const auto to_current = currentMap(partition, id))
-            for (size_t i = 0; i < sog->size(); ++i) out.push_back(sog->gaussianAt(i, *to_current));
-    }
+    forEachMap(partition, content, [&](const LocalDenseMap& map, const AffineRegionMap& to_current) {
+        if (const auto* sog = map.layerAs<SogLayer>(SogLayer::kKind))
+            for (size_t i = 0; i < sog->size(); ++i) out.push_back(sog->gaussianAt(i, to_current));
+    });
     return out;
 }
 
@@ -114,6 +88,9 @@ std::map<std::string, size_t> HybridMetricMap::sizeByKind() const
 {
     std::map<std::string, size_t> out;
     for (const auto& kv : maps_)
+        for (const std::string& kind : kv.second->layerKinds())
+            out[kind] += kv.second->layer(kind)->size();
+    for (const auto& kv : fallback_)
         for (const std::string& kind : kv.second->layerKinds())
             out[kind] += kv.second->layer(kind)->size();
     return out;

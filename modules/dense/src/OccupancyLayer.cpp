@@ -227,7 +227,15 @@ void OccupancyLayer::renderInto(
             if (!triangleContains(cur, c, kRenderEdgeTol)) continue;
             int ix, iy;
             if (!grid_.cellOf(reference_to_current.inverseMapPoint(c), ix, iy)) continue;
-            og->setCell(cx, cy, static_cast<float>(logistic(grid_.logOdds(ix, iy))));
+            if (render_mode_ != RenderMode::Overwrite && grid_.logOdds(ix, iy) == grid_.initialLogOdds()) continue;
+            const float p = static_cast<float>(logistic(grid_.logOdds(ix, iy)));
+            if (render_mode_ == RenderMode::MaxObserved)
+            {
+                const float was = og->getCell(cx, cy);
+                // 0.5 is the output's "nothing drawn" value (within its quantisation).
+                if (std::abs(was - 0.5f) > 1e-3f && p <= was) continue;
+            }
+            og->setCell(cx, cy, p);
         }
 }
 

@@ -281,6 +281,7 @@ void DenseSlam::storeUnassigned(const dense::ScanPoints& pts,
     const auto rep = store_->addGlobalPoints(ekf_, *partition_, unassigned, R,
                                              Eigen::Vector3d(sv.x, sv.y, sv.phi), t);
     stats_.delayed_stored += rep.stored;
+    stats_.returns_dropped -= rep.stored;
     stats_.delayed_outside_potential += rep.outside_potential;
     stats_.delayed_thinned += rep.thinned;
     stats_.delayed_evicted += rep.evicted_points;
@@ -303,8 +304,17 @@ void DenseSlam::insertDenseScan(const mrpt::obs::CObservation2DRangeScan& scan,
         stats_.no_return_beams += st.no_return;
         stats_.failed_readings += pts.skipped;
         ++stats_.dense_scans;
+        stats_.returns_fallback += st.returns_fallback;
+        stats_.returns_withheld_fallback += st.withheld_fallback;
+        for (size_t i = 0; i < st.unassigned.size() && outside_.size() < kMaxOutsideRecords; ++i)
+            outside_.push_back({st.unassigned[i], st.unassigned_kept[i] != 0});
         if (virtual_options_.enabled) createVirtualLandmarks(st.unassigned, t);
-        if (store_ && !st.unassigned.empty()) storeUnassigned(pts, st.unassigned, t);
+        // What the fallback kept is in a dense layer; the rest may wait in the store.
+        std::vector<Eigen::Vector2d> dropped;
+        for (size_t i = 0; i < st.unassigned.size(); ++i)
+            if (!st.unassigned_kept[i]) dropped.push_back(st.unassigned[i]);
+        stats_.returns_dropped += dropped.size();
+        if (store_ && !dropped.empty()) storeUnassigned(pts, dropped, t);
     }
     if (classic_) classic_->insertScan(pts, vehicle);
 }

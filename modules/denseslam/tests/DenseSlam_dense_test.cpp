@@ -21,8 +21,9 @@ using hymm::denseslam::DenseSlam;
 const std::string kConfig = std::string(HYMM_SOURCE_DIR) + "/configs/ch3_slam.ini";
 const std::string kRawlog = std::string(HYMM_SOURCE_DIR) + "/rawlogs/ch3_objects.rawlog";
 
-// configs/ch3_slam.ini (landmark detector as landmark source) with the dense part set.
-DenseSlam makeSlam(bool points, bool occupancy, bool classic)
+// configs/ch3_slam.ini (landmark detector as landmark source) with the dense part set;
+// fallback_m >= 0 replaces [HybridMetricMap] fallback_max_distance_m.
+DenseSlam makeSlam(bool points, bool occupancy, bool classic, double fallback_m = -1)
 {
     mrpt::config::CConfigFile cfg(kConfig);
     DenseSlam::Options o;
@@ -39,6 +40,7 @@ DenseSlam makeSlam(bool points, bool occupancy, bool classic)
     r.loadFromConfigFile(cfg, "ReflectorExtractor");
     DenseSlam::DenseOptions d;
     d.loadFromConfigFile(cfg);
+    if (fallback_m >= 0) d.hybrid.fallback_max_distance_m = fallback_m;
     return DenseSlam(o, e, t, r, d);
 }
 
@@ -168,7 +170,8 @@ TEST(DenseSlamDense, DenseLayersKey)
 // withheld is counted; what is fused is closer to the true outlines.
 TEST(DenseSlamDense, LocalUncertaintyGateWithholdsPoorlyLocalisedReturns)
 {
-    DenseSlam on = makeSlam(true, false, false);
+    // The gate alone: no fallback on either side.
+    DenseSlam on = makeSlam(true, false, false, 0.0);
     ASSERT_DOUBLE_EQ(on.options().max_local_std_m, 0.15);  // configs/ch3_slam.ini
     mrpt::config::CConfigFile cfg(kConfig);
     DenseSlam::Options o;
@@ -180,6 +183,7 @@ TEST(DenseSlamDense, LocalUncertaintyGateWithholdsPoorlyLocalisedReturns)
     e.loadFromConfigFile(cfg, "EkfSlam");
     DenseSlam::DenseOptions d;
     d.loadFromConfigFile(cfg);
+    d.hybrid.fallback_max_distance_m = 0.0;
     DenseSlam off(o, e, hymm::extract::TreeExtractor::Options(), hymm::extract::ReflectorExtractor::Options(), d);
     runRawlog(off);
     runRawlog(on);
@@ -212,6 +216,61 @@ TEST(DenseSlamDense, LocalUncertaintyGateWithholdsPoorlyLocalisedReturns)
     const double e_on = error(on), e_off = error(off);
     EXPECT_LT(e_on, e_off) << "gate " << e_on << " m, no gate " << e_off << " m";
     std::cout << "mean distance to the true surfaces: gate " << e_on << " m, no gate " << e_off << " m\n";
+}
+
+// The fallback ([HybridMetricMap] fallback_max_distance_m, on in configs/ch3_slam.ini)
+// keeps returns in no region in the frame of the nearest region: the filter does not see
+// it (path and landmarks bitwise the same), the books balance, the regions hold what they
+// hold without it, and the map covers more of the true outlines, close to them.
+TEST(DenseSlamDense, FallbackKeepsReturnsInNoRegionAndTheBooksBalance)
+{
+    DenseSlam on = makeSlam(true, true, false);
+    DenseSlam off = makeSlam(true, true, false, 0.0);
+    ASSERT_GT(on.hybridMap()->options().fallback_max_distance_m, 0.0);
+    runRawlog(on);
+    runRawlog(off);
+    ASSERT_EQ(on.path().size(), off.path().size());
+    for (size_t i = 0; i < on.path().size(); ++i) ASSERT_EQ(on.path()[i].pose, off.path()[i].pose);
+    ASSERT_EQ(on.ekf().mean(), off.ekf().mean());
+    const auto& a = on.stats();
+    const auto& b = off.stats();
+    EXPECT_EQ(a.returns_stored, b.returns_stored);
+    EXPECT_EQ(a.returns_outside, b.returns_outside);
+    EXPECT_EQ(a.returns_withheld, b.returns_withheld);
+    EXPECT_EQ(b.returns_fallback + b.returns_withheld_fallback, 0u);
+    EXPECT_EQ(b.returns_dropped, b.returns_outside);
+    EXPECT_EQ(a.returns_fallback + a.returns_dropped, a.returns_outside);  // no delayed store
+    EXPECT_GT(a.returns_fallback, a.returns_outside / 2);
+    EXPECT_LE(a.returns_withheld_fallback, a.returns_withheld);
+    ASSERT_EQ(on.outsideReturns().size(), a.returns_outside);
+    size_t kept = 0;
+    for (const auto& r : on.outsideReturns()) kept += r.kept;
+    EXPECT_EQ(kept, a.returns_fallback);
+
+    auto outlines =
+        hymm::denseslam::loadObjectOutlines(std::string(HYMM_SOURCE_DIR) + "/rawlogs/ch3_objects_gt_objects.txt");
+    auto surfaces = outlines;
+    const auto gt = hymm::denseslam::loadGroundTruth(
+        "", std::string(HYMM_SOURCE_DIR) + "/rawlogs/ch3_objects_gt_landmarks.csv");
+    for (const auto& t : hymm::denseslam::trueTrunks(gt.landmarks))
+        surfaces.push_back(hymm::dense::circlePolygon(t.centre, t.radius));
+    const auto score = [&](DenseSlam& s, hymm::dense::HybridMetricMap::Content c) {
+        s.refreshRegions();
+        mrpt::maps::CSimplePointsMap pts;
+        s.hybridMap()->renderPoints(*s.partition(), pts, c);
+        const auto p = hymm::dense::pointsOf(pts);
+        return std::make_pair(hymm::dense::evaluateOutlines(p, surfaces).mean_distance_m,
+                              hymm::dense::evaluateOutlines(p, outlines).coverage);
+    };
+    using C = hymm::dense::HybridMetricMap::Content;
+    const auto all_on = score(on, C::All), all_off = score(off, C::All), fb = score(on, C::Fallback),
+               regions_on = score(on, C::Regions);
+    EXPECT_EQ(regions_on, all_off);  // the regions' content does not change
+    EXPECT_GT(all_on.second, 1.5 * all_off.second);
+    EXPECT_LT(all_on.first, 0.3);
+    EXPECT_LT(fb.first, 0.3);
+    std::cout << "points: coverage " << all_off.second << " -> " << all_on.second << ", mean distance "
+              << all_off.first << " -> " << all_on.first << " m (fallback alone " << fb.first << " m)\n";
 }
 
 TEST(DenseSlamDense, UnknownKeyInADenseSectionIsAnError)

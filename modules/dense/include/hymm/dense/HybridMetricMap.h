@@ -39,6 +39,7 @@
  */
 #pragma once
 
+#include "hymm/dense/FallbackTiles.h"
 #include "hymm/dense/LocalDenseMap.h"
 #include "hymm/dense/OccupancyLayer.h"
 #include "hymm/dense/ParticlesLayer.h"
@@ -88,6 +89,12 @@ public:
         /** insertScan() runs coarsenIdleRegions() every n scans; 0 = only when called.
          *  Needs [OccupancyLayer] coarse_cell_size_m > 0 to have an effect. */
         int coarsen_every_n_scans = 0;
+        /** [m] fallback (FallbackTiles.h): a return in no region is kept in the frame of
+         *  the nearest region whose current triangle is at most this far (the affine map
+         *  of that region extrapolated beyond its triangle); 0 = off (returns in no region
+         *  are only reported in InsertStats::unassigned). */
+        double fallback_max_distance_m = 0.0;
+        double fallback_tile_m = 10.0;  //!< [m] side of the fallback tiles (two triangles each)
         bool enable_profiler = false;  //!< CTimeLogger "dense.*" sections
         OccupancyLayer::Options occupancy;
         PointsLayer::Options points;
@@ -118,10 +125,28 @@ public:
         size_t regions_updated = 0;   //!< regions that received rays or returns
         size_t regions_degenerate = 0;  //!< skipped: current triangle no longer a valid frame
         std::vector<Eigen::Vector2d> unassigned;  //!< global positions of returns in no region
+        /** Parallel to `unassigned`: 1 if the fallback kept the return (in the frame of
+         *  the nearest region), 0 if it is in no dense layer. */
+        std::vector<char> unassigned_kept;
+        size_t returns_fallback = 0;   //!< of returns_outside, kept by the fallback
         size_t regions_coarsened = 0;  //!< by the periodic coarsenIdleRegions() (if due)
         size_t regions_withheld = 0;   //!< regions the `accept` filter of insertScan() refused
         size_t returns_withheld = 0;   //!< returns owned by a refused region (see `withheld`)
         std::vector<Eigen::Vector2d> withheld;  //!< global positions of those returns
+        /** Parallel to `withheld`: 1 if the fallback kept the return in the frame of the
+         *  nearest region the filter accepts (never the refused owner). */
+        std::vector<char> withheld_kept;
+        size_t withheld_fallback = 0;  //!< of returns_withheld, kept by the fallback
+    };
+
+    /** Which content a render reads: everything (regions and fallback tiles), the
+     *  regions only, or the fallback tiles only (scored apart: their error includes the
+     *  extrapolation of the anchor's affine map). */
+    enum class Content
+    {
+        All,
+        Regions,
+        Fallback
     };
 
     /** Decides, per region id, whether a scan may be fused into it now (see insertScan). */
@@ -178,13 +203,14 @@ public:
     // --- global rendering at the current landmark estimates ------------------------
     /** Every stored return, mapped through its region's reference -> current map. */
     void renderPoints(
-        const hymm::ltr::RegionPartition& partition, mrpt::maps::CSimplePointsMap& out) const;
+        const hymm::ltr::RegionPartition& partition, mrpt::maps::CSimplePointsMap& out,
+        Content content = Content::All) const;
     /** Occupancy at `resolution_m` over the bounding box of the current triangles that
      *  hold a grid; each cell centre reads the local cell of the region containing it
      *  (cells in no region stay at 0.5). */
     void renderOccupancy(
         const hymm::ltr::RegionPartition& partition, double resolution_m,
-        mrpt::maps::COccupancyGridMap2D& out) const;
+        mrpt::maps::COccupancyGridMap2D& out, Content content = Content::All) const;
     /** SOG surface (Fig. 4.12 b): sum of all peak-1 Gaussians at `resolution_m` over the
      *  bounding box of the current triangles holding a SOG layer plus `margin_m`. */
     void renderSogSurface(
@@ -201,14 +227,16 @@ public:
     /** Any layer kind into a map the caller sized (see DenseLayer::renderInto). */
     void renderLayer(
         const std::string& kind, const hymm::ltr::RegionPartition& partition,
-        mrpt::maps::CMetricMap& out) const;
+        mrpt::maps::CMetricMap& out, Content content = Content::All) const;
     /** Every Gaussian of the SOG layers at the current region positions (the means and
      *  covariances renderSogEllipses draws), as MRPT PDFs. */
     std::vector<mrpt::poses::CPoint2DPDFGaussian> renderSogGaussians(
-        const hymm::ltr::RegionPartition& partition) const;
+        const hymm::ltr::RegionPartition& partition, Content content = Content::All) const;
 
     // --- access ------------------------------------------------------------------
     size_t size() const { return maps_.size(); }
+    /** Fallback triangles holding content (FallbackTiles.h). */
+    size_t fallbackTiles() const { return fallback_.size(); }
     /** nullptr if the region has no dense content yet. */
     const LocalDenseMap* localMap(long region_id) const;
     std::vector<long> regionIds() const;
@@ -246,14 +274,23 @@ public:
 
 private:
     LocalDenseMap& localMapFor(long region_id, const hymm::ltr::TriangleFrame::Vertices& reference);
+    LocalDenseMap& fallbackMapFor(const FallbackTileKey& key);
+    /** Calls fn(map, reference -> current) for the fallback tiles (first) and the regions
+     *  (then, so that a region's own content is drawn over extrapolated content) that
+     *  `content` selects, skipping degenerate current triangles. */
+    void forEachMap(
+        const hymm::ltr::RegionPartition& partition, Content content,
+        const std::function<void(const LocalDenseMap&, const hymm::ltr::AffineRegionMap&)>& fn) const;
     /** Bounding box of the current triangles of regions holding a layer of `kind`;
      *  false if there is none. */
     bool layerBox(
         const std::string& kind, const hymm::ltr::RegionPartition& partition, Eigen::Vector2d& lo,
-        Eigen::Vector2d& hi) const;
+        Eigen::Vector2d& hi, Content content = Content::All) const;
 
     const Options options_;
     std::map<long, std::unique_ptr<LocalDenseMap>> maps_;
+    /** Fallback triangles, ordered by anchor region (FallbackTiles.h); not saved by save(). */
+    std::map<FallbackTileKey, std::unique_ptr<LocalDenseMap>> fallback_;
     std::set<long> last_scan_regions_;  //!< regions updated by the last insertScan()
     size_t scans_ = 0;                  //!< insertScan() calls
     mutable mrpt::system::CTimeLogger profiler_;

@@ -98,6 +98,19 @@ public:
     /** P(occupied) at a reference-frame point (the prior outside the grid). */
     double probabilityAt(const Eigen::Vector2d& p_ref) const;
     const LogOddsGrid& grid() const { return grid_; }
+    /** How renderInto() writes a cell of the triangle into the output grid. */
+    enum class RenderMode
+    {
+        Overwrite,     //!< every cell, the prior included (default)
+        ObservedOnly,  //!< cells never observed (at the prior) leave the output as it is
+        /** Observed cells only, and only where the output is still at 0.5 or holds a
+         *  lower probability: overlapping layers drawn into one grid keep the most occupied
+         *  value (HybridMetricMap's fallback tiles of different anchors overlap; a tile
+         *  that only saw a beam graze a wall must not erase the wall another tile saw). */
+        MaxObserved
+    };
+    void setRenderMode(RenderMode m) { render_mode_ = m; }
+    RenderMode renderMode() const { return render_mode_; }
     const hymm::ltr::TriangleFrame::Vertices& reference() const { return reference_; }
 
 private:
@@ -106,6 +119,7 @@ private:
     const Options options_;
     const hymm::ltr::TriangleFrame::Vertices reference_;
     LogOddsGrid grid_;
+    RenderMode render_mode_ = RenderMode::Overwrite;
 };
 
 }  // namespace hymm::dense

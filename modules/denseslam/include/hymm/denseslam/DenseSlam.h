@@ -183,7 +183,15 @@ public:
         size_t regions_created = 0, regions_removed = 0;
         size_t dense_scans = 0;         //!< scans fused into the dense layers
         size_t returns_stored = 0;      //!< returns assigned to a region
-        size_t returns_outside = 0;     //!< returns in no region (not stored)
+        size_t returns_outside = 0;     //!< returns in no region (not stored in a region)
+        /** Of returns_outside: kept by the fallback ([HybridMetricMap]
+         *  fallback_max_distance_m), stored in the delayed store (delayed_stored), or in no
+         *  dense layer (returns_dropped): outside = fallback + delayed_stored + dropped. */
+        size_t returns_fallback = 0;
+        size_t returns_dropped = 0;
+        /** Of returns_withheld: kept by the fallback in a nearby region that passes the
+         *  max_local_std_m gate (the rest is dropped). */
+        size_t returns_withheld_fallback = 0;
         size_t returns_withheld = 0;    //!< returns in a region not fused (max_local_std_m)
         size_t no_return_beams = 0;     //!< beams without return used as free space
         size_t failed_readings = 0;     //!< scan readings marked valid but NaN, inf or <= 0
@@ -246,6 +254,16 @@ public:
     const uif::DelayedDenseStore* delayedStore() const { return store_.get(); }
     /** The motion layers and their use (Sec. 6.3); nullptr unless [DynamicSlam] enabled. */
     const dynamic::SlamMotionHook* motionHook() const { return motion_.get(); }
+    /** A return that fell in no region when seen (global position at that time) and
+     *  whether the fallback kept it; for the diagnostic of why (ltr/outside_causes.h).
+     *  At most kMaxOutsideRecords are kept (the first ones). */
+    struct OutsideReturn
+    {
+        Eigen::Vector2d p = Eigen::Vector2d::Zero();
+        bool kept = false;
+    };
+    static constexpr size_t kMaxOutsideRecords = 500000;
+    const std::vector<OutsideReturn>& outsideReturns() const { return outside_; }
     /** The classic grid baseline; nullptr unless classic_grid is on. */
     const dense::ClassicOccupancyGrid* classicGrid() const { return classic_.get(); }
 
@@ -301,6 +319,7 @@ private:
     extract::TreeExtractor trees_;
     extract::ReflectorExtractor reflectors_;
     std::vector<PathSample> path_;
+    std::vector<OutsideReturn> outside_;
     Stats stats_;
     std::map<long, LandmarkFeatures> features_;
     std::optional<mrpt::poses::CPose2D> last_odometry_;  //!< for observation-only rawlogs

@@ -1,0 +1,68 @@
+/**
+ * @file FallbackTiles.h
+ * @brief Where a laser return that no Local Triangular Region holds is kept when the
+ *        fallback of HybridMetricMap is on (Options::fallback_max_distance_m > 0).
+ *
+ * A return can lie beyond every triangle the partition can build (objects past the outer
+ * landmarks, far returns beside a sparse row of trees), or in an area no region reached
+ * yet. The thesis drops it (or keeps it in the delayed store until a region forms, Sec.
+ * 3.7.3). The fallback keeps it in the frame of the NEAREST region (the anchor): its
+ * position is written in the anchor's reference frame, i.e. in the local coordinates of
+ * Eq. 3.3 extended beyond the triangle (coordinates outside [0, 1]), and rendered through
+ * the anchor's reference -> current affine map like the anchor's own content. The
+ * extrapolation amplifies the error of the anchor's vertices with the distance from the
+ * triangle (a vertex error e moves a point at distance d from a triangle of size s by
+ * about e (1 + d / s)), which is why the distance is bounded and why the fallback's
+ * content is scored apart (metrics.json "fallback").
+ *
+ * Storage: the anchor's reference plane is cut into square tiles of side `tile_m`, each
+ * split along its diagonal into two triangles; each triangle holding a return is a
+ * LocalDenseMap with every enabled layer (bounded grids, no unbounded extrapolated grid).
+ */
+#pragma once
+
+#include <hymm/ltr/RegionPartition.h>
+#include <hymm/ltr/TriangleFrame.h>
+
+#include <Eigen/Core>
+
+#include <functional>
+#include <optional>
+#include <tuple>
+
+namespace hymm::dense
+{
+/** One fallback triangle: anchor region, tile (ix, iy) of side tile_m in the anchor's
+ *  reference frame, half 0 (below the diagonal from the tile's lower-left corner) or 1. */
+struct FallbackTileKey
+{
+    long anchor = -1;
+    int ix = 0, iy = 0, half = 0;
+    bool operator<(const FallbackTileKey& o) const
+    {
+        return std::tie(anchor, ix, iy, half) < std::tie(o.anchor, o.ix, o.iy, o.half);
+    }
+    bool operator==(const FallbackTileKey& o) const
+    {
+        return anchor == o.anchor && ix == o.ix && iy == o.iy && half == o.half;
+    }
+};
+
+/** The tile triangle holding reference point `p_ref` of `anchor`. Throws
+ *  std::invalid_argument if tile_m <= 0 or p_ref is not finite. */
+FallbackTileKey fallbackTileOf(long anchor, const Eigen::Vector2d& p_ref, double tile_m);
+
+/** Vertices of the tile triangle (counter-clockwise, anchor's reference frame). */
+hymm::ltr::TriangleFrame::Vertices fallbackTileTriangle(const FallbackTileKey& key, double tile_m);
+
+/** Euclidean distance from `p` to the closed triangle `tri` (0 inside). */
+double distanceToTriangle(const Eigen::Vector2d& p, const hymm::ltr::TriangleFrame::Vertices& tri);
+
+/** The region whose CURRENT triangle is nearest to `p` within `max_distance_m` (ties:
+ *  lowest id) among those `usable` accepts, or nullopt. Only regions whose box meets the
+ *  square of half-side max_distance_m around p are visited (RegionPartition lookup grid). */
+std::optional<long> nearestRegion(
+    const hymm::ltr::RegionPartition& partition, const Eigen::Vector2d& p, double max_distance_m,
+    const std::function<bool(long)>& usable = {});
+
+}  // namespace hymm::dense

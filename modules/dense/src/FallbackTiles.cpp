@@ -1,0 +1,58 @@
+#include "hymm/dense/FallbackTiles.h"
+
+#include "hymm/dense/geometry.h"
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace hymm::dense
+{
+FallbackTileKey fallbackTileOf(long anchor, const Eigen::Vector2d& p_ref, double tile_m)
+{
+    if (!(tile_m > 0)) throw std::invalid_argument("fallbackTileOf: tile_m must be > 0");
+    if (!p_ref.allFinite()) throw std::invalid_argument("fallbackTileOf: point is not finite");
+    FallbackTileKey k;
+    k.anchor = anchor;
+    const double fx = std::floor(p_ref.x() / tile_m), fy = std::floor(p_ref.y() / tile_m);
+    k.ix = static_cast<int>(fx);
+    k.iy = static_cast<int>(fy);
+    // Half 0 holds the points below the diagonal (x - x0 >= y - y0), the diagonal included.
+    k.half = (p_ref.x() - fx * tile_m) >= (p_ref.y() - fy * tile_m) ? 0 : 1;
+    return k;
+}
+
+hymm::ltr::TriangleFrame::Vertices fallbackTileTriangle(const FallbackTileKey& key, double tile_m)
+{
+    const Eigen::Vector2d o(key.ix * tile_m, key.iy * tile_m);
+    const Eigen::Vector2d dx(tile_m, 0), dy(0, tile_m);
+    if (key.half == 0) return {o, o + dx, o + dx + dy};
+    return {o, o + dx + dy, o + dy};
+}
+
+double distanceToTriangle(const Eigen::Vector2d& p, const hymm::ltr::TriangleFrame::Vertices& tri)
+{
+    if (triangleContains(tri, p, 0.0)) return 0.0;
+    return std::min({distanceToSegment(p, tri[0], tri[1]), distanceToSegment(p, tri[1], tri[2]),
+                     distanceToSegment(p, tri[2], tri[0])});
+}
+
+std::optional<long> nearestRegion(
+    const hymm::ltr::RegionPartition& partition, const Eigen::Vector2d& p, double max_distance_m,
+    const std::function<bool(long)>& usable)
+{
+    std::optional<long> best;
+    double best_d = std::numeric_limits<double>::infinity();
+    const Eigen::Vector2d r = Eigen::Vector2d::Constant(max_distance_m);
+    for (const long id : partition.regionsInBox(p - r, p + r))
+    {
+        const double d = distanceToTriangle(p, partition.region(id).current);
+        if (d > max_distance_m || d > best_d || (d == best_d && best && id > *best)) continue;
+        if (usable && !usable(id)) continue;
+        best = id;
+        best_d = d;
+    }
+    return best;
+}
+
+}  // namespace hymm::dense

@@ -1,0 +1,173 @@
+/**
+ * @file FallbackTiles_test.cpp
+ * @brief The fallback of HybridMetricMap: returns in no region kept in the frame of the
+ *        nearest region, where they are, and carried by that region's affine map.
+ */
+#include "hymm/dense/FallbackTiles.h"
+#include "hymm/dense/HybridMetricMap.h"
+#include "hymm/dense/geometry.h"
+#include "hymm/dense/outline_metrics.h"
+#include "synthetic_partition.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace
+{
+using namespace hymm::dense;
+using namespace hymm::dense::synthetic;
+using V2 = Eigen::Vector2d;
+
+TEST(FallbackTilesTest, TileTriangleHoldsThePoint)
+{
+    for (const V2& p : {V2(0.3, 0.1), V2(0.1, 0.3), V2(-7.2, 3.9), V2(12.0, -0.5), V2(5.0, 5.0), V2(-3.0, -3.0)})
+    {
+        const FallbackTileKey k = fallbackTileOf(7, p, 2.5);
+        EXPECT_EQ(k.anchor, 7);
+        EXPECT_TRUE(triangleContains(fallbackTileTriangle(k, 2.5), p, 1e-12)) << p.transpose();
+        // The other half of the same square does not hold it (except on the diagonal).
+        FallbackTileKey other = k;
+        other.half = 1 - k.half;
+        const V2 o(k.ix * 2.5, k.iy * 2.5);
+        if (std::abs((p - o).x() - (p - o).y()) > 1e-9)
+        {
+            EXPECT_FALSE(triangleContains(fallbackTileTriangle(other, 2.5), p, 1e-12));
+        }
+    }
+    EXPECT_THROW(fallbackTileOf(0, V2(1, 1), 0.0), std::invalid_argument);
+    EXPECT_THROW(fallbackTileOf(0, V2(std::nan(""), 1), 1.0), std::invalid_argument);
+}
+
+TEST(FallbackTilesTest, DistanceAndNearestRegion)
+{
+    const hymm::ltr::TriangleFrame::Vertices tri{V2(0, 0), V2(4, 0), V2(0, 4)};
+    EXPECT_DOUBLE_EQ(distanceToTriangle(V2(1, 1), tri), 0.0);
+    EXPECT_NEAR(distanceToTriangle(V2(2, -3), tri), 3.0, 1e-12);
+    EXPECT_NEAR(distanceToTriangle(V2(3, 3), tri), std::sqrt(2.0), 1e-12);
+    EXPECT_NEAR(distanceToTriangle(V2(-3, -4), tri), 5.0, 1e-12);
+
+    WallWorld w;  // regions over [0, 20] x [0, 15]
+    const auto r = nearestRegion(w.partition, V2(17, 18), 5.0);
+    ASSERT_TRUE(r);
+    EXPECT_NEAR(distanceToTriangle(V2(17, 18), w.partition.region(*r).current), 3.0, 1e-9);
+    EXPECT_FALSE(nearestRegion(w.partition, V2(17, 18), 2.9));
+    // A refused region is passed over for the next nearest.
+    const auto r2 = nearestRegion(w.partition, V2(17, 18), 5.0, [&](long id) { return id != *r; });
+    ASSERT_TRUE(r2);
+    EXPECT_NE(*r2, *r);
+}
+
+HybridMetricMap::Options fallbackOptions(double distance)
+{
+    HybridMetricMap::Options o;
+    o.occupancy.cell_size_m = 0.1;
+    o.fallback_max_distance_m = distance;
+    o.fallback_tile_m = 2.0;
+    return o;
+}
+
+// Analytic wall returns: y = 7.5 + 13.7 tan(phi); the regions cover y in [0, 15].
+size_t outsideWithin(double d)
+{
+    size_t n = 0;
+    for (int k = 0; k < kBeams; ++k)
+    {
+        const double phi = -kHalfFov + 2 * kHalfFov * k / (kBeams - 1);
+        const double y = 7.5 + (kWallX - 3.3) * std::tan(phi);
+        if ((y < 0 && y >= -d) || (y > 15 && y <= 15 + d)) ++n;
+    }
+    return n;
+}
+
+TEST(FallbackTilesTest, ReturnsInNoRegionAreKeptOnTheWallAndFollowTheAnchor)
+{
+    WallWorld w;
+    const ScanPoints scan = wallScan(kVehicle, kMount, kWallX, kBeams, kHalfFov);
+    HybridMetricMap off(fallbackOptions(0.0)), on(fallbackOptions(5.0)), near(fallbackOptions(2.0));
+    HybridMetricMap::InsertStats st_off, st_on, st_near;
+    for (int rep = 0; rep < 3; ++rep)
+    {
+        st_off = off.insertScan(scan, kVehicle, w.partition);
+        st_on = on.insertScan(scan, kVehicle, w.partition);
+        st_near = near.insertScan(scan, kVehicle, w.partition);
+    }
+    ASSERT_GT(outsideWithin(2.0), 0u);
+    ASSERT_GT(outsideWithin(5.0), outsideWithin(2.0));
+    // Every outside return is within 5 m of the regions (the wall ends at y = -4 / 19).
+    EXPECT_EQ(st_on.returns_outside, st_off.returns_outside);
+    EXPECT_EQ(st_on.returns_fallback, st_on.returns_outside);
+    EXPECT_EQ(st_off.returns_fallback, 0u);
+    EXPECT_EQ(st_near.returns_fallback, outsideWithin(2.0));
+    ASSERT_EQ(st_near.unassigned_kept.size(), st_near.unassigned.size());
+    for (size_t i = 0; i < st_near.unassigned.size(); ++i)
+    {
+        const double y = st_near.unassigned[i].y();
+        EXPECT_EQ(st_near.unassigned_kept[i] != 0, y >= -2.0 && y <= 17.0) << y;
+    }
+    // The regions hold the same as without the fallback.
+    EXPECT_EQ(st_on.returns_stored, st_off.returns_stored);
+    mrpt::maps::CSimplePointsMap regions_on, regions_off, fb;
+    on.renderPoints(w.partition, regions_on, HybridMetricMap::Content::Regions);
+    off.renderPoints(w.partition, regions_off);
+    EXPECT_EQ(regions_on.size(), regions_off.size());
+    on.renderPoints(w.partition, fb, HybridMetricMap::Content::Fallback);
+    ASSERT_EQ(fb.size(), 3 * st_on.returns_fallback);
+    const auto fb_points = pointsOf(fb);
+    for (const V2& p : fb_points)
+    {
+        EXPECT_NEAR(p.x(), kWallX, 1e-9);
+        EXPECT_TRUE(p.y() < 0 || p.y() > 15);
+    }
+    mrpt::maps::CSimplePointsMap all;
+    on.renderPoints(w.partition, all);
+    EXPECT_EQ(all.size(), regions_on.size() + fb.size());
+    EXPECT_GT(on.fallbackTiles(), 0u);
+
+    // Occupancy: the wall beyond the regions is occupied in the fallback's grid.
+    mrpt::maps::COccupancyGridMap2D grid;
+    on.renderOccupancy(w.partition, 0.1, grid, HybridMetricMap::Content::Fallback);
+    const auto cells = occupiedCellCentres(grid, 0.8);
+    ASSERT_GT(cells.size(), 10u);
+    for (const V2& c : cells) EXPECT_NEAR(c.x(), kWallX, 0.15);
+
+    // The landmark map moves rigidly (rotation + translation): the fallback content,
+    // extrapolated through its anchor's affine map, moves exactly with it.
+    const double a = 0.3;
+    Eigen::Matrix2d Rm;
+    Rm << std::cos(a), -std::sin(a), std::sin(a), std::cos(a);
+    const V2 t(4.0, -2.0);
+    auto moved = w.lattice.landmarks();
+    for (auto& [id, p] : moved) p = Rm * p + t;
+    const auto view2 = makeDenseView(moved, Eigen::Vector3d(0, 0, 0));
+    w.partition.updateVertexPositions(view2);
+    mrpt::maps::CSimplePointsMap fb2;
+    on.renderPoints(w.partition, fb2, HybridMetricMap::Content::Fallback);
+    const auto fb2_points = pointsOf(fb2);
+    ASSERT_EQ(fb2_points.size(), fb_points.size());
+    // (CSimplePointsMap holds floats: ~1e-6 m at these coordinates.)
+    for (size_t i = 0; i < fb_points.size(); ++i) EXPECT_LT((fb2_points[i] - (Rm * fb_points[i] + t)).norm(), 1e-5);
+}
+
+TEST(FallbackTilesTest, TilesGoWithTheirAnchor)
+{
+    WallWorld w;
+    HybridMetricMap map(fallbackOptions(5.0));
+    map.insertScan(wallScan(kVehicle, kMount, kWallX, kBeams, kHalfFov), kVehicle, w.partition);
+    ASSERT_GT(map.fallbackTiles(), 0u);
+    for (long id : w.partition.regionIds()) w.partition.removeRegion(id);
+    map.removeStaleRegions(w.partition);
+    EXPECT_EQ(map.fallbackTiles(), 0u);
+}
+
+TEST(FallbackTilesTest, OptionsAreChecked)
+{
+    HybridMetricMap::Options o;
+    o.fallback_max_distance_m = -1;
+    EXPECT_THROW(o.validate(), std::invalid_argument);
+    o.fallback_max_distance_m = 3;
+    o.fallback_tile_m = 0;
+    EXPECT_THROW(o.validate(), std::invalid_argument);
+}
+
+}  // namespace
