@@ -25,6 +25,16 @@ namespace hymm::denseslam
 {
 namespace
 {
+/** What one EKF update did, added to the run's counters. */
+void addUpdateCounts(DenseSlam::Stats& s, const ekf::UpdateReport& r)
+{
+    s.associated += r.associated;
+    s.created += r.created;
+    s.rejected_gate += r.rejected_gate;
+    s.ambiguous += r.ambiguous;
+    s.rejected_numeric += r.rejected_numeric;
+}
+
 bool usesReflectors(DenseSlam::LandmarkSource s)
 {
     return s == DenseSlam::LandmarkSource::LaserReflectors ||
@@ -530,20 +540,12 @@ ekf::UpdateReport DenseSlam::update(const std::vector<ekf::RangeBearingObs>& obs
         std::vector<long> ids(obs.size(), -1);
         for (size_t i = 0; i < kept.size() && i < r.assigned_ids.size(); ++i) ids[kept[i]] = r.assigned_ids[i];
         r.assigned_ids = std::move(ids);
-        stats_.associated += r.associated;
-        stats_.created += r.created;
-        stats_.rejected_gate += r.rejected_gate;
-        stats_.ambiguous += r.ambiguous;
-        stats_.rejected_numeric += r.rejected_numeric;
+        addUpdateCounts(stats_, r);
         return r;
     }
     const auto r = ekf_.updateRangeBearing(obs, sensor);
     ++updates_;
-    stats_.associated += r.associated;
-    stats_.created += r.created;
-    stats_.rejected_gate += r.rejected_gate;
-    stats_.ambiguous += r.ambiguous;
-    stats_.rejected_numeric += r.rejected_numeric;
+    addUpdateCounts(stats_, r);
     return r;
 }
 

@@ -247,13 +247,16 @@ TEST(DenseSlamDense, FallbackKeepsReturnsInNoRegionAndTheBooksBalance)
     for (const auto& r : on.outsideReturns()) kept += r.kept;
     EXPECT_EQ(kept, a.returns_fallback);
 
-    auto outlines =
-        hymm::denseslam::loadObjectOutlines(std::string(HYMM_SOURCE_DIR) + "/rawlogs/ch3_objects_gt_objects.txt");
+    std::vector<hymm::dense::Polygon> outlines;
+    for (const auto& r : hymm::sim::readObjectOutlines(std::string(HYMM_SOURCE_DIR) +
+                                                       "/rawlogs/ch3_objects_gt_objects.txt"))
+        outlines.emplace_back(r.outline.begin(), r.outline.end());
     auto surfaces = outlines;
-    const auto gt = hymm::denseslam::loadGroundTruth(
+    const auto gt = hymm::io::loadGroundTruth(
         "", std::string(HYMM_SOURCE_DIR) + "/rawlogs/ch3_objects_gt_landmarks.csv");
-    for (const auto& t : hymm::denseslam::trueTrunks(gt.landmarks))
-        surfaces.push_back(hymm::dense::circlePolygon(t.centre, t.radius));
+    for (const auto& l : gt.landmarks)  // "id,x,y,radius": the trunks
+        surfaces.push_back(hymm::dense::circlePolygon(Eigen::Vector2d(l.x, l.y),
+                                                      l.extra.empty() ? 0.0 : l.extra[0]));
     const auto score = [&](DenseSlam& s, hymm::dense::HybridMetricMap::Content c) {
         s.refreshRegions();
         mrpt::maps::CSimplePointsMap pts;

@@ -111,19 +111,10 @@ std::vector<Vec2> rotate(const std::vector<Vec2>& pts, double phi)
 
 AlignResult CorrelativeMatcher::align(const PointSet& tpl, const PointSet& scan, const Vec3& z0) const
 {
+    if (auto bad = rejectInput(tpl, scan, z0)) return *bad;
     AlignResult res;
     res.z = z0;
     const auto& o = options_;
-    if (tpl.size() < 3 || scan.size() < 3)
-    {
-        res.failure = "too_few_points";
-        return res;
-    }
-    if (!z0.allFinite())
-    {
-        res.failure = "bad_initial_guess";
-        return res;
-    }
     double radius = 0;
     for (const Vec2& p : tpl.points) radius = std::max(radius, p.norm());
     radius = std::max(radius, 0.5);
@@ -216,15 +207,7 @@ AlignResult CorrelativeMatcher::align(const PointSet& tpl, const PointSet& scan,
         res.failure = "too_few_matches";
         return res;
     }
-    cov = 0.5 * (cov + cov.transpose()).eval() * o.cov_inflation;
-    if (!res.z.allFinite() || !isCovariance(cov))
-    {
-        res.failure = "covariance_not_positive";
-        return res;
-    }
-    res.R = cov;
-    res.ok = true;
-    return res;
+    return finishAlignment(res, cov, o.cov_inflation);
 }
 
 }  // namespace hymm::scanslam

@@ -37,18 +37,9 @@ void IcpMatcher::Options::load(const mrpt::config::CConfigFileBase& cfg, const s
 
 AlignResult IcpMatcher::align(const PointSet& tpl, const PointSet& scan, const Vec3& z0) const
 {
+    if (auto bad = rejectInput(tpl, scan, z0)) return *bad;
     AlignResult res;
     res.z = z0;
-    if (tpl.size() < 3 || scan.size() < 3)
-    {
-        res.failure = "too_few_points";
-        return res;
-    }
-    if (!z0.allFinite())
-    {
-        res.failure = "bad_initial_guess";
-        return res;
-    }
     mrpt::maps::CSimplePointsMap ref, moving;
     ref.reserve(scan.size());
     for (const Vec2& q : scan.points) ref.insertPoint(static_cast<float>(q.x()), static_cast<float>(q.y()), 0.f);
@@ -86,15 +77,7 @@ AlignResult IcpMatcher::align(const PointSet& tpl, const PointSet& scan, const V
     Mat3 cov;
     for (int r = 0; r < 3; ++r)
         for (int c = 0; c < 3; ++c) cov(r, c) = g->cov(r, c);
-    cov = 0.5 * (cov + cov.transpose()).eval() * options_.cov_inflation;
-    if (!res.z.allFinite() || !isCovariance(cov))
-    {
-        res.failure = "covariance_not_positive";
-        return res;
-    }
-    res.R = cov;
-    res.ok = true;
-    return res;
+    return finishAlignment(res, cov, options_.cov_inflation);
 }
 
 }  // namespace hymm::scanslam

@@ -21,6 +21,32 @@ bool isCovariance(const Mat3& c, double min_eig)
     return es.eigenvalues().minCoeff() > min_eig;
 }
 
+std::optional<AlignResult> rejectInput(const PointSet& tpl, const PointSet& scan, const Vec3& z0)
+{
+    AlignResult res;
+    res.z = z0;
+    if (tpl.size() < 3 || scan.size() < 3)
+        res.failure = "too_few_points";
+    else if (!z0.allFinite())
+        res.failure = "bad_initial_guess";
+    else
+        return std::nullopt;
+    return res;
+}
+
+AlignResult& finishAlignment(AlignResult& res, const Mat3& cov, double inflation)
+{
+    const Mat3 c = 0.5 * (cov + cov.transpose()) * inflation;
+    if (!res.z.allFinite() || !isCovariance(c))
+    {
+        res.failure = "covariance_not_positive";
+        return res;
+    }
+    res.R = c;
+    res.ok = true;
+    return res;
+}
+
 std::unique_ptr<ScanMatcher> makeMatcher(const std::string& kind,
                                          const mrpt::config::CConfigFileBase* cfg,
                                          const std::string& section)

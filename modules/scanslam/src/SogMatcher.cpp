@@ -146,18 +146,9 @@ SogMatcher::Evaluation SogMatcher::evaluate(const PointSet& tpl, const PointSet&
 
 AlignResult SogMatcher::align(const PointSet& tpl, const PointSet& scan, const Vec3& z0) const
 {
+    if (auto bad = rejectInput(tpl, scan, z0)) return *bad;
     AlignResult res;
     res.z = z0;
-    if (tpl.size() < 3 || scan.size() < 3)
-    {
-        res.failure = "too_few_points";
-        return res;
-    }
-    if (!z0.allFinite())
-    {
-        res.failure = "bad_initial_guess";
-        return res;
-    }
     // Only scan points that can reach the template at some level take part.
     double radius = 0;
     for (const Vec2& p : tpl.points) radius = std::max(radius, p.norm());
@@ -271,15 +262,8 @@ AlignResult SogMatcher::align(const PointSet& tpl, const PointSet& scan, const V
         }
         cov = ldlt.solve(Mat3::Identity());
     }
-    cov = 0.5 * (cov + cov.transpose()).eval() * options_.cov_inflation;
-    if (!isCovariance(cov) || !z.allFinite())
-    {
-        res.failure = "covariance_not_positive";
-        return res;
-    }
-    res.R = cov;
-    res.ok = true;
-    return res;
+    res.z = z;
+    return finishAlignment(res, cov, options_.cov_inflation);
 }
 
 }  // namespace hymm::scanslam

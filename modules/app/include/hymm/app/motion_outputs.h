@@ -87,5 +87,3 @@ void writeMotionMetrics(eval::MetricsJson& j, const DenseSlam& slam, const Motio
 void writeMotionOutputs(const DenseSlam& slam, const std::string& dir, bool png = true);
 
 }  // namespace hymm::app
-{
-using denseslam::DenseSlam;

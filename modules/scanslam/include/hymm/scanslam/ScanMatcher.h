@@ -17,6 +17,8 @@
 #include <memory>
 #include <string>
 
+#include <optional>
+
 #include "hymm/scanslam/PointSet.h"
 #include "hymm/scanslam/ScanTemplate.h"
 
@@ -52,5 +54,14 @@ std::unique_ptr<ScanMatcher> makeMatcher(const std::string& kind,
 
 /** Symmetric positive definite check with a floor on the smallest eigenvalue. */
 bool isCovariance(const Mat3& c, double min_eig = 1e-12);
+
+/** The checks every matcher makes first: at least three template and scan points and a
+ *  finite guess. Returns a result at z0 with `failure` set, or nothing when usable. */
+std::optional<AlignResult> rejectInput(const PointSet& tpl, const PointSet& scan, const Vec3& z0);
+
+/** Ends an alignment at res.z: `cov` symmetrised and scaled by the matcher's measured
+ *  `inflation` (docs/benchmarks.md) becomes res.R with ok = true, unless it is not a
+ *  covariance or res.z is not finite (failure "covariance_not_positive"). */
+AlignResult& finishAlignment(AlignResult& res, const Mat3& cov, double inflation);
 
 }  // namespace hymm::scanslam
