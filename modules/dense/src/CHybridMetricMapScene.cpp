@@ -39,7 +39,9 @@ mrpt::opengl::CSetOfLines::Ptr triangles(const hymm::ltr::RegionPartition& parti
     return lines;
 }
 
-mrpt::opengl::CSetOfObjects::Ptr landmarkEllipses(const std::vector<CHybridMetricMap::Landmark>& landmarks)
+}  // namespace
+
+mrpt::opengl::CSetOfObjects::Ptr landmarksObject(const std::vector<CHybridMetricMap::Landmark>& landmarks)
 {
     auto group = mrpt::opengl::CSetOfObjects::Create();
     group->setName("landmarks");
@@ -66,13 +68,12 @@ mrpt::opengl::CSetOfObjects::Ptr landmarkEllipses(const std::vector<CHybridMetri
     group->insert(means);
     return group;
 }
-}  // namespace
 
 void CHybridMetricMap::getVisualizationInto(mrpt::opengl::CSetOfObjects& o) const
 {
     if (!genericMapParams.enableSaveAs3DObject) return;
     o.insert(triangles(*partition_));
-    o.insert(landmarkEllipses(landmarks_));
+    o.insert(landmarksObject(landmarks_));
     const auto& opt = dense_->options();
     if (opt.enable_occupancy)
     {

@@ -49,6 +49,7 @@
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/maps/CSimplePointsMap.h>
 #include <mrpt/maps/TMetricMapTypesRegistry.h>
+#include <mrpt/opengl/CSetOfObjects.h>
 
 #include <Eigen/Core>
 #include <memory>
@@ -151,6 +152,11 @@ private:
  *  readers) read a cell as P(free) (0 = certainly occupied). This copy holds
  *  1 - P(occupied): the grid as MRPT understands it. */
 mrpt::maps::COccupancyGridMap2D freeProbabilityGrid(const mrpt::maps::COccupancyGridMap2D& occupied);
+
+/** "landmarks": a 3-sigma ellipse per landmark ("landmark_<id>") and the means
+ *  ("landmark_means"), as getVisualizationInto() draws them. */
+std::shared_ptr<mrpt::opengl::CSetOfObjects> landmarksObject(
+    const std::vector<CHybridMetricMap::Landmark>& landmarks);
 
 /** Registers CHybridMetricMap with MRPT's class registry (deserialisation by name) and
  *  map factory (CMultiMetricMap .ini sections). Idempotent; call before reading. */
