@@ -151,7 +151,8 @@ void registerHybridMetricMap()
     // Touching the factory id keeps this object file, and so the registration, linked.
     static const bool done = [] {
         mrpt::rtti::registerClass(CLASS_ID(CHybridMetricMap));
-        return CHybridMetricMap::m_private_map_register_id != 0 || true;
+        (void)CHybridMetricMap::m_private_map_register_id;
+        return true;
     }();
     (void)done;
 }
