@@ -1,5 +1,6 @@
 #include "hymm/app/SlamApp.h"
 #include "hymm/app/motion_outputs.h"
+#include "hymm/app/mrpt_outputs.h"
 
 #include <hymm/sim/ground_truth_io.h>
 
@@ -34,7 +35,7 @@ using Clock = std::chrono::steady_clock;
 
 // The main loop: one rawlog entry at a time, throttled progress. Returns the seconds.
 double processRawlog(DenseSlam& slam, io::RawlogReader& reader, bool quiet,
-                     std::vector<FrameTiming>& timing, std::ostream& log)
+                     std::vector<FrameTiming>& timing, KeyframeRecorder& keyframes, std::ostream& log)
 {
     const auto t0 = Clock::now();
     auto last_report = t0;
@@ -44,6 +45,7 @@ double processRawlog(DenseSlam& slam, io::RawlogReader& reader, bool quiet,
         const auto e0 = Clock::now();
         const size_t obs_before = slam.stats().observations;
         slam.processEntry(entry);
+        keyframes.record(slam, entry);
         const auto now = Clock::now();
         if (entry.frame || entry.observation)
             timing.push_back({reader.entriesRead(), slam.ekf().numLandmarks(),
@@ -82,10 +84,12 @@ void SlamApp::run(std::ostream& log)
                                          : motionTruthFromRecords(sim::readObjectOutlines(args_.gt_objects));
 
     std::vector<FrameTiming> timing;
-    const double run_s = processRawlog(*slam_, reader, args_.quiet, timing, log);
+    KeyframeRecorder keyframes;
+    const double run_s = processRawlog(*slam_, reader, args_.quiet, timing, keyframes, log);
     if (reader.entriesRead() == 0)
         throw std::runtime_error("rawlog '" + args_.rawlog + "' holds no entries");
     writeOutputs(gt ? &*gt : nullptr, outlines, motion_truth, timing, run_s, reader.entriesRead(), log);
+    writeMrptOutputs(*slam_, keyframes, args_.out_dir);
 }
 
 void SlamApp::writeOutputs(const io::GroundTruth* gt, const std::vector<dense::Polygon>& outlines,

@@ -11,6 +11,9 @@
  *  - metrics.json    with ground truth: path RMSE, landmark errors, NEES statistics
  *  - summary.txt     counters (associations, rejections, skipped readings) and timing
  *  - timing.csv      processing time of every sensory frame against map size
+ *  - map.3Dscene     for SceneViewer3D, map.simplemap (keyframes for MRPT's apps) and,
+ *    with dense layers, map.hymm (the hybrid map as dense::CHybridMetricMap): see
+ *    mrpt_outputs.h
  * and with dense layers / the classic grid on ([DenseSlam] dense_layers, classic_grid):
  *  - regions.txt, points.{png,bin,txt}, occupancy.{png,gridmap}, occupancy_regions.csv,
  *    particles.{png,bin,txt}, sog.bin, sog_surface.png, sog_ellipses.png,

@@ -1,0 +1,69 @@
+/**
+ * @file mrpt_outputs.h
+ * @brief hymm-slam's results in MRPT's own formats, for MRPT's apps and libraries:
+ *  - map.3Dscene   mrpt::opengl::COpenGLScene (COpenGLScene::saveToFile) for
+ *                  SceneViewer3D: named objects "path" (estimated path),
+ *                  "landmarks" (3-sigma ellipses), and with dense layers
+ *                  "ltr_triangles" and one object per layer (CHybridMetricMap.h);
+ *  - map.simplemap mrpt::maps::CSimpleMap (CSimpleMap::saveToFile): one keyframe per
+ *                  path sample, the pose estimate with its covariance (a
+ *                  CPose3DPDFGaussian from the 2D pose and 3x3 covariance at that
+ *                  step, a filtered estimate: later corrections of the path are not in
+ *                  it) and the sensory frame the pipeline processed there; input of
+ *                  observations2map, pf-localization and icp-slam;
+ *  - map.hymm      with dense layers: the hybrid map (dense::CHybridMetricMap, at the
+ *                  final landmark estimates), what CMultiMetricMap .ini sections load
+ *                  with `map_file`.
+ * Source: mrpt_outputs.cpp.
+ */
+#pragma once
+
+#include <hymm/dense/CHybridMetricMap.h>
+#include <hymm/denseslam/DenseSlam.h>
+#include <hymm/io/RawlogReader.h>
+
+#include <mrpt/maps/CSimpleMap.h>
+#include <mrpt/obs/CSensoryFrame.h>
+#include <mrpt/opengl/COpenGLScene.h>
+
+#include <string>
+#include <vector>
+
+namespace hymm::app
+{
+using denseslam::DenseSlam;
+
+/** The sensory frame behind each path sample, collected while a rawlog is processed:
+ *  call record() after every DenseSlam::processEntry(). Holds shared pointers to the
+ *  observations (no copies). */
+class KeyframeRecorder
+{
+public:
+    /** Notes the frame of `entry` (a sensory frame, or a single observation wrapped in
+     *  one) if processing it added a path sample. */
+    void record(const DenseSlam& slam, const io::RawlogEntry& entry);
+    /** Path index and frame of each keyframe, in path order. */
+    const std::vector<std::pair<size_t, mrpt::obs::CSensoryFrame::Ptr>>& frames() const { return frames_; }
+
+private:
+    size_t path_size_ = 0;
+    std::vector<std::pair<size_t, mrpt::obs::CSensoryFrame::Ptr>> frames_;
+};
+
+/** The run's hybrid map as an MRPT map: a copy of the partition (refreshed to the final
+ *  landmark estimates first: call DenseSlam::refreshRegions()), the dense layers and
+ *  every 2-DOF landmark with its covariance. Throws std::logic_error without dense
+ *  layers. */
+dense::CHybridMetricMap hybridMetricMap(const DenseSlam& slam);
+
+/** Keyframes of `recorder` at the path estimates (see the file comment). */
+mrpt::maps::CSimpleMap makeSimpleMap(const DenseSlam& slam, const KeyframeRecorder& recorder);
+
+/** The scene of map.3Dscene (see the file comment). */
+mrpt::opengl::COpenGLScene makeScene(const DenseSlam& slam);
+
+/** Writes map.3Dscene, map.simplemap and (with dense layers) map.hymm into `dir`.
+ *  Throws std::runtime_error if a file cannot be written. */
+void writeMrptOutputs(const DenseSlam& slam, const KeyframeRecorder& recorder, const std::string& dir);
+
+}  // namespace hymm::app

@@ -1,0 +1,108 @@
+// hymm-slam's results in MRPT's formats: map.3Dscene, map.simplemap, map.hymm.
+#include <hymm/app/mrpt_outputs.h>
+
+#include <mrpt/opengl/CSetOfLines.h>
+#include <mrpt/opengl/CSetOfObjects.h>
+#include <mrpt/poses/CPosePDFGaussian.h>
+
+#include <optional>
+#include <stdexcept>
+
+namespace hymm::app
+{
+void KeyframeRecorder::record(const DenseSlam& slam, const io::RawlogEntry& entry)
+{
+    const size_t n = slam.path().size();
+    if (n == path_size_) return;
+    path_size_ = n;
+    mrpt::obs::CSensoryFrame::Ptr sf = entry.frame;
+    if (!sf && entry.observation)
+    {
+        sf = mrpt::obs::CSensoryFrame::Create();
+        sf->insert(entry.observation);
+    }
+    if (sf) frames_.emplace_back(n - 1, sf);
+}
+
+namespace
+{
+std::vector<dense::CHybridMetricMap::Landmark> landmarksOf(const ekf::EkfSlam& ekf)
+{
+    std::vector<dense::CHybridMetricMap::Landmark> out;
+    for (long id : ekf.landmarkIds())
+        if (ekf.landmarkBlock(id).dim == 2) out.push_back({id, ekf.landmarkMean(id), ekf.landmarkCov(id)});
+    return out;
+}
+}  // namespace
+
+dense::CHybridMetricMap hybridMetricMap(const DenseSlam& slam)
+{
+    if (!slam.partition() || !slam.hybridMap())
+        throw std::logic_error("hybridMetricMap: the run has no dense layers");
+    dense::CHybridMetricMap m;
+    m.assign(*slam.partition(), *slam.hybridMap(), landmarksOf(slam.ekf()));
+    return m;
+}
+
+mrpt::maps::CSimpleMap makeSimpleMap(const DenseSlam& slam, const KeyframeRecorder& recorder)
+{
+    mrpt::maps::CSimpleMap sm;
+    for (const auto& [i, sf] : recorder.frames())
+    {
+        const auto& s = slam.path().at(i);
+        const Eigen::Matrix3d c = 0.5 * (s.cov + s.cov.transpose());
+        auto pdf = mrpt::poses::CPosePDFGaussian::Create(
+            mrpt::poses::CPose2D(s.pose.x(), s.pose.y(), s.pose.z()), mrpt::math::CMatrixDouble33(c));
+        sm.insert(mrpt::poses::CPosePDF::Ptr(pdf), sf);
+    }
+    return sm;
+}
+
+namespace
+{
+mrpt::opengl::COpenGLScene sceneOf(const DenseSlam& slam, const dense::CHybridMetricMap* map)
+{
+    mrpt::opengl::COpenGLScene scene;
+    auto path = mrpt::opengl::CSetOfLines::Create();
+    path->setName("path");
+    path->setColor(0.0f, 0.5f, 0.0f);
+    path->setLineWidth(2.0f);
+    const auto& p = slam.path();
+    for (size_t i = 1; i < p.size(); ++i)
+        path->appendLine(p[i - 1].pose.x(), p[i - 1].pose.y(), 0.03, p[i].pose.x(), p[i].pose.y(), 0.03);
+    scene.insert(path);
+    if (map)
+    {
+        // The map draws triangles, landmarks and layers as named top-level objects.
+        mrpt::opengl::CSetOfObjects objs;
+        map->getVisualizationInto(objs);
+        for (const auto& o : objs) scene.insert(o);
+    }
+    else
+    {
+        scene.insert(dense::landmarksObject(landmarksOf(slam.ekf())));
+    }
+    return scene;
+}
+}  // namespace
+
+mrpt::opengl::COpenGLScene makeScene(const DenseSlam& slam)
+{
+    if (!slam.partition() || !slam.hybridMap()) return sceneOf(slam, nullptr);
+    const auto map = hybridMetricMap(slam);
+    return sceneOf(slam, &map);
+}
+
+void writeMrptOutputs(const DenseSlam& slam, const KeyframeRecorder& recorder, const std::string& dir)
+{
+    const std::string d = dir.empty() || dir.back() == '/' ? dir : dir + "/";
+    std::optional<dense::CHybridMetricMap> map;
+    if (slam.partition() && slam.hybridMap()) map = hybridMetricMap(slam);
+    if (!sceneOf(slam, map ? &*map : nullptr).saveToFile(d + "map.3Dscene"))
+        throw std::runtime_error("cannot write '" + d + "map.3Dscene'");
+    if (!makeSimpleMap(slam, recorder).saveToFile(d + "map.simplemap"))
+        throw std::runtime_error("cannot write '" + d + "map.simplemap'");
+    if (map) map->saveToFile(d + "map.hymm");
+}
+
+}  // namespace hymm::app
