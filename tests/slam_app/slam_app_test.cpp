@@ -80,6 +80,17 @@ std::vector<hymm::dense::Polygon> trueSurfaces()
     return out;
 }
 
+// Cells of a .gridmap as MRPT reads it (cell = P(free)) with P(free) < 0.2, i.e. the
+// cells HYMM rendered with P(occupied) > 0.8.
+std::vector<Eigen::Vector2d> mrptOccupiedCells(const mrpt::maps::COccupancyGridMap2D& grid)
+{
+    std::vector<Eigen::Vector2d> out;
+    for (unsigned y = 0; y < grid.getSizeY(); ++y)
+        for (unsigned x = 0; x < grid.getSizeX(); ++x)
+            if (grid.getCell(x, y) < 0.2f) out.emplace_back(grid.idx2x(x), grid.idx2y(y));
+    return out;
+}
+
 // Map points away from the true landmarks (their trunks are not object outlines).
 std::vector<Eigen::Vector2d> awayFromLandmarks(const std::vector<Eigen::Vector2d>& pts)
 {
@@ -174,11 +185,12 @@ TEST(SlamApp, Ch3ObjectsWritesAccurateFeatureAndDenseMaps)
     EXPECT_EQ(reread.size(), app.slam().partition()->size());
 
     const auto outlines = trueOutlines();
-    // Occupancy layer, read back as MRPT tools read it.
+    // Occupancy layer, read back as MRPT tools read it: a cell holds P(free), so the
+    // outlines must lie on cells MRPT itself calls occupied.
     mrpt::maps::COccupancyGridMap2D grid;
     readSerialized(out + "/occupancy.gridmap", grid);
     const auto occ = hymm::dense::evaluateOutlines(
-        awayFromLandmarks(hymm::dense::occupiedCellCentres(grid, 0.8)), outlines);
+        awayFromLandmarks(mrptOccupiedCells(grid)), outlines);
     EXPECT_GT(occ.points, 50u);
     EXPECT_LT(occ.mean_distance_m, kMaxOccupancyMeanDist);
     EXPECT_GT(occ.coverage, kMinCoverage);
@@ -193,8 +205,7 @@ TEST(SlamApp, Ch3ObjectsWritesAccurateFeatureAndDenseMaps)
     // The classic grid is written in the same format and covers the outlines it saw.
     mrpt::maps::COccupancyGridMap2D classic;
     readSerialized(out + "/classic_grid.gridmap", classic);
-    const auto cm = hymm::dense::evaluateOutlines(
-        awayFromLandmarks(hymm::dense::occupiedCellCentres(classic, 0.8)), outlines);
+    const auto cm = hymm::dense::evaluateOutlines(awayFromLandmarks(mrptOccupiedCells(classic)), outlines);
     EXPECT_GT(cm.coverage, kMinCoverage);
 
     // The common rotation of the landmark map and the filter's own 1-sigma of it: rebuilt

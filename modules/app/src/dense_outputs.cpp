@@ -1,5 +1,6 @@
 // The dense maps of a run: their files (writeDenseOutputs) and their counters and outline
 // metrics (writeDenseMetrics). What is per layer kind comes from layer_outputs.cpp.
+#include <hymm/dense/CHybridMetricMap.h>
 #include <hymm/app/slam_outputs.h>
 #include <hymm/dense/map_images.h>
 #include <hymm/eval/se2_alignment.h>
@@ -216,7 +217,7 @@ void writeDenseOutputs(const DenseSlam& slam, const std::string& dir, bool png)
     {
         mrpt::maps::COccupancyGridMap2D grid;
         classic->toOccupancyGridMap(grid);
-        writeSerialized(grid, d + "classic_grid.gridmap");
+        writeSerialized(dense::freeProbabilityGrid(grid), d + "classic_grid.gridmap");  // P(free)
         if (png) dense::saveOccupancyPng(grid, d + "classic_grid.png");
     }
 }

@@ -1,3 +1,4 @@
+#include <hymm/dense/CHybridMetricMap.h>
 #include "layer_outputs.h"
 
 #include <hymm/dense/map_images.h>
@@ -78,7 +79,8 @@ void writeOccupancyRegions(const DenseSlam& slam, const std::string& file)
 void writeOccupancy(const DenseSlam& slam, const std::string& d, bool png)
 {
     const auto grid = renderOccupancy(slam);
-    writeSerialized(grid, d + "occupancy.gridmap");
+    // MRPT reads a cell as P(free): the file holds 1 - P(occupied), as its tools expect.
+    writeSerialized(dense::freeProbabilityGrid(grid), d + "occupancy.gridmap");
     if (png) dense::saveOccupancyPng(grid, d + "occupancy.png", slam.partition());
     writeOccupancyRegions(slam, d + "occupancy_regions.csv");
 }
