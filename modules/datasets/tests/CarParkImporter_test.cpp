@@ -87,7 +87,7 @@ TEST(CarParkImporterTest, FailureOnALaterMatVariableLeavesNoCompleteLookingRawlo
     const auto ok = hymm::datasets::importDataset("carpark", {dir.path()}, dir.file("out"));
     ASSERT_FALSE(ok.outputs.empty());
     for (const auto& f : ok.outputs) EXPECT_TRUE(std::filesystem::exists(f)) << f;
-    Eigen::MatrixXd beac(2, 3);
+    Eigen::MatrixXd beac(3, 3);  // neither N x 2 nor 2 x N
     beac.setZero();
     hymm::datasets::writeMatFile(dir.file("beac_juan3.mat"), {{"estbeac", beac}});
     try
