@@ -593,7 +593,7 @@ TEST(SlamAppReliability, BadOutputFolderFailsBeforeTheRawlogIsProcessed)
         const auto bytes = reliability::slurp(reliability::kCh2);
         std::ofstream(cut, std::ios::binary) << bytes.substr(0, bytes.size() / 2);
     }
-    for (const fs::path bad : {base / "a_file", base / "missing_parent" / "out"})
+    for (const fs::path& bad : {base / "a_file", base / "missing_parent" / "out"})
     {
         auto a = reliability::unusableRun(bad);
         a.config = (base / "cfg.ini").string();
