@@ -6,9 +6,10 @@
  *        hymm::datasets (NoiseCalibration.h).
  */
 #include <hymm/core/command_line.h>
+#include <hymm/core/output_files.h>
 #include <hymm/datasets/NoiseCalibration.h>
 #include <mrpt/3rdparty/tclap/CmdLine.h>
-#include <mrpt/core/exceptions.h>
+#include <hymm/core/error_message.h>
 
 #include <fstream>
 #include <iostream>
@@ -20,6 +21,7 @@ int main(int argc, char** argv)
     {
         TCLAP::CmdLine cmd("hymm-calibrate: converter noise model from a run's ground truth", ' ',
                            "0.1");
+        TCLAP::SwitchArg verbose("", "verbose", "errors with MRPT's call-stack backtraces", cmd);
         TCLAP::ValueArg<std::string> format("f", "format", "mrclam", false, "mrclam", "FORMAT",
                                             cmd);
         TCLAP::MultiArg<std::string> input(
@@ -45,14 +47,13 @@ int main(int argc, char** argv)
         std::cout << text;
         if (!out.getValue().empty())
         {
-            std::ofstream f(out.getValue());
-            if (!(f << text)) throw std::runtime_error("cannot write '" + out.getValue() + "'");
+            hymm::core::writeFileAtomically(out.getValue(), text);
         }
         return 0;
     }
     catch (const std::exception& e)
     {
-        std::cerr << "hymm-calibrate: " << mrpt::exception_to_str(e) << "\n";
+        std::cerr << "hymm-calibrate: " << hymm::core::errorMessage(e, hymm::core::hasFlag(argc, argv, "--verbose")) << "\n";
         return 1;
     }
 }

@@ -4,7 +4,7 @@
 #include <hymm/io/ground_truth_io.h>
 #include <hymm/core/command_line.h>
 #include <mrpt/3rdparty/tclap/CmdLine.h>
-#include <mrpt/core/exceptions.h>
+#include <hymm/core/error_message.h>
 
 #include <iostream>
 
@@ -13,6 +13,7 @@ int main(int argc, char** argv)
     try
     {
         TCLAP::CmdLine cmd("hymm-eval: metrics of a SLAM result against ground truth", ' ', "0.1");
+        TCLAP::SwitchArg verbose("", "verbose", "errors with MRPT's call-stack backtraces", cmd);
         TCLAP::ValueArg<std::string> path("p", "path", "estimated path (TUM)", false, "", "FILE", cmd);
         TCLAP::ValueArg<std::string> lms("l", "landmarks", "estimated landmarks id,x,y[,cxx,cxy,cyy]",
                                          false, "", "FILE", cmd);
@@ -26,14 +27,17 @@ int main(int argc, char** argv)
         const auto gt = hymm::io::loadGroundTruth(gtp.getValue(), gtl.getValue());
         const auto j = hymm::eval::evaluateResultFiles(path.getValue(), lms.getValue(), gt);
         if (out.getValue().empty())
-            std::cout << j.dump() << "\n";
+        {
+            std::cout << j.dump() << "\n" << std::flush;
+            if (!std::cout) throw std::runtime_error("cannot write the metrics to stdout");
+        }
         else
             j.save(out.getValue());
         return 0;
     }
     catch (const std::exception& e)
     {
-        std::cerr << "hymm-eval: error: " << mrpt::exception_to_str(e) << "\n";
+        std::cerr << "hymm-eval: error: " << hymm::core::errorMessage(e, hymm::core::hasFlag(argc, argv, "--verbose")) << "\n";
         return 1;
     }
 }

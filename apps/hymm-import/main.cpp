@@ -6,7 +6,7 @@
 #include <hymm/datasets/import_dataset.h>
 #include <hymm/core/command_line.h>
 #include <mrpt/3rdparty/tclap/CmdLine.h>
-#include <mrpt/core/exceptions.h>
+#include <hymm/core/error_message.h>
 
 #include <iostream>
 
@@ -15,6 +15,7 @@ int main(int argc, char** argv)
     try
     {
         TCLAP::CmdLine cmd("hymm-import: dataset to MRPT rawlog + ground truth", ' ', "0.1");
+        TCLAP::SwitchArg verbose("", "verbose", "errors with MRPT's call-stack backtraces", cmd);
         TCLAP::ValueArg<std::string> format(
             "f", "format", "victoria | carpark | mrclam", true, "", "FORMAT", cmd);
         TCLAP::MultiArg<std::string> input(
@@ -32,7 +33,7 @@ int main(int argc, char** argv)
     }
     catch (const std::exception& e)
     {
-        std::cerr << "hymm-import: " << mrpt::exception_to_str(e) << "\n";
+        std::cerr << "hymm-import: " << hymm::core::errorMessage(e, hymm::core::hasFlag(argc, argv, "--verbose")) << "\n";
         return 1;
     }
 }

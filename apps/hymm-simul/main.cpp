@@ -6,7 +6,7 @@
 #include <hymm/core/command_line.h>
 #include <hymm/sim/run_scenario.h>
 #include <mrpt/3rdparty/tclap/CmdLine.h>
-#include <mrpt/core/exceptions.h>
+#include <hymm/core/error_message.h>
 
 #include <iostream>
 
@@ -16,6 +16,7 @@ int main(int argc, char** argv)
     {
         TCLAP::CmdLine cmd("hymm-simul: simulated rawlog + ground truth from a scenario .ini", ' ',
                            "0.1");
+        TCLAP::SwitchArg verbose("", "verbose", "errors with MRPT's call-stack backtraces", cmd);
         TCLAP::ValueArg<std::string> config("c", "config", "scenario .ini (see configs/sim/)", true,
                                             "", "FILE.ini", cmd);
         TCLAP::ValueArg<std::string> out("o", "out", "output folder", true, "", "DIR", cmd);
@@ -33,7 +34,7 @@ int main(int argc, char** argv)
     }
     catch (const std::exception& e)
     {
-        std::cerr << "hymm-simul: " << mrpt::exception_to_str(e) << "\n";
+        std::cerr << "hymm-simul: " << hymm::core::errorMessage(e, hymm::core::hasFlag(argc, argv, "--verbose")) << "\n";
         return 1;
     }
 }

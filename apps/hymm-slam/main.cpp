@@ -1,7 +1,7 @@
 // hymm-slam: EKF feature SLAM with dense layers on an MRPT rawlog.
 // All behaviour lives in hymm::app::SlamApp; this only parses and reports.
 #include <hymm/app/SlamApp.h>
-#include <mrpt/core/exceptions.h>
+#include <hymm/core/error_message.h>
 
 #include <iostream>
 
@@ -17,7 +17,8 @@ int main(int argc, char** argv)
     }
     catch (const std::exception& e)
     {
-        std::cerr << "hymm-slam: error: " << mrpt::exception_to_str(e) << "\n";
+        std::cerr << "hymm-slam: error: "
+                  << hymm::core::errorMessage(e, hymm::core::hasFlag(argc, argv, "--verbose")) << "\n";
         return 1;
     }
 }

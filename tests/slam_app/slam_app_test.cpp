@@ -495,3 +495,132 @@ TEST(SlamApp, MalformedIniThrowsBeforeWriting)
 }
 
 }  // namespace
+
+// ---- reliability: output folder, run warnings, --strict --------------------------------
+
+namespace reliability
+{
+const std::string kCh2 = kSrc + "/rawlogs/ch2_landmarks.rawlog";
+
+fs::path scratch(const std::string& name)
+{
+    const fs::path p = fs::temp_directory_path() /
+                       ("hymm_slam_app_rel_" + name + "_" + std::to_string(::getpid()));
+    fs::remove_all(p);
+    return p;
+}
+
+std::string slurp(const fs::path& p)
+{
+    std::ifstream f(p, std::ios::binary);
+    return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
+}
+
+// The bearing-range-only chapter-2 rawlog under a laser-landmark config with no dense
+// part: every entry reads cleanly, but no observation can be used.
+SlamApp::Args unusableRun(const fs::path& out)
+{
+    const fs::path ini = out.string() + ".ini";
+    std::ofstream(ini) << "[DenseSlam]\nlandmark_source = laser_trees\n";
+    SlamApp::Args a;
+    a.config = ini.string();
+    a.rawlog = kCh2;
+    a.out_dir = out.string();
+    a.quiet = true;
+    a.png = false;
+    return a;
+}
+}  // namespace reliability
+
+TEST(SlamAppReliability, RunThatUsesNoObservationWarnsOnStderrAndInTheSummary)
+{
+    const auto out = reliability::scratch("warn");
+    std::ostringstream log;
+    SlamApp(reliability::unusableRun(out)).run(log);
+    EXPECT_NE(log.str().find("hymm-slam: warning: none of the rawlog's"), std::string::npos)
+        << log.str();
+    EXPECT_NE(log.str().find("no landmark observation reached the filter"), std::string::npos);
+    const auto summary = reliability::slurp(out / "summary.txt");
+    EXPECT_NE(summary.find("warning              none of the rawlog's"), std::string::npos)
+        << summary;
+    EXPECT_NE(summary.find("of a kind this config does not use"), std::string::npos);
+    fs::remove_all(out);
+    fs::remove(out.string() + ".ini");
+}
+
+TEST(SlamAppReliability, StrictMakesARunWarningAFailureWithNoResults)
+{
+    const auto out = reliability::scratch("strict");
+    auto a = reliability::unusableRun(out);
+    a.strict = true;
+    std::ostringstream log;
+    try
+    {
+        SlamApp(a).run(log);
+        FAIL() << "--strict run with warnings succeeded";
+    }
+    catch (const std::runtime_error& e)
+    {
+        EXPECT_NE(std::string(e.what()).find("--strict"), std::string::npos) << e.what();
+    }
+    ASSERT_TRUE(fs::is_directory(out)) << "the folder is made before the work";
+    EXPECT_TRUE(fs::is_empty(out)) << "no results, no staging folder left";
+    fs::remove_all(out);
+    fs::remove(out.string() + ".ini");
+}
+
+TEST(SlamAppReliability, AnEarlierRunsResultsAreReplacedNotMixed)
+{
+    const auto out = reliability::scratch("stale");
+    auto a = reliability::unusableRun(out);
+    a.png = true;
+    std::ostringstream log;
+    SlamApp(a).run(log);
+    ASSERT_TRUE(fs::exists(out / "map.png"));
+    std::ofstream(out / "my_notes.txt") << "kept";
+    a.png = false;  // the second run writes no map.png
+    SlamApp(a).run(log);
+    EXPECT_FALSE(fs::exists(out / "map.png")) << "stale result of the first run";
+    EXPECT_TRUE(fs::exists(out / "summary.txt"));
+    EXPECT_EQ(reliability::slurp(out / "my_notes.txt"), "kept");
+    const auto manifest = reliability::slurp(out / ".hymm-outputs");
+    EXPECT_NE(manifest.find("summary.txt\n"), std::string::npos);
+    EXPECT_EQ(manifest.find("map.png"), std::string::npos);
+    for (const auto& e : fs::directory_iterator(out))
+        EXPECT_EQ(e.path().filename().string().find(".hymm-partial"), std::string::npos);
+    fs::remove_all(out);
+    fs::remove(out.string() + ".ini");
+}
+
+TEST(SlamAppReliability, BadOutputFolderFailsBeforeTheRawlogIsProcessed)
+{
+    const auto base = reliability::scratch("badout");
+    fs::create_directories(base);
+    std::ofstream(base / "a_file") << "x";
+    // A rawlog cut short: if the folder were checked after the rawlog, the error would
+    // be about the rawlog.
+    const fs::path cut = base / "cut.rawlog";
+    {
+        const auto bytes = reliability::slurp(reliability::kCh2);
+        std::ofstream(cut, std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+    }
+    for (const fs::path& bad : {base / "a_file", base / "missing_parent" / "out"})
+    {
+        auto a = reliability::unusableRun(bad);
+        a.config = (base / "cfg.ini").string();
+        std::ofstream(a.config) << "[DenseSlam]\nlandmark_source = laser_trees\n";
+        a.rawlog = cut.string();
+        std::ostringstream log;
+        try
+        {
+            SlamApp(a).run(log);
+            FAIL() << bad;
+        }
+        catch (const std::runtime_error& e)
+        {
+            EXPECT_NE(std::string(e.what()).find(bad.string()), std::string::npos) << e.what();
+            EXPECT_EQ(std::string(e.what()).find("truncated"), std::string::npos) << e.what();
+        }
+    }
+    fs::remove_all(base);
+}

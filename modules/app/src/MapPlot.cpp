@@ -1,4 +1,5 @@
 #include "hymm/app/MapPlot.h"
+#include <hymm/core/output_files.h>
 
 #include <Eigen/Eigenvalues>
 #include <opencv2/imgcodecs.hpp>
@@ -96,7 +97,9 @@ void writeMapPng(const MapPlot& plot, const std::string& path)
     const int bar = static_cast<int>(std::lround(10.0 * f.scale));
     cv::line(img, {10, f.h - 10}, {10 + bar, f.h - 10}, cv::Scalar(0, 0, 0), 2);
     cv::putText(img, "10 m", {10, f.h - 16}, cv::FONT_HERSHEY_SIMPLEX, 0.4, cv::Scalar(0, 0, 0), 1);
-    if (!cv::imwrite(path, img)) throw std::runtime_error("cannot write PNG '" + path + "'");
+    std::vector<uchar> png;
+    if (!cv::imencode(".png", img, png)) throw std::runtime_error("cannot encode PNG '" + path + "'");
+    core::writeFileAtomically(path, std::string_view(reinterpret_cast<const char*>(png.data()), png.size()));
 }
 
 }  // namespace hymm::app

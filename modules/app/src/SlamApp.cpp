@@ -5,6 +5,7 @@
 #include <hymm/sim/ground_truth_io.h>
 
 #include <hymm/core/config_utils.h>
+#include <hymm/core/output_files.h>
 #include <hymm/io/RawlogReader.h>
 #include <hymm/io/ground_truth_io.h>
 #include <hymm/app/MapPlot.h>
@@ -83,26 +84,41 @@ void SlamApp::run(std::ostream& log)
                                          ? MotionTruth{}
                                          : motionTruthFromRecords(sim::readObjectOutlines(args_.gt_objects));
 
+    // The output folder before any work: a bad --out fails now, and the results of an
+    // earlier run in it are removed (core::OutputFolder). Files are written into its
+    // staging folder and appear only when every one of them was written.
+    core::OutputFolder folder(args_.out_dir);
+    folder.prepare();
+
     std::vector<FrameTiming> timing;
     KeyframeRecorder keyframes;
     const double run_s = processRawlog(*slam_, reader, args_.quiet, timing, keyframes, log);
     if (reader.entriesRead() == 0)
         throw std::runtime_error("rawlog '" + args_.rawlog + "' holds no entries");
-    writeOutputs(gt ? &*gt : nullptr, outlines, motion_truth, timing, run_s, reader.entriesRead(), log);
-    writeMrptOutputs(*slam_, keyframes, args_.out_dir);
+    const auto warnings = runWarnings(*slam_);
+    for (const auto& w : warnings) log << "hymm-slam: warning: " << w << "\n";
+    if (args_.strict && !warnings.empty())
+        throw std::runtime_error("--strict: " + std::to_string(warnings.size()) +
+                                 " run warning(s) (above); no results written");
+    writeOutputs(folder.staging(), gt ? &*gt : nullptr, outlines, motion_truth, timing, run_s,
+                 reader.entriesRead(), warnings);
+    writeMrptOutputs(*slam_, keyframes, folder.staging());
+    folder.commit();
+    if (!args_.quiet)
+    {
+        std::ifstream s(args_.out_dir + "/summary.txt");
+        log << s.rdbuf() << "[hymm-slam] results in " << args_.out_dir << "\n";
+    }
 }
 
-void SlamApp::writeOutputs(const io::GroundTruth* gt, const std::vector<dense::Polygon>& outlines,
+void SlamApp::writeOutputs(const std::string& out, const io::GroundTruth* gt,
+                           const std::vector<dense::Polygon>& outlines,
                            const MotionTruth& motion_truth,
                            const std::vector<FrameTiming>& timing, double run_s, size_t entries,
-                           std::ostream& log)
+                           const std::vector<std::string>& warnings)
 {
     // The global dense map at the final landmark estimates.
     slam_->refreshRegions();
-    if (!mrpt::system::directoryExists(args_.out_dir) &&
-        !mrpt::system::createDirectory(args_.out_dir))
-        throw std::runtime_error("cannot create output folder '" + args_.out_dir + "'");
-    const std::string out = args_.out_dir + "/";
     writeEstimatedPath(*slam_, out + "path.tum");
     writeEstimatedLandmarks(slam_->ekf(), out + "landmarks.csv");
     if (args_.png) writeMapPng(makeMapPlot(*slam_, gt), out + "map.png");
@@ -115,13 +131,8 @@ void SlamApp::writeOutputs(const io::GroundTruth* gt, const std::vector<dense::P
         if (!args_.gt_objects.empty()) writeMotionMetrics(metrics, *slam_, motion_truth);
         metrics.save(out + "metrics.json");
     }
-    writeSummary(*slam_, run_s, entries, out + "summary.txt");
+    writeSummary(*slam_, run_s, entries, out + "summary.txt", warnings);
     writeTiming(timing, out + "timing.csv");
-    if (!args_.quiet)
-    {
-        std::ifstream s(out + "summary.txt");
-        log << s.rdbuf() << "[hymm-slam] results in " << args_.out_dir << "\n";
-    }
 }
 
 bool parseSlamArgs(int argc, char** argv, SlamApp::Args& a, std::ostream& out)
@@ -139,6 +150,10 @@ bool parseSlamArgs(int argc, char** argv, SlamApp::Args& a, std::ostream& out)
         false, "", "FILE", cmd);
     TCLAP::SwitchArg quiet("q", "quiet", "no progress output", cmd);
     TCLAP::SwitchArg nopng("", "no-png", "do not write map.png and the dense-map images", cmd);
+    TCLAP::SwitchArg strict("", "strict",
+        "fail (exit 1, no results) on a run warning: no observation used, most not used, no "
+        "landmark observation, no odometry, time going backwards", cmd);
+    TCLAP::SwitchArg verbose("", "verbose", "errors with MRPT's call-stack backtraces", cmd);
     // MRPT's TCLAP returns false both after --help and after a usage error (which it
     // has already described): tell them apart so a bad command line exits non-zero.
     if (!cmd.parse(argc, argv))
@@ -159,6 +174,8 @@ bool parseSlamArgs(int argc, char** argv, SlamApp::Args& a, std::ostream& out)
     a.gt_objects = gto.getValue();
     a.quiet = quiet.getValue();
     a.png = !nopng.getValue();
+    a.strict = strict.getValue();
+    a.verbose = verbose.getValue();
     return true;
 }
 

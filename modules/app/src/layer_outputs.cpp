@@ -1,5 +1,7 @@
 #include <hymm/dense/CHybridMetricMap.h>
 #include "layer_outputs.h"
+#include <hymm/core/output_files.h>
+#include <cstdio>
 
 #include <hymm/dense/map_images.h>
 #include <mrpt/maps/CHeightGridMap2D.h>
@@ -38,12 +40,27 @@ mrpt::maps::CSimplePointsMap renderPoints(const DenseSlam& slam)
     return pts;
 }
 
+// "x y" per line as CPointsMap::save2D_to_text_file writes it, with every write checked.
+void writePointsText(const mrpt::maps::CSimplePointsMap& pts, const std::string& file)
+{
+    std::string text;
+    char line[96];
+    const auto& xs = pts.getPointsBufferRef_x();
+    const auto& ys = pts.getPointsBufferRef_y();
+    for (size_t i = 0; i < xs.size(); ++i)
+    {
+        const int n = std::snprintf(line, sizeof(line), "%f %f\n", static_cast<double>(xs[i]),
+                                    static_cast<double>(ys[i]));
+        text.append(line, static_cast<size_t>(std::max(n, 0)));
+    }
+    core::writeFileAtomically(file, text);
+}
+
 void writePoints(const DenseSlam& slam, const std::string& d, bool png)
 {
     const auto pts = renderPoints(slam);
     writeSerialized(pts, d + "points.bin");
-    if (!pts.save2D_to_text_file(d + "points.txt"))
-        throw std::runtime_error("cannot write '" + d + "points.txt'");
+    writePointsText(pts, d + "points.txt");
     if (png) dense::savePointsPng(pts, d + "points.png", kPointsPngResolution, slam.partition());
 }
 
@@ -67,13 +84,12 @@ mrpt::maps::COccupancyGridMap2D renderOccupancy(const DenseSlam& slam)
 
 void writeOccupancyRegions(const DenseSlam& slam, const std::string& file)
 {
-    std::ofstream f(file);
-    if (!f) throw std::runtime_error("cannot write '" + file + "'");
+    core::AtomicTextFile f(file);
     f << "id,coarse,cell_size_m,cells,occupied,free,memory_bytes\n";
     for (const auto& r : slam.hybridMap()->occupancyRegionStats(kOccupiedProbability))
         f << r.id << ',' << (r.coarse ? 1 : 0) << ',' << r.cell_size_m << ',' << r.cells << ','
           << r.occupied << ',' << r.free << ',' << r.memory_bytes << '\n';
-    if (!f) throw std::runtime_error("error writing '" + file + "'");
+    f.commit();
 }
 
 void writeOccupancy(const DenseSlam& slam, const std::string& d, bool png)
@@ -161,13 +177,12 @@ void writeParticles(const DenseSlam& slam, const std::string& d, bool png)
 {
     const auto pts = renderParticles(slam);
     writeSerialized(pts, d + "particles.bin");
-    std::ofstream f(d + "particles.txt");
-    if (!f) throw std::runtime_error("cannot write '" + d + "particles.txt'");
+    core::AtomicTextFile f(d + "particles.txt");
     f << "# x y weight (P(occupied), thesis Eq. 4.9)\n" << std::setprecision(9);
     for (size_t i = 0; i < pts.size(); ++i)
         f << pts.getPointsBufferRef_x()[i] << ' ' << pts.getPointsBufferRef_y()[i] << ' '
           << pts.getPointIntensity(i) << '\n';
-    if (!f) throw std::runtime_error("error writing '" + d + "particles.txt'");
+    f.commit();
     if (png)
         dense::savePointsByValuePng(pts, d + "particles.png", kPointsPngResolution, 0.0, 1.0,
                                     slam.partition());

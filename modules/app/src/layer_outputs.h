@@ -9,7 +9,8 @@
 
 #include <hymm/app/slam_outputs.h>
 #include <hymm/eval/MetricsJson.h>
-#include <mrpt/io/CFileGZOutputStream.h>
+#include <hymm/core/output_files.h>
+#include <mrpt/io/CMemoryStream.h>
 #include <mrpt/serialization/CArchive.h>
 
 #include <Eigen/Core>
@@ -50,13 +51,16 @@ std::vector<const LayerOutput*> enabledLayerOutputs(const DenseSlam& slam);
 
 size_t valueOr0(const std::map<std::string, size_t>& m, const std::string& key);
 
-/** `obj` MRPT-serialised into a gzip file, as MRPT's map tools read it. */
+/** `obj` MRPT-serialised into a gzip file (level 1, as CFileGZOutputStream writes it), as
+ *  MRPT's map tools read it; serialised in memory first so that every write is checked. */
 template <class T>
 void writeSerialized(const T& obj, const std::string& file)
 {
-    mrpt::io::CFileGZOutputStream f;
-    if (!f.open(file)) throw std::runtime_error("cannot write '" + file + "'");
-    mrpt::serialization::archiveFrom(f) << obj;
+    mrpt::io::CMemoryStream mem;
+    mrpt::serialization::archiveFrom(mem) << obj;
+    core::writeGzFileAtomically(
+        file, std::string_view(static_cast<const char*>(mem.getRawBufferData()),
+                               static_cast<size_t>(mem.getTotalBytesCount())));
 }
 
 /** Landmarks in the filter by the feature kinds their observations came from. */

@@ -1,6 +1,7 @@
 // The feature-map outputs of a run: path, landmarks, map figure, frame timing, and the
 // run metrics against ground truth.
 #include <hymm/app/slam_outputs.h>
+#include <hymm/core/output_files.h>
 #include <hymm/io/trajectory_io.h>
 #include <hymm/sim/ground_truth_io.h>
 #include <mrpt/maps/CSimplePointsMap.h>
@@ -114,12 +115,11 @@ eval::MetricsJson computeMetrics(const DenseSlam& slam, const GroundTruth& gt, d
 
 void writeTiming(const std::vector<FrameTiming>& timing, const std::string& file)
 {
-    std::ofstream f(file);
-    if (!f) throw std::runtime_error("cannot write '" + file + "'");
+    core::AtomicTextFile f(file);
     f << "entry,landmarks,observations,seconds\n" << std::setprecision(9);
     for (const auto& t : timing)
         f << t.entry << ',' << t.landmarks << ',' << t.observations << ',' << t.seconds << '\n';
-    if (!f) throw std::runtime_error("error writing '" + file + "'");
+    f.commit();
 }
 
 }  // namespace hymm::app

@@ -1,9 +1,12 @@
 // summary.txt: the run's counters in readable form, one line per enabled dense layer.
 #include <hymm/app/slam_outputs.h>
+#include <hymm/core/output_files.h>
 
 #include <fstream>
 #include <iomanip>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 #include "layer_outputs.h"
 #include "return_books.h"
@@ -57,10 +60,47 @@ void writeRegionSummary(std::ostream& f, const DenseSlam& slam)
 }
 }  // namespace
 
-void writeSummary(const DenseSlam& slam, double run_seconds, size_t entries, const std::string& file)
+std::vector<std::string> runWarnings(const DenseSlam& slam)
 {
-    std::ofstream f(file);
-    if (!f) throw std::runtime_error("cannot write '" + file + "'");
+    const auto& s = slam.stats();
+    std::vector<std::string> w;
+    size_t unsupported = 0;
+    std::string classes;
+    for (const auto& [name, n] : s.unsupported)
+    {
+        unsupported += n;
+        classes += (classes.empty() ? "" : ", ") + name + " " + std::to_string(n);
+    }
+    const size_t not_used = s.observations_unused + unsupported;
+    const std::string why = " (" + std::to_string(s.observations_unused) +
+                            " of a kind this config does not use, " + std::to_string(unsupported) +
+                            " of unsupported types" + (classes.empty() ? "" : ": " + classes) + ")";
+    if (s.rawlog_observations == 0)
+        w.push_back("the rawlog held no observations (" + std::to_string(s.entries) + " entries)");
+    else if (not_used == s.rawlog_observations)
+        w.push_back("none of the rawlog's " + std::to_string(s.rawlog_observations) +
+                    " observations was used" + why);
+    else if (2 * not_used > s.rawlog_observations)
+        w.push_back("most observations were not used: " + std::to_string(not_used) + " of " +
+                    std::to_string(s.rawlog_observations) + why);
+    if (s.rawlog_observations > 0 && s.observations == 0)
+        w.push_back("no landmark observation reached the filter (" + std::to_string(s.frames) +
+                    " frames, " + std::to_string(s.scans) + " laser scans, " +
+                    std::to_string(s.extracted) + " landmarks extracted)");
+    if (s.frames > 1 && s.predictions == 0)
+        w.push_back("the rawlog holds no odometry: no motion prediction in " +
+                    std::to_string(s.frames) + " frames");
+    if (s.time_backwards > 0)
+        w.push_back("time went backwards " + std::to_string(s.time_backwards) +
+                    " times (frames stamped before the previous one); ground truth matched "
+                    "by time will not line up");
+    return w;
+}
+
+void writeSummary(const DenseSlam& slam, double run_seconds, size_t entries, const std::string& file,
+                  const std::vector<std::string>& warnings)
+{
+    core::AtomicTextFile f(file);
     const auto& s = slam.stats();
     const auto pose = slam.ekf().vehiclePose();
     f << std::fixed << std::setprecision(3) << "rawlog entries       " << entries << "\n"
@@ -86,7 +126,23 @@ void writeSummary(const DenseSlam& slam, double run_seconds, size_t entries, con
       << "final pose           " << pose[0] << " " << pose[1] << " " << pose[2] << "\n"
       << "run time [s]         " << run_seconds << "\n";
     writeRegionSummary(f, slam);
-    if (!f) throw std::runtime_error("error writing '" + file + "'");
+    if (!s.unsupported.empty())
+    {
+        f << "unsupported obs.    ";
+        for (const auto& [name, n] : s.unsupported) f << " " << name << " " << n;
+        f << "\n";
+    }
+    if (s.time_backwards + s.time_repeated > 0)
+        f << "frame time stamps    " << s.time_backwards << " earlier than the previous frame, "
+          << s.time_repeated << " equal to it\n";
+    if (s.odometry_invalid + s.frames_duplicate + s.frames_without_odometry +
+            s.scans_without_valid_beam > 0)
+        f << "faults               non-finite odometry skipped " << s.odometry_invalid
+          << ", duplicated frames skipped " << s.frames_duplicate << "; frames without odometry "
+          << s.frames_without_odometry << ", scans without a valid beam "
+          << s.scans_without_valid_beam << "\n";
+    for (const auto& w : warnings) f << "warning              " << w << "\n";
+    f.commit();
 }
 
 }  // namespace hymm::app

@@ -1,4 +1,5 @@
 #include "hymm/datasets/VictoriaParkImporter.h"
+#include <hymm/core/output_files.h>
 
 #include <mrpt/core/bits_math.h>
 #include <mrpt/math/wrap2pi.h>
@@ -215,7 +216,7 @@ ImportSummary VictoriaParkImporter::run(const Inputs& in, const std::string& out
     writeOdometryRawlog(base + ".rawlog", odo, obs, summary);
     {
         const std::string path = base + "_tree_diameters.csv";
-        std::ofstream f(path);
+        hymm::core::AtomicTextFile f(path);
         f << "# trunk diameters of the detections in " << options_.name
           << ".rawlog; t [s] rawlog time base\n# frame,t,index,range_m,yaw_rad,diameter_m\n"
           << std::setprecision(10);
@@ -227,7 +228,7 @@ ImportSummary VictoriaParkImporter::run(const Inputs& in, const std::string& out
                   << o.sensedData[j].range << ',' << o.sensedData[j].yaw << ','
                   << diameters[k][j] << '\n';
         }
-        if (!f) throw std::runtime_error("error writing '" + path + "'");
+        f.commit();
         summary.outputs.push_back(path);
     }
 

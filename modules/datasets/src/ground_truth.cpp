@@ -1,4 +1,5 @@
 #include "hymm/datasets/ground_truth.h"
+#include <hymm/core/output_files.h>
 
 #include <mrpt/obs/CActionRobotMovement2D.h>
 #include <mrpt/obs/CRawlog.h>
@@ -56,12 +57,12 @@ void writeTumWithComment(const std::string& path,
     std::stringstream body;
     body << in.rdbuf();
     in.close();
-    std::ofstream out(path);
+    hymm::core::AtomicTextFile out(path);
     std::istringstream lines(comment);
     std::string line;
     while (std::getline(lines, line)) out << "# " << line << "\n";
     out << body.str();
-    if (!out) throw std::runtime_error("error writing '" + path + "'");
+    out.commit();
 }
 
 std::vector<hymm::io::StampedPose2D> deadReckoningFromRawlog(const std::string& path)

@@ -1,6 +1,7 @@
 #include "hymm/datasets/import_dataset.h"
 
 #include <hymm/core/config_utils.h>
+#include <hymm/core/output_files.h>
 
 #include <filesystem>
 #include <stdexcept>
@@ -60,8 +61,10 @@ void ensureOutputDir(const std::string& dir)
                                  (ec ? ": " + ec.message() : std::string()));
 }
 
-ImportSummary importDataset(const std::string& format, const std::vector<std::string>& inputs,
-                            const std::string& out_dir, const std::string& config_file)
+namespace
+{
+ImportSummary runImporter(const std::string& format, const std::vector<std::string>& inputs,
+                          const std::string& out_dir, const std::string& config_file)
 {
     if (format == "victoria")
     {
@@ -80,6 +83,27 @@ ImportSummary importDataset(const std::string& format, const std::vector<std::st
     }
     throw std::invalid_argument("unknown format '" + format +
                                 "' (expected victoria, carpark or mrclam)");
+}
+}  // namespace
+
+ImportSummary importDataset(const std::string& format, const std::vector<std::string>& inputs,
+                            const std::string& out_dir, const std::string& config_file)
+{
+    if (format != "victoria" && format != "carpark" && format != "mrclam")
+        throw std::invalid_argument("unknown format '" + format +
+                                    "' (expected victoria, carpark or mrclam)");
+    // The folder is checked before any work and the files appear only when all were
+    // written (core::OutputFolder): an importer failing on a later input leaves nothing.
+    ensureOutputDir(out_dir);
+    core::OutputFolder out(out_dir);
+    out.prepare();
+    std::string staging = out.staging();
+    staging.pop_back();  // no trailing '/': the importers append "/<name>"
+    auto summary = runImporter(format, inputs, staging, config_file);
+    out.commit();
+    for (auto& f : summary.outputs)
+        if (f.rfind(staging, 0) == 0) f = (fs::path(out_dir) / fs::path(f.substr(staging.size() + 1))).string();
+    return summary;
 }
 
 }  // namespace hymm::datasets

@@ -2,7 +2,10 @@
 #include <hymm/io/trajectory_io.h>
 #include <hymm/datasets/CarParkImporter.h>
 #include <hymm/datasets/MatFile.h>
+#include <hymm/datasets/import_dataset.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
+
+#include <filesystem>
 
 #include "test_files.h"
 
@@ -73,6 +76,32 @@ TEST(CarParkImporterTest, ScansKeepIntensitiesAndMarkNoReturnsInvalid)
     ASSERT_EQ(beacons.size(), 2u);
     EXPECT_EQ(beacons[1].id, 2);
     EXPECT_DOUBLE_EQ(beacons[1].y, 6.9);
+}
+
+TEST(CarParkImporterTest, FailureOnALaterMatVariableLeavesNoCompleteLookingRawlog)
+{
+    // The beacons are read after the rawlog was written: a malformed estbeac must not
+    // leave carpark.rawlog (nor anything else) in the output folder.
+    TempDir dir;
+    writeCarPark(dir);
+    const auto ok = hymm::datasets::importDataset("carpark", {dir.path()}, dir.file("out"));
+    ASSERT_FALSE(ok.outputs.empty());
+    for (const auto& f : ok.outputs) EXPECT_TRUE(std::filesystem::exists(f)) << f;
+    Eigen::MatrixXd beac(3, 3);  // neither N x 2 nor 2 x N
+    beac.setZero();
+    hymm::datasets::writeMatFile(dir.file("beac_juan3.mat"), {{"estbeac", beac}});
+    try
+    {
+        hymm::datasets::importDataset("carpark", {dir.path()}, dir.file("out"));
+        FAIL() << "a malformed estbeac was accepted";
+    }
+    catch (const std::runtime_error& e)
+    {
+        EXPECT_NE(std::string(e.what()).find("estbeac"), std::string::npos) << e.what();
+    }
+    // The earlier import's results were removed before the failed one started.
+    ASSERT_TRUE(std::filesystem::is_directory(dir.file("out")));
+    EXPECT_TRUE(std::filesystem::is_empty(dir.file("out")));
 }
 
 TEST(CarParkImporterTest, MismatchedLaserTableIsRejected)

@@ -1,4 +1,5 @@
 #include "hymm/dense/map_images.h"
+#include <hymm/core/output_files.h>
 
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -41,16 +42,21 @@ void drawTriangles(cv::Mat& img, const PixelFrame& f, const hymm::ltr::RegionPar
 
 void write(const std::string& path, const cv::Mat& img)
 {
+    // Encoded in memory (the bytes cv::imwrite would write) so that the file write is
+    // checked: imwrite does not report a full disk.
+    std::vector<uchar> png;
     bool ok = false;
     try
     {
-        ok = cv::imwrite(path, img);
+        ok = cv::imencode(".png", img, png);
     }
     catch (const cv::Exception& e)
     {
-        throw std::runtime_error("cannot write PNG '" + path + "': " + e.what());
+        throw std::runtime_error("cannot encode PNG '" + path + "': " + e.what());
     }
-    if (!ok) throw std::runtime_error("cannot write PNG '" + path + "'");
+    if (!ok) throw std::runtime_error("cannot encode PNG '" + path + "'");
+    hymm::core::writeFileAtomically(
+        path, std::string_view(reinterpret_cast<const char*>(png.data()), png.size()));
 }
 
 void checkSize(long w, long h, const std::string& path)

@@ -1,6 +1,7 @@
 #include "hymm/denseslam/DenseSlam.h"
 #include "hymm/denseslam/VirtualLandmarkView.h"
 
+#include <cstring>
 #include <hymm/uif/DelayedDenseStore.h>
 
 #include <hymm/core/config_utils.h>
@@ -121,6 +122,7 @@ void DenseSlam::processEntry(const io::RawlogEntry& entry)
     {
         if (IS_CLASS(*entry.observation, mrpt::obs::CObservationOdometry))
         {
+            ++stats_.rawlog_observations;
             processOdometryObservation(*entry.observation);
         }
         else
@@ -134,6 +136,13 @@ void DenseSlam::processEntry(const io::RawlogEntry& entry)
 
 void DenseSlam::processOdometry(const mrpt::poses::CPosePDFGaussian& increment)
 {
+    // A NaN / inf increment (or covariance) would poison the whole state: skipped.
+    if (!std::isfinite(increment.mean.x()) || !std::isfinite(increment.mean.y()) ||
+        !std::isfinite(increment.mean.phi()) || !increment.cov.asEigen().allFinite())
+    {
+        ++stats_.odometry_invalid;
+        return;
+    }
     mrpt::system::CTimeLoggerEntry tle(profiler_, "denseslam.1_predict");
     mrpt::poses::CPosePDFGaussian inc = increment;
     inc.cov *= options_.odometry_cov_scale;
@@ -147,6 +156,12 @@ void DenseSlam::processOdometry(const mrpt::poses::CPosePDFGaussian& increment)
 void DenseSlam::processOdometryObservation(const mrpt::obs::CObservation& obs)
 {
     const auto& odo = dynamic_cast<const mrpt::obs::CObservationOdometry&>(obs);
+    if (!std::isfinite(odo.odometry.x()) || !std::isfinite(odo.odometry.y()) ||
+        !std::isfinite(odo.odometry.phi()))
+    {
+        ++stats_.odometry_invalid;  // the next good reading continues from the last good one
+        return;
+    }
     if (last_odometry_)
     {
         mrpt::poses::CPosePDFGaussian inc;
@@ -160,6 +175,23 @@ void DenseSlam::processOdometryObservation(const mrpt::obs::CObservation& obs)
 void DenseSlam::processFrame(const mrpt::obs::CSensoryFrame& frame)
 {
     const size_t updates_before = updates_;
+    // A frame repeating the previous one (a duplicated rawlog entry) would use the same
+    // readings twice and make the filter overconfident: skipped and counted.
+    std::vector<std::pair<const char*, mrpt::Clock::time_point>> signature;
+    for (const auto& o : frame)
+        if (o) signature.emplace_back(o->GetRuntimeClass()->className, o->timestamp);
+    const bool stamped = !signature.empty() &&
+                         std::all_of(signature.begin(), signature.end(), [](const auto& p)
+                                     { return p.second != INVALID_TIMESTAMP; });
+    if (stamped && stats_.frames > 0 && stats_.predictions == predictions_at_last_frame_ &&
+        signature.size() == last_frame_signature_.size() &&
+        std::equal(signature.begin(), signature.end(), last_frame_signature_.begin(),
+                   [](const auto& a, const auto& b)
+                   { return std::strcmp(a.first, b.first) == 0 && a.second == b.second; }))
+    {
+        ++stats_.frames_duplicate;
+        return;
+    }
     double t = std::nan("");
     for (const auto& o : frame)
     {
@@ -167,22 +199,43 @@ void DenseSlam::processFrame(const mrpt::obs::CSensoryFrame& frame)
         if (std::isnan(t) && o->timestamp != INVALID_TIMESTAMP)
             t = mrpt::Clock::toDouble(o->timestamp);
         if (!std::isnan(t)) frame_t_ = t;
+        ++stats_.rawlog_observations;
         if (auto br = std::dynamic_pointer_cast<mrpt::obs::CObservationBearingRange>(o))
         {
             if (options_.landmark_source == LandmarkSource::BearingRange ||
                 options_.landmark_source == LandmarkSource::Both)
                 processBearingRange(*br);
+            else
+                ++stats_.observations_unused;
         }
         else if (auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(o))
         {
             ++stats_.scans;
+            bool any_valid = false;
+            for (size_t i = 0; i < scan->getScanSize() && !any_valid; ++i)
+                any_valid = scan->getScanRangeValidity(i);
+            if (!any_valid) ++stats_.scans_without_valid_beam;
             if (options_.landmark_source != LandmarkSource::BearingRange) processScan(*scan);
+            else if (!partition_ && !classic_) ++stats_.observations_unused;
         }
         else if (IS_CLASS(*o, mrpt::obs::CObservationOdometry))
         {
             processOdometryObservation(*o);
         }
+        else
+            ++stats_.unsupported[o->GetRuntimeClass()->className];
     }
+    if (!std::isnan(t))
+    {
+        if (last_stamp_ && t < *last_stamp_) ++stats_.time_backwards;
+        if (last_stamp_ && t == *last_stamp_) ++stats_.time_repeated;
+        last_stamp_ = t;
+    }
+    // Odometry may also come inside the frame (a CObservationOdometry): counted after it.
+    if (stats_.frames > 0 && stats_.predictions == predictions_at_last_frame_)
+        ++stats_.frames_without_odometry;
+    last_frame_signature_ = std::move(signature);
+    predictions_at_last_frame_ = stats_.predictions;
     ++stats_.frames;
     PathSample s;
     s.t = std::isnan(t) ? static_cast<double>(stats_.frames) : t;

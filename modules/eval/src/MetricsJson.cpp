@@ -1,4 +1,5 @@
 #include "hymm/eval/MetricsJson.h"
+#include <hymm/core/output_files.h>
 
 #include <charconv>
 #include <cmath>
@@ -214,10 +215,7 @@ std::string MetricsJson::dump(int indent) const
 
 void MetricsJson::save(const std::string& path, int indent) const
 {
-    std::ofstream f(path);
-    if (!f) throw std::runtime_error("cannot write metrics file '" + path + "'");
-    f << dump(indent) << '\n';
-    if (!f) throw std::runtime_error("error writing metrics file '" + path + "'");
+    core::writeFileAtomically(path, dump(indent) + '\n');
 }
 
 }  // namespace hymm::eval

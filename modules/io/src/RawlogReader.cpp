@@ -1,10 +1,11 @@
 #include "hymm/io/RawlogReader.h"
 
-#include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/serialization/CArchive.h>
 #include <mrpt/system/filesystem.h>
 
 #include <stdexcept>
+
+#include "GuardedRawlogStream.h"
 
 namespace hymm::io
 {
@@ -12,8 +13,7 @@ RawlogReader::RawlogReader(const std::string& path) : path_(path)
 {
     if (!mrpt::system::fileExists(path))
         throw std::runtime_error("rawlog not found: '" + path + "'");
-    stream_ = std::make_unique<mrpt::io::CFileGZInputStream>();
-    if (!stream_->open(path)) throw std::runtime_error("cannot open rawlog '" + path + "'");
+    stream_ = std::make_unique<detail::GuardedRawlogStream>(path);
 }
 
 RawlogReader::~RawlogReader() = default;
@@ -23,6 +23,19 @@ bool RawlogReader::next(RawlogEntry& entry)
     entry = RawlogEntry{};
     auto arch = mrpt::serialization::archiveFrom(*stream_);
     const uint64_t pos_before = stream_->getPosition();
+    const std::string where = "rawlog '" + path_ + "' ";
+    const std::string at_entry = " entry " + std::to_string(entries_);
+    // Corrupt gzip data ends what can be read early: an entry it cuts (or the "end" it
+    // makes) is reported as corruption, not as a truncated entry or a clean end.
+    const auto gzipCorrupt = [&]()
+    {
+        if (stream_->dataError().find("unexpected end of file") != std::string::npos)
+            return std::runtime_error(where + "is truncated in" + at_entry +
+                                      " (the gzip data ends early)");
+        return std::runtime_error(where + "is corrupt: gzip data error (" + stream_->dataError() +
+                                  ") after " + std::to_string(stream_->readableBytes()) +
+                                  " uncompressed bytes, in" + at_entry);
+    };
     mrpt::serialization::CSerializable::Ptr obj;
     try
     {
@@ -30,20 +43,24 @@ bool RawlogReader::next(RawlogEntry& entry)
     }
     catch (const mrpt::serialization::CExceptionEOF&)
     {
+        if (!stream_->dataError().empty()) throw gzipCorrupt();
         // EOF before the first byte of an object is the normal end; EOF after some
         // bytes of it means the file was cut short.
         if (stream_->getPosition() == pos_before) return false;
-        throw std::runtime_error("rawlog '" + path_ + "' is truncated in entry " +
-                                 std::to_string(entries_));
+        throw std::runtime_error(where + "is truncated in" + at_entry);
     }
     catch (const std::exception& e)
     {
-        throw std::runtime_error("rawlog '" + path_ + "' is corrupt at entry " +
-                                 std::to_string(entries_) + ": " + e.what());
+        // A file whose gzip data is corrupt or cut is reported as such: what the entry
+        // then declares or holds is garbage decompressed before zlib noticed.
+        if (!stream_->dataError().empty()) throw gzipCorrupt();
+        if (!stream_->sizeError().empty())
+            throw std::runtime_error(where + "is corrupt at" + at_entry + ": it " +
+                                     stream_->sizeError());
+        throw std::runtime_error(where + "is corrupt at" + at_entry + ": " + e.what());
     }
     if (!obj)
-        throw std::runtime_error("rawlog '" + path_ + "' has a null object at entry " +
-                                 std::to_string(entries_));
+        throw std::runtime_error(where + "has a null object at" + at_entry);
 
     if (auto a = std::dynamic_pointer_cast<mrpt::obs::CActionCollection>(obj))
         entry.actions = a;
@@ -52,8 +69,8 @@ bool RawlogReader::next(RawlogEntry& entry)
     else if (auto o = std::dynamic_pointer_cast<mrpt::obs::CObservation>(obj))
         entry.observation = o;
     else
-        throw std::runtime_error("rawlog '" + path_ + "': entry " + std::to_string(entries_) +
-                                 " is a " + obj->GetRuntimeClass()->className +
+        throw std::runtime_error(where + "entry " + std::to_string(entries_) + " is a " +
+                                 obj->GetRuntimeClass()->className +
                                  ", not an action, sensory frame or observation");
     ++entries_;
     return true;

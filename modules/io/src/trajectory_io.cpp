@@ -1,4 +1,5 @@
 #include "hymm/io/trajectory_io.h"
+#include <hymm/core/output_files.h>
 
 #include <algorithm>
 #include <cmath>
@@ -45,8 +46,7 @@ void readNumberTable(const std::string& path, const std::string& what,
 
 void writeTum(const std::string& path, const std::vector<StampedPose2D>& poses)
 {
-    std::ofstream f(path);
-    if (!f) throw std::runtime_error("cannot write trajectory file '" + path + "'");
+    core::AtomicTextFile f(path);
     f << "# timestamp x y z qx qy qz qw\n";
     for (const auto& p : poses)
     {
@@ -56,7 +56,7 @@ void writeTum(const std::string& path, const std::vector<StampedPose2D>& poses)
           << std::setprecision(12) << p.x << ' ' << p.y << " 0 0 0 " << std::sin(p.phi / 2)
           << ' ' << std::cos(p.phi / 2) << '\n';
     }
-    if (!f) throw std::runtime_error("error writing trajectory file '" + path + "'");
+    f.commit();
 }
 
 std::vector<StampedPose2D> readTum(const std::string& path)
@@ -76,8 +76,7 @@ std::vector<StampedPose2D> readTum(const std::string& path)
 void writeLandmarksCsv(
     const std::string& path, const std::vector<LandmarkRecord>& lms, const std::string& header)
 {
-    std::ofstream f(path);
-    if (!f) throw std::runtime_error("cannot write landmark file '" + path + "'");
+    core::AtomicTextFile f(path);
     f << "# " << header << '\n' << std::setprecision(12);
     for (const auto& l : lms)
     {
@@ -85,7 +84,7 @@ void writeLandmarksCsv(
         for (double e : l.extra) f << ',' << e;
         f << '\n';
     }
-    if (!f) throw std::runtime_error("error writing landmark file '" + path + "'");
+    f.commit();
 }
 
 std::vector<LandmarkRecord> readLandmarksCsv(const std::string& path)

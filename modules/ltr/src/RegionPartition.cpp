@@ -4,6 +4,7 @@
  *        Growth (candidate proposal) lives in RegionPartitionGrowth.cpp.
  */
 #include "hymm/ltr/RegionPartition.h"
+#include <hymm/core/output_files.h>
 
 #include <hymm/core/config_utils.h>
 
@@ -474,10 +475,9 @@ void RegionPartition::load(std::istream& in)
 
 void RegionPartition::saveToFile(const std::string& path) const
 {
-    std::ofstream f(path);
-    if (!f) throw std::runtime_error("RegionPartition: cannot write '" + path + "'");
+    core::AtomicTextFile f(path);
     save(f);
-    if (!f) throw std::runtime_error("RegionPartition: error writing '" + path + "'");
+    f.commit();
 }
 
 void RegionPartition::loadFromFile(const std::string& path)

@@ -1,4 +1,5 @@
 #include "hymm/sim/WorldPlot.h"
+#include <hymm/core/output_files.h>
 
 #include <hymm/core/config_utils.h>
 #include <mrpt/poses/CPose2D.h>
@@ -144,8 +145,11 @@ void WorldPlot::save(const std::string& png_path, const World& world,
     cv::putText(img, "10 m", {x0, y0 - 6}, cv::FONT_HERSHEY_SIMPLEX, font * 0.8, {0, 0, 0}, 1,
                 cv::LINE_AA);
 
-    if (!cv::imwrite(png_path, img))
-        throw std::runtime_error("cannot write image '" + png_path + "'");
+    std::vector<uchar> png;
+    if (!cv::imencode(".png", img, png))
+        throw std::runtime_error("cannot encode image '" + png_path + "'");
+    core::writeFileAtomically(png_path,
+                              std::string_view(reinterpret_cast<const char*>(png.data()), png.size()));
 }
 
 }  // namespace hymm::sim

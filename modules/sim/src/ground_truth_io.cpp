@@ -1,4 +1,5 @@
 #include "hymm/sim/ground_truth_io.h"
+#include <hymm/core/output_files.h>
 
 #include <fstream>
 #include <sstream>
@@ -25,8 +26,7 @@ void writeObjectOutlines(const std::string& path, const World& world,
 {
     if (frame_t.size() != frame_stamps.size())
         throw std::invalid_argument("writeObjectOutlines: frame times and stamps differ in size");
-    std::ofstream f(path);
-    if (!f) throw std::runtime_error("cannot write object file '" + path + "'");
+    core::AtomicTextFile f(path);
     f << "# HYMM simulator: true object outlines\n"
          "# id t_from t_to x1 y1 ... xn yn  (closed polygon, global frame [m], counter-clockwise;\n"
          "# the outline holds for the frames stamped t_from..t_to [s], inclusive)\n";
@@ -57,7 +57,7 @@ void writeObjectOutlines(const std::string& path, const World& world,
         }
         if (open) writeRecord(f, rec);
     }
-    if (!f) throw std::runtime_error("error writing object file '" + path + "'");
+    f.commit();
 }
 
 std::vector<ObjectOutlineRecord> readObjectOutlines(const std::string& path)
@@ -89,8 +89,7 @@ std::vector<ObjectOutlineRecord> readObjectOutlines(const std::string& path)
 
 void writeSurfaceProperties(const std::string& path, const World& world)
 {
-    std::ofstream f(path);
-    if (!f) throw std::runtime_error("cannot write surface property file '" + path + "'");
+    core::AtomicTextFile f(path);
     const SurfaceProperties& p = world.properties();
     f << "# HYMM simulator: true surface properties (laser intensity before noise and rounding)\n"
          "# field v0 gx gy: value(x, y) = v0 + gx x + gy y on every surface without its own\n"
@@ -100,7 +99,7 @@ void writeSurfaceProperties(const std::string& path, const World& world)
     if (p.landmarks) f << "landmarks " << detail::formatNumber(*p.landmarks) << '\n';
     for (const auto& [id, v] : p.objects)
         f << "object " << id << ' ' << detail::formatNumber(v) << '\n';
-    if (!f) throw std::runtime_error("error writing surface property file '" + path + "'");
+    f.commit();
 }
 
 SurfaceProperties readSurfaceProperties(const std::string& path)

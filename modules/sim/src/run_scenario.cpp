@@ -1,4 +1,5 @@
 #include "hymm/sim/run_scenario.h"
+#include <hymm/core/output_files.h>
 
 #include <hymm/io/OdometryRawlogWriter.h>
 #include <hymm/io/trajectory_io.h>
@@ -31,9 +32,7 @@ void writeLandmarks(const std::string& path, const World& world)
 
 void writeText(const std::string& path, const std::string& text)
 {
-    std::ofstream f(path);
-    f << text;
-    if (!f) throw std::runtime_error("cannot write '" + path + "'");
+    hymm::core::writeFileAtomically(path, text);
 }
 }  // namespace
 

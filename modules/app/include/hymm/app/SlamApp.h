@@ -22,6 +22,8 @@
  *  - metrics.json gains "dense": counts and memory per layer, and with --gt-objects the
  *    outline accuracy and coverage of every dense map against the true object outlines;
  *  - summary.txt gains one line per enabled layer.
+ *  - .hymm-outputs  the names of the files above that this run wrote (core::OutputFolder:
+ *                   the next run into the folder removes them first)
  */
 #pragma once
 
@@ -50,22 +52,29 @@ public:
         std::string gt_objects;      //!< true object outlines (simulator's *_gt_objects.txt)
         bool quiet = false;          //!< no progress lines
         bool png = true;             //!< write map.png
+        bool strict = false;         //!< a run warning (runWarnings) is an error
+        bool verbose = false;        //!< errors with MRPT's backtraces (the app prints them)
     };
 
     explicit SlamApp(Args args);
 
     /** Runs the whole job. Throws std::exception with a clear message on bad input;
-     *  nothing is written to out_dir before the config and rawlog have been opened. */
+     *  nothing is written to out_dir before the config and rawlog have been opened.
+     *  out_dir is then checked and made (core::OutputFolder: an earlier run's results
+     *  in it are removed) before the rawlog is processed; all files are written under
+     *  temporary names and appear only when every one was written, so a failed run
+     *  leaves no results. Run warnings (runWarnings) go to `log` and summary.txt; with
+     *  Args::strict they are an error (no results written). */
     void run(std::ostream& log);
 
     const DenseSlam& slam() const;
 
 private:
     /** Everything after the rawlog: files, figures, metrics, summary, timing. */
-    void writeOutputs(const io::GroundTruth* gt, const std::vector<dense::Polygon>& outlines,
-                      const MotionTruth& motion_truth,
+    void writeOutputs(const std::string& out, const io::GroundTruth* gt,
+                      const std::vector<dense::Polygon>& outlines, const MotionTruth& motion_truth,
                       const std::vector<FrameTiming>& timing, double run_s, size_t entries,
-                      std::ostream& log);
+                      const std::vector<std::string>& warnings);
 
     Args args_;
     std::unique_ptr<DenseSlam> slam_;

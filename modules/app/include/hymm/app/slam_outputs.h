@@ -132,9 +132,23 @@ void writeDenseMetrics(eval::MetricsJson& j, const DenseSlam& slam,
                        const std::vector<dense::Polygon>& outlines,
                        const std::vector<TrueTrunk>& true_landmarks = {});
 
+/**
+ * Run-level warnings: a run that cannot have done what was asked although every entry
+ * read cleanly. One sentence each, for stderr and summary.txt:
+ *  - the rawlog held no observation, or none of them was used (of a class this config
+ *    does not use, e.g. bearing-range readings under a laser-landmark config, or of a
+ *    class DenseSlam does not read: 3D scans, images, GPS...), or most were not used;
+ *  - no landmark observation reached the filter;
+ *  - no odometry (no prediction over several frames);
+ *  - frame time stamps went backwards.
+ * Empty for a healthy run. hymm-slam --strict fails on any of them.
+ */
+std::vector<std::string> runWarnings(const DenseSlam& slam);
+
 /** Human-readable counters and timing; with dense layers one line per enabled layer
- *  (what it holds and its memory). */
+ *  (what it holds and its memory). Observations of unsupported classes (by class name),
+ *  frames out of time order and `warnings` get lines when there are any. */
 void writeSummary(const DenseSlam& slam, double run_seconds, size_t entries,
-                  const std::string& file);
+                  const std::string& file, const std::vector<std::string>& warnings = {});
 
 }  // namespace hymm::app

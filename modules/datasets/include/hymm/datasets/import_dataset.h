@@ -18,6 +18,9 @@ namespace hymm::datasets
  * if needed; `config_file` (optional, may be empty) is an .ini with the importer's
  * section ([VictoriaParkImporter], [CarParkImporter], [MrclamImporter]).
  * Throws std::exception with a message naming the offending path/key on bad input.
+ * The outputs are written through core::OutputFolder: files of an earlier import into
+ * `out_dir` (its `.hymm-outputs` manifest) are removed first, and the new files appear
+ * only when the whole import succeeded, so a failure leaves no complete-looking rawlog.
  */
 ImportSummary importDataset(const std::string& format, const std::vector<std::string>& inputs,
                             const std::string& out_dir, const std::string& config_file = "");

@@ -207,6 +207,23 @@ public:
         size_t delayed_thinned = 0;
         size_t delayed_evicted = 0;
         size_t delayed_lost = 0;
+        // What the rawlog held and how much of it the run could use (hymm::app's run
+        // warnings read these).
+        size_t rawlog_observations = 0;  //!< non-null observations in frames and entries
+        /** Of a class DenseSlam reads but the config does not use: bearing-range with
+         *  laser landmarks only, 2D scans with bearing-range landmarks and no dense part. */
+        size_t observations_unused = 0;
+        /** Observations of classes DenseSlam does not read, by MRPT class name. */
+        std::map<std::string, size_t> unsupported;
+        size_t time_backwards = 0;  //!< frames stamped earlier than the previous stamped frame
+        size_t time_repeated = 0;   //!< frames stamped the same as the previous stamped frame
+        // Faults in well-formed rawlogs, each skipped or tolerated and counted.
+        size_t odometry_invalid = 0;  //!< NaN / inf odometry increments or readings, skipped
+        /** Frames repeating the previous one (same stamp, same observation classes and
+         *  stamps, no odometry in between): skipped, their information is not used twice. */
+        size_t frames_duplicate = 0;
+        size_t frames_without_odometry = 0;  //!< frames after the first with no prediction since the previous
+        size_t scans_without_valid_beam = 0;  //!< laser scans with every beam marked invalid (or none)
     };
 
     /** Builds the pipeline from an .ini: sections [DenseSlam], [EkfSlam], [TreeExtractor],
@@ -329,6 +346,11 @@ private:
     std::unique_ptr<dense::ClassicOccupancyGrid> classic_;
     std::unique_ptr<dynamic::SlamMotionHook> motion_;  //!< nullptr unless enabled
     double frame_t_ = 0;  //!< [s] time of the frame being processed (motion hook)
+    std::optional<double> last_stamp_;  //!< [s] stamp of the previous stamped frame
+    /** The previous frame as duplicate detection sees it: its observations' class names
+     *  and stamps, and the predictions made before it ended. */
+    std::vector<std::pair<const char*, mrpt::Clock::time_point>> last_frame_signature_;
+    size_t predictions_at_last_frame_ = 0;
     ltr::VirtualLandmarkOptions virtual_options_;
     std::unique_ptr<uif::DelayedDenseStore> store_;  //!< nullptr unless enabled
     std::set<long> virtual_ids_;  //!< passive blocks of ekf_ that are virtual landmarks

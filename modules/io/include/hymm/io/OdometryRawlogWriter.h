@@ -7,6 +7,11 @@
  *        converters. The action is marked emScan2DMatching, not emOdometry: MRPT
  *        rebuilds the covariance of an emOdometry action from its default motion model
  *        when reading it, so the covariance written here would be lost.
+ *
+ *        The rawlog is written as `<path>.tmp-<pid>` and renamed to `path` by close():
+ *        a writer destroyed without close() (an importer failing later) removes it, so
+ *        no complete-looking rawlog is left behind. Every write and the close are
+ *        checked; failures throw naming `path`.
  */
 #pragma once
 
@@ -19,18 +24,13 @@
 #include <string>
 #include <vector>
 
-namespace mrpt::io
-{
-class CFileGZOutputStream;
-}
-
 namespace hymm::io
 {
 class OdometryRawlogWriter
 {
 public:
-    /** Creates (truncates) `path` with the given gzip level (1 fast .. 9 small); throws
-     *  std::runtime_error naming the path on failure. */
+    /** Starts `path` (under its temporary name) with the given gzip level (1 fast .. 9
+     *  small); throws std::runtime_error naming the path on failure. */
     explicit OdometryRawlogWriter(const std::string& path, int compression_level = 1);
     ~OdometryRawlogWriter();
     OdometryRawlogWriter(const OdometryRawlogWriter&) = delete;
@@ -45,12 +45,16 @@ public:
 
     size_t frames() const { return frames_; }
 
-    /** Flushes and closes; throws if the stream reported an error. */
+    /** Flushes, closes and renames the file to its final name; throws if any write or
+     *  the close failed (the file is then removed). */
     void close();
 
 private:
+    void fail(const std::string& why);
+
     std::string path_;
-    std::unique_ptr<mrpt::io::CFileGZOutputStream> out_;
+    std::string tmp_path_;
+    void* gz_ = nullptr;  // gzFile
     size_t frames_ = 0;
 };
 

@@ -7,6 +7,16 @@
  * both at the end of the file and on a read error, this reader tells the two apart:
  * a clean end returns false, a missing, empty, truncated or corrupt file throws with
  * the path and the entry index, so a bad rawlog never passes for a short one.
+ *
+ * Hostile sizes: MRPT's deserialiser allocates what a count declares before reading
+ * the elements. The reader hands it a stream that knows how many bytes the file holds
+ * and refuses, before MRPT reads it, a count of the classes HYMM consumes that cannot
+ * fit in them (frames, action collections, 2D scans, bearing-range observations: see
+ * src/GuardedRawlogStream.h for the layouts and what is not guarded). Such an entry
+ * throws "declares N beams ... but only M bytes follow", and memory stays below about
+ * twice the file's uncompressed size (three times for bearing-range measurements).
+ * Gzip files are decompressed once when opened to count their bytes; corrupt gzip data
+ * is reported as corrupt, at the entry it cuts.
  */
 #pragma once
 
@@ -17,13 +27,13 @@
 #include <memory>
 #include <string>
 
-namespace mrpt::io
-{
-class CFileGZInputStream;
-}
-
 namespace hymm::io
 {
+namespace detail
+{
+class GuardedRawlogStream;
+}
+
 /** One rawlog entry: an action collection, a sensory frame, or a single observation
  *  (exactly one of the three is set). */
 struct RawlogEntry
@@ -36,7 +46,8 @@ struct RawlogEntry
 class RawlogReader
 {
 public:
-    /** Opens `path` (plain or gzip-compressed); throws if it does not exist. */
+    /** Opens `path` (plain or gzip-compressed); throws if it does not exist or cannot be
+     *  read. Reads the whole file once to count its uncompressed bytes. */
     explicit RawlogReader(const std::string& path);
     ~RawlogReader();
     RawlogReader(const RawlogReader&) = delete;
@@ -53,7 +64,7 @@ public:
 
 private:
     std::string path_;
-    std::unique_ptr<mrpt::io::CFileGZInputStream> stream_;
+    std::unique_ptr<detail::GuardedRawlogStream> stream_;
     size_t entries_ = 0;
 };
 

@@ -1,0 +1,102 @@
+/**
+ * @file GuardedRawlogStream.h
+ * @brief The byte stream RawlogReader hands to MRPT's deserialiser: a plain or gzip file
+ *        read through zlib, which knows how many uncompressed bytes the file holds and
+ *        refuses declared sizes that cannot fit in them.
+ *
+ * MRPT's serializeFrom() reads a count and resizes its containers before reading the
+ * elements (CObservation2DRangeScan::resizeScan(N), CSensoryFrame's vector of N
+ * observations, std::string lengths), so a rawlog declaring 0x10000000 beams makes it
+ * allocate gigabytes, or crash when the allocation fails, before the short read is
+ * noticed. This stream cannot see allocations, but it sees every read: when MRPT reads
+ * the class name of one of the classes HYMM consumes, the stream peeks at the bytes that
+ * follow (without consuming them), finds where that object's counts lie, and when MRPT
+ * is about to read a count, checks count x (smallest serialised size of an element) +
+ * the fixed fields after them against the bytes the file still holds. A count that does
+ * not fit throws RawlogSizeError before MRPT sees it. The serialised element size is
+ * chosen so that what MRPT then allocates stays below twice the remaining bytes.
+ *
+ * Guarded (MRPT 2.5 layouts): CSensoryFrame (v0-2) and CActionCollection (v0) element
+ * counts; CObservation2DRangeScan v6-7 beam count and sensor label; CObservationBearingRange
+ * v1-3 measurement count. Not guarded: older versions of these classes, and counts inside
+ * any other class (e.g. a CObservation3DRangeScan or CPosePDFParticles planted in a
+ * frame): MRPT's deserialiser allocates what those declare.
+ *
+ * The file is decompressed once when opened to count its bytes (and to find corrupt gzip
+ * data, so that it is reported as corrupt rather than as an early end).
+ */
+#pragma once
+
+#include <mrpt/io/CStream.h>
+
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace hymm::io::detail
+{
+/** A declared size that does not fit in the rest of the file. */
+struct RawlogSizeError : std::runtime_error
+{
+    using std::runtime_error::runtime_error;
+};
+
+class GuardedRawlogStream : public mrpt::io::CStream
+{
+public:
+    /** Opens `path` and counts its uncompressed bytes; throws std::runtime_error if it
+     *  cannot be opened. */
+    explicit GuardedRawlogStream(const std::string& path);
+    ~GuardedRawlogStream() override;
+    GuardedRawlogStream(const GuardedRawlogStream&) = delete;
+    GuardedRawlogStream& operator=(const GuardedRawlogStream&) = delete;
+
+    size_t Read(void* buffer, size_t count) override;
+    size_t Write(const void* buffer, size_t count) override;
+    uint64_t Seek(int64_t offset, TSeekOrigin origin = sFromBeginning) override;
+    uint64_t getTotalBytesCount() const override { return total_; }
+    uint64_t getPosition() const override { return pos_; }
+
+    /** Uncompressed bytes readable before the end or before corrupt data. */
+    uint64_t readableBytes() const { return total_; }
+    /** zlib's description of corrupt or truncated gzip data after readableBytes(); empty
+     *  when the whole file decompressed cleanly. */
+    const std::string& dataError() const { return data_error_; }
+    /** The message of the last RawlogSizeError thrown (MRPT may wrap it). */
+    const std::string& sizeError() const { return size_error_; }
+
+private:
+    /** At uncompressed offset `offset` MRPT reads a uint32 count of elements of at least
+     *  `element_bytes` serialised bytes each, followed by at least `tail_bytes` more. */
+    struct Checkpoint
+    {
+        uint64_t offset = 0;
+        uint64_t element_bytes = 0;
+        uint64_t tail_bytes = 0;
+        const char* what = "";
+        // 2D scans: after the beams, the sensor label's length is checked too.
+        bool scan_beams = false;
+        uint8_t scan_version = 0;
+    };
+
+    size_t rawRead(void* buffer, size_t count);
+    bool peek(uint64_t offset, void* out, size_t n);
+    void armFor(const std::string& class_name);
+    void checkCount(const Checkpoint& c);
+    /** Offset just past a serialised CPose3D object starting at `at` (v2/v3 layouts),
+     *  0 if the bytes there are not one. */
+    uint64_t skipPose3D(uint64_t at);
+
+    std::string path_;
+    void* gz_ = nullptr;  // gzFile
+    uint64_t total_ = 0;
+    uint64_t pos_ = 0;
+    std::string data_error_;
+    std::string size_error_;
+    std::vector<uint8_t> ahead_;  // bytes read from zlib but not yet consumed, from pos_
+    std::vector<Checkpoint> checkpoints_;
+    int last_read_byte_ = -1;  // value of the previous read when it was one byte
+};
+
+}  // namespace hymm::io::detail

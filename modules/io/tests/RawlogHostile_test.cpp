@@ -1,0 +1,310 @@
+// Mutated copies of the bundled chapter-3 rawlog: declared sizes that do not fit in the
+// file must end in a clear error naming the file and entry, within bounded memory.
+#include <gtest/gtest.h>
+#include <hymm/io/RawlogReader.h>
+#include <mrpt/system/filesystem.h>
+
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+#include <zlib.h>
+
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+namespace
+{
+#if defined(__SANITIZE_ADDRESS__)
+constexpr bool kSanitized = true;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+constexpr bool kSanitized = true;
+#else
+constexpr bool kSanitized = false;
+#endif
+#else
+constexpr bool kSanitized = false;
+#endif
+
+const std::string kSample = std::string(HYMM_SOURCE_DIR) + "/rawlogs/ch3_objects.rawlog";
+
+std::vector<uint8_t> gunzip(const std::string& path)
+{
+    gzFile f = gzopen(path.c_str(), "rb");
+    if (!f) throw std::runtime_error("cannot open " + path);
+    std::vector<uint8_t> out;
+    std::vector<uint8_t> buf(1 << 16);
+    int n = 0;
+    while ((n = gzread(f, buf.data(), static_cast<unsigned>(buf.size()))) > 0)
+        out.insert(out.end(), buf.begin(), buf.begin() + n);
+    gzclose(f);
+    return out;
+}
+
+std::string writeGz(const std::vector<uint8_t>& data)
+{
+    const std::string path = mrpt::system::getTempFileName() + ".rawlog";
+    gzFile f = gzopen(path.c_str(), "wb1");
+    gzwrite(f, data.data(), static_cast<unsigned>(data.size()));
+    gzclose(f);
+    return path;
+}
+
+// Offset just past the n-th (0-based) serialised class name `name` (as MRPT 2 writes it,
+// with its namespace).
+size_t afterClassName(const std::vector<uint8_t>& d, const std::string& short_name, size_t nth)
+{
+    const std::string name = (short_name == "CPose3D" ? "mrpt::poses::" : "mrpt::obs::") + short_name;
+    std::vector<uint8_t> pat{static_cast<uint8_t>(0x80 | name.size())};
+    pat.insert(pat.end(), name.begin(), name.end());
+    auto it = d.begin();
+    for (size_t i = 0;; ++i)
+    {
+        it = std::search(it, d.end(), pat.begin(), pat.end());
+        if (it == d.end()) throw std::runtime_error(name + " not found");
+        if (i == nth) return static_cast<size_t>(it - d.begin()) + pat.size();
+        ++it;
+    }
+}
+
+// Offset of the beam count of the n-th 2D scan (MRPT 2.5, version 7): version byte,
+// aperture, rightToLeft, maxRange, then a CPose3D object (v3: 12 doubles) and its end flag.
+size_t scanBeamCountOffset(const std::vector<uint8_t>& d, size_t nth)
+{
+    const size_t at = afterClassName(d, "CObservation2DRangeScan", nth);
+    EXPECT_EQ(d[at], 7) << "2D scan version";
+    const size_t pose = at + 1 + 9;
+    EXPECT_EQ(d[pose], 0x80 | 20) << "mrpt::poses::CPose3D";
+    EXPECT_EQ(d[pose + 21], 3) << "CPose3D version";
+    return pose + 22 + 96 + 1;
+}
+
+void putU32(std::vector<uint8_t>& d, size_t at, uint32_t v) { std::memcpy(&d[at], &v, 4); }
+uint32_t getU32(const std::vector<uint8_t>& d, size_t at)
+{
+    uint32_t v = 0;
+    std::memcpy(&v, &d[at], 4);
+    return v;
+}
+
+size_t virtualMemoryBytes()
+{
+    std::ifstream f("/proc/self/statm");
+    size_t pages = 0;
+    f >> pages;
+    return pages * static_cast<size_t>(sysconf(_SC_PAGESIZE));
+}
+
+struct ChildResult
+{
+    bool exited = false;
+    int code = -1;
+    int signal = 0;
+    std::string message;
+    long max_rss_kib = 0;
+};
+
+// Reads `path` to the end in a child process whose address space may grow by at most
+// `budget` bytes (no limit under ASan, whose shadow memory defeats RLIMIT_AS). Exit 0:
+// a runtime_error was thrown (its text comes back through a pipe); 1: no error.
+ChildResult readInChild(const std::string& path, size_t budget)
+{
+    int fds[2];
+    if (pipe(fds) != 0) throw std::runtime_error("pipe");
+    const pid_t pid = fork();
+    if (pid == 0)
+    {
+        close(fds[0]);
+        if (!kSanitized)
+        {
+            rlimit lim{};
+            lim.rlim_cur = lim.rlim_max = virtualMemoryBytes() + budget;
+            setrlimit(RLIMIT_AS, &lim);
+        }
+        int code = 1;
+        std::string msg;
+        try
+        {
+            hymm::io::RawlogReader r(path);
+            hymm::io::RawlogEntry e;
+            while (r.next(e))
+            {
+            }
+        }
+        catch (const std::runtime_error& e)
+        {
+            msg = e.what();
+            code = 0;
+        }
+        catch (const std::exception& e)
+        {
+            msg = std::string("other exception: ") + e.what();
+            code = 2;
+        }
+        if (write(fds[1], msg.data(), msg.size()) < 0) code = 3;
+        close(fds[1]);
+        _exit(code);
+    }
+    close(fds[1]);
+    ChildResult res;
+    char buf[4096];
+    ssize_t n = 0;
+    while ((n = read(fds[0], buf, sizeof(buf))) > 0) res.message.append(buf, static_cast<size_t>(n));
+    close(fds[0]);
+    int status = 0;
+    rusage ru{};
+    wait4(pid, &status, 0, &ru);
+    res.exited = WIFEXITED(status);
+    res.code = res.exited ? WEXITSTATUS(status) : -1;
+    res.signal = WIFSIGNALED(status) ? WTERMSIG(status) : 0;
+    res.max_rss_kib = ru.ru_maxrss;
+    return res;
+}
+
+// Budget: twice the uncompressed size plus a fixed margin for MRPT and zlib.
+size_t budgetFor(const std::vector<uint8_t>& data) { return 2 * data.size() + (64u << 20); }
+
+void expectCleanError(const std::string& path, const std::vector<uint8_t>& data,
+                      const std::string& entry, const std::string& what)
+{
+    const auto r = readInChild(path, budgetFor(data));
+    ASSERT_TRUE(r.exited) << "killed by signal " << r.signal;
+    ASSERT_EQ(r.code, 0) << r.message;
+    EXPECT_NE(r.message.find(path), std::string::npos) << r.message;
+    EXPECT_NE(r.message.find(entry), std::string::npos) << r.message;
+    EXPECT_NE(r.message.find(what), std::string::npos) << r.message;
+    // The peak of the child, which shares the parent's pages until it writes them.
+    EXPECT_LT(static_cast<size_t>(r.max_rss_kib) * 1024,
+              virtualMemoryBytes() + budgetFor(data)) << r.message;
+}
+
+TEST(RawlogHostileTest, SampleReadsCleanlyThroughTheGuard)
+{
+    const auto data = gunzip(kSample);
+    const auto path = writeGz(data);
+    const auto r = readInChild(path, budgetFor(data));
+    ASSERT_TRUE(r.exited);
+    EXPECT_EQ(r.code, 1) << r.message;
+    hymm::io::RawlogReader reader(kSample);
+    hymm::io::RawlogEntry e;
+    size_t scans = 0;
+    while (reader.next(e))
+        if (e.frame) scans += e.frame->size();
+    EXPECT_GT(scans, 400u);
+}
+
+TEST(RawlogHostileTest, HugeBeamCountIsRefusedBeforeAllocation)
+{
+    auto data = gunzip(kSample);
+    const size_t at = scanBeamCountOffset(data, 3);
+    ASSERT_GT(getU32(data, at), 0u);
+    ASSERT_LT(getU32(data, at), 100000u) << "not a beam count";
+    putU32(data, at, 0x10000000);
+    const auto path = writeGz(data);
+    expectCleanError(path, data, "entry ", "declares 268435456 beams");
+}
+
+TEST(RawlogHostileTest, BeamCountJustBeyondTheFileIsRefused)
+{
+    // Every other value fits; the count is as large as the rest of the file allows + 1.
+    auto data = gunzip(kSample);
+    const size_t at = scanBeamCountOffset(data, 0);
+    const auto left = static_cast<uint32_t>(data.size() - at - 4);
+    putU32(data, at, left / 5 + 1);
+    const auto path = writeGz(data);
+    expectCleanError(path, data, "entry 1", "beams");
+}
+
+TEST(RawlogHostileTest, HugeSensorLabelLengthIsRefused)
+{
+    auto data = gunzip(kSample);
+    const size_t at = scanBeamCountOffset(data, 5);
+    const uint32_t n = getU32(data, at);
+    const size_t label = at + 4 + 5 * size_t{n} + 16;
+    ASSERT_LT(getU32(data, label), 1000u) << "not a label length";
+    putU32(data, label, 0xF0000000u);
+    const auto path = writeGz(data);
+    expectCleanError(path, data, "entry ", "bytes of sensor label");
+}
+
+TEST(RawlogHostileTest, HugeObservationCountOfAFrameIsRefused)
+{
+    auto data = gunzip(kSample);
+    const size_t at = afterClassName(data, "CSensoryFrame", 2);
+    ASSERT_EQ(data[at], 2) << "CSensoryFrame version";
+    ASSERT_EQ(getU32(data, at + 1), 2u) << "observations in the frame";
+    putU32(data, at + 1, 0x20000000);
+    const auto path = writeGz(data);
+    expectCleanError(path, data, "entry 5", "declares 536870912 observations");
+}
+
+TEST(RawlogHostileTest, HugeMeasurementCountIsRefused)
+{
+    auto data = gunzip(kSample);
+    const size_t at = afterClassName(data, "CObservationBearingRange", 4);
+    ASSERT_EQ(data[at], 3) << "CObservationBearingRange version";
+    // v3 layout: 4 floats, CPose3D (v3), timestamp, validCovariances (+3 floats if false).
+    const size_t pose = at + 1 + 16;
+    ASSERT_EQ(data[pose], 0x80 | 20);
+    size_t cnt = pose + 22 + 96 + 1 + 8;
+    cnt += 1 + (data[cnt] ? 0 : 12);
+    ASSERT_LT(getU32(data, cnt), 10000u) << "not a measurement count";
+    putU32(data, cnt, 0x7FFFFFFF);
+    const auto path = writeGz(data);
+    expectCleanError(path, data, "entry ", "measurements");
+}
+
+TEST(RawlogHostileTest, CorruptGzipDataIsReportedAsCorrupt)
+{
+    std::ifstream in(kSample, std::ios::binary);
+    std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    ASSERT_GT(bytes.size(), 1000u);
+    for (size_t i = bytes.size() / 2; i < bytes.size() / 2 + 64; ++i) bytes[i] = static_cast<char>(~bytes[i]);
+    const std::string path = mrpt::system::getTempFileName() + ".rawlog";
+    std::ofstream(path, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    try
+    {
+        hymm::io::RawlogReader r(path);
+        hymm::io::RawlogEntry e;
+        while (r.next(e))
+        {
+        }
+        FAIL() << "corrupt gzip data read without an error";
+    }
+    catch (const std::runtime_error& e)
+    {
+        const std::string m = e.what();
+        EXPECT_NE(m.find("corrupt"), std::string::npos) << m;
+        EXPECT_NE(m.find("gzip"), std::string::npos) << m;
+        EXPECT_NE(m.find("entry"), std::string::npos) << m;
+        EXPECT_NE(m.find(path), std::string::npos) << m;
+    }
+}
+
+TEST(RawlogHostileTest, GzipCutShortIsReportedAsTruncated)
+{
+    std::ifstream in(kSample, std::ios::binary);
+    std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    bytes.resize(bytes.size() * 2 / 3);
+    const std::string path = mrpt::system::getTempFileName() + ".rawlog";
+    std::ofstream(path, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    hymm::io::RawlogReader r(path);
+    hymm::io::RawlogEntry e;
+    try
+    {
+        while (r.next(e))
+        {
+        }
+        FAIL() << "a cut gzip file read as complete";
+    }
+    catch (const std::runtime_error& ex)
+    {
+        EXPECT_NE(std::string(ex.what()).find("truncated"), std::string::npos) << ex.what();
+        EXPECT_GT(r.entriesRead(), 100u);
+    }
+}
+
+}  // namespace
