@@ -2,7 +2,8 @@
 """hymm-slam against MRPT's kf-slam filter over simul-landmarks noise regimes.
 
     nice -n 10 benchmarks/kfslam_compare/sweep.py [--work DIR] [--jobs 2] [--seeds 3] [--no-ff]
-                                                   [--steps 126] [--only NAME,NAME] [--table-only]
+                                                   [--kinds KIND,KIND] [--steps 126]
+                                                   [--only NAME,NAME] [--table-only]
 
 For every regime and seed: simul-landmarks writes the rawlog (known landmark IDs), then
 three runs on it:
@@ -224,6 +225,8 @@ def main():
     ap.add_argument("--steps", type=int, default=126)
     ap.add_argument("--only", default="", help="comma-separated regime names (default: all)")
     ap.add_argument("--no-ff", action="store_true", help="skip the kf-true-ff runs")
+    ap.add_argument("--kinds", default="",
+                    help="comma-separated runs to make (default: all; kf-true and hymm are required)")
     ap.add_argument("--table-only", action="store_true",
                     help="rewrite the table from the results of an earlier sweep in --work")
     a = ap.parse_args()
@@ -264,6 +267,12 @@ def main():
         t_start -= float(open(os.path.join(a.work, "wall_s")).read()) if os.path.exists(
             os.path.join(a.work, "wall_s")) else 0.0
     kinds = ("kf-sample", "kf-true", "hymm") if a.no_ff else ("kf-sample", "kf-true", "kf-true-ff", "hymm")
+    if a.kinds:
+        kinds = tuple(k.strip() for k in a.kinds.split(",") if k.strip())
+        unknown = set(kinds) - {"kf-sample", "kf-true", "kf-true-ff", "hymm"}
+        if unknown or not {"kf-true", "hymm"} <= set(kinds):
+            sys.exit(f"error: --kinds {a.kinds}: runs are kf-sample, kf-true, kf-true-ff, hymm; "
+                     "kf-true and hymm are required")
     with cf.ThreadPoolExecutor(max_workers=a.jobs) as pool:
         for name, over in regimes:
             ri = [r[0] for r in REGIMES].index(name)  # directory names follow REGIMES

@@ -8,6 +8,7 @@
 #include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
 #include <string>
 
@@ -15,21 +16,29 @@ namespace hymm::ekf
 {
 namespace
 {
-/** Deletes rows and columns [o, o + d) of a square matrix (marginalisation). */
-void eraseRowsCols(Eigen::MatrixXd& P, Eigen::Index o, Eigen::Index d)
+/** Deletes rows and columns [o, o + d) of the active n x n part of the covariance storage
+ *  in place (marginalisation): the later rows and columns move up and left by d. Cost
+ *  O(n (n - o)), small for the recent (tentative) landmarks that pruning removes; no
+ *  allocation, unlike building a fresh (n - d) x (n - d) matrix. */
+void eraseRowsColsInPlace(Eigen::MatrixXd& buf, Eigen::Index n, Eigen::Index o, Eigen::Index d)
 {
-    const Eigen::Index n = P.rows(), t = n - o - d;
-    Eigen::MatrixXd Q(n - d, n - d);
-    Q.topLeftCorner(o, o) = P.topLeftCorner(o, o);
-    Q.topRightCorner(o, t) = P.topRightCorner(o, t);
-    Q.bottomLeftCorner(t, o) = P.bottomLeftCorner(t, o);
-    Q.bottomRightCorner(t, t) = P.bottomRightCorner(t, t);
-    P.swap(Q);
+    const Eigen::Index t = n - o - d;  // rows / columns after the removed ones
+    if (t <= 0) return;
+    const auto bytes = [](Eigen::Index c) { return static_cast<size_t>(c) * sizeof(double); };
+    // Columns before o: only their tail rows move (within the column, overlapping).
+    for (Eigen::Index j = 0; j < o; ++j) std::memmove(&buf(o, j), &buf(o + d, j), bytes(t));
+    // Later columns move left by d (distinct columns, ascending: a source column is read
+    // before any write reaches it), their tail rows up by d.
+    for (Eigen::Index j = o; j < n - d; ++j)
+    {
+        std::memcpy(&buf(0, j), &buf(0, j + d), bytes(o));
+        std::memcpy(&buf(o, j), &buf(o + d, j + d), bytes(t));
+    }
 }
 
 /** Copies the strict lower triangle onto the upper one in cache-sized tiles (a plain
  *  row-by-row copy reads P with stride n and costs as much as a tenth of the update). */
-void mirrorLowerToUpper(Eigen::MatrixXd& P)
+void mirrorLowerToUpper(Eigen::Ref<Eigen::MatrixXd> P)
 {
     constexpr Eigen::Index kTile = 64;
     const Eigen::Index n = P.rows();
@@ -80,6 +89,19 @@ EkfSlam::EkfSlam(const Options& options)
     reset(Eigen::Vector3d::Zero(), Eigen::Matrix3d::Zero());
 }
 
+void EkfSlam::reserveStates(Eigen::Index n)
+{
+    if (Pbuf_.rows() >= n) return;
+    // Geometric growth (1.5x): a growing map reallocates O(log n) times, so appending k
+    // rows and columns costs O(n k) amortised instead of a fresh n x n matrix per batch.
+    // The spare part is zeroed once so that no entry of the storage is ever indeterminate.
+    const Eigen::Index cap = std::max({n, Pbuf_.rows() + Pbuf_.rows() / 2, Eigen::Index{64}});
+    Eigen::MatrixXd grown = Eigen::MatrixXd::Zero(cap, cap);
+    const Eigen::Index a = x_.size();
+    grown.topLeftCorner(a, a) = Pbuf_.topLeftCorner(a, a);
+    Pbuf_.swap(grown);
+}
+
 void EkfSlam::reset(const Eigen::Vector3d& pose, const Eigen::Matrix3d& cov)
 {
     checkCovariance(cov, 3, "EkfSlam::reset");
@@ -87,9 +109,10 @@ void EkfSlam::reset(const Eigen::Vector3d& pose, const Eigen::Matrix3d& cov)
     layout_.clear();
     passive_.clear();
     first_estimates_.clear();
+    reserveStates(3);
     x_ = pose;
     x_[2] = mrpt::math::wrapToPi(x_[2]);
-    P_ = 0.5 * (cov + cov.transpose());
+    activeP() = 0.5 * (cov + cov.transpose());
     predicted_pose_ = x_;
     last_F_.setIdentity();
     step_ = 0;
@@ -100,7 +123,7 @@ void EkfSlam::applyVehicleMotion(
     const Eigen::Vector3d& pose, const Eigen::Matrix3d& F_current, const Eigen::Matrix3d& Q)
 {
     // Eq. 2.36: the map is static, so only P_vv and the vehicle rows/columns change: O(n).
-    const Eigen::Index n = P_.rows(), nm = n - 3;
+    const Eigen::Index n = x_.size(), nm = n - 3;
     Eigen::Matrix3d F = F_current;
     if (options_.jacobians == LinearisationPoint::FirstEstimates)
     {
@@ -117,13 +140,14 @@ void EkfSlam::applyVehicleMotion(
     last_F_ = F;
     predicted_pose_ = pose;
     x_.head<3>() = pose;
-    const Eigen::Matrix3d Pvv = P_.topLeftCorner<3, 3>();
-    P_.topLeftCorner<3, 3>() = F * Pvv * F.transpose() + Q;
-    P_.topLeftCorner<3, 3>() = (0.5 * (P_.topLeftCorner<3, 3>() + P_.topLeftCorner<3, 3>().transpose())).eval();
+    auto P = activeP();
+    const Eigen::Matrix3d Pvv = P.topLeftCorner<3, 3>();
+    P.topLeftCorner<3, 3>() = F * Pvv * F.transpose() + Q;
+    P.topLeftCorner<3, 3>() = (0.5 * (P.topLeftCorner<3, 3>() + P.topLeftCorner<3, 3>().transpose())).eval();
     if (nm > 0)
     {
-        P_.topRightCorner(3, nm) = (F * P_.topRightCorner(3, nm)).eval();
-        P_.bottomLeftCorner(nm, 3) = P_.topRightCorner(3, nm).transpose();
+        P.topRightCorner(3, nm) = (F * P.topRightCorner(3, nm)).eval();
+        P.bottomLeftCorner(nm, 3) = P.topRightCorner(3, nm).transpose();
     }
     passive_.predictVehicle(F);
 }
@@ -208,7 +232,7 @@ const Eigen::VectorXd& EkfSlam::landmarkFirstEstimate(long id) const
 bool EkfSlam::fuse(
     const std::vector<Pairing>& pairs, const std::vector<RangeBearingObs>& obs, std::string& reason)
 {
-    const Eigen::Index n = P_.rows(), M = static_cast<Eigen::Index>(2 * pairs.size());
+    const Eigen::Index n = x_.size(), M = static_cast<Eigen::Index>(2 * pairs.size());
     // P H^T gathered from the vehicle columns and one landmark block per observation:
     // O(n m) instead of a dense H times P.
     Eigen::MatrixXd PHt(n, M);
@@ -217,7 +241,7 @@ bool EkfSlam::fuse(
         const auto& pr = pairs[a];
         const auto o = static_cast<Eigen::Index>(pr.offset);
         PHt.middleCols<2>(static_cast<Eigen::Index>(2 * a)).noalias() =
-            P_.leftCols<3>() * pr.Hv.transpose() + P_.middleCols<2>(o) * pr.Hl.transpose();
+            activeP().leftCols<3>() * pr.Hv.transpose() + activeP().middleCols<2>(o) * pr.Hl.transpose();
     }
     // S = H P H^T + R (Eq. 2.39), rows taken from P H^T; innovation with wrapped bearing.
     Eigen::MatrixXd S(M, M);
@@ -269,8 +293,8 @@ bool EkfSlam::fuse(
     // mirrored. This is algebraically the Joseph form for the optimal gain, keeps P exactly
     // symmetric and subtracts a PSD term built from a Cholesky factor; the explicit Joseph
     // form (I-KH)P(I-KH)^T + KRK^T would cost O(n^3) with a dense I-KH.
-    P_.selfadjointView<Eigen::Lower>().rankUpdate(Wt.transpose(), -1.0);
-    mirrorLowerToUpper(P_);
+    activeP().selfadjointView<Eigen::Lower>().rankUpdate(Wt.transpose(), -1.0);
+    mirrorLowerToUpper(activeP());
     return true;
 }
 
@@ -281,19 +305,21 @@ void EkfSlam::augment(const std::vector<std::pair<long, Eigen::VectorXd>>& block
     // Eq. 2.53 with Jacobian [I 0; G_v 0] of the augmented state wrt (x, z): the new rows
     // are G_v P_v* and the new diagonal block G_v P_vv G_v^T + G_z R G_z^T. Several blocks
     // at once also get their mutual terms G_va P_vv G_vb^T through the shared vehicle.
-    const Eigen::Index n = P_.rows(), k = G.rows();
+    const Eigen::Index n = x_.size(), k = G.rows();
     if (k == 0) return;
-    const Eigen::MatrixXd cross = G * P_.topRows<3>();  // k x n
-    const Eigen::MatrixXd Pnn = G * P_.topLeftCorner<3, 3>() * G.transpose() + noise;
+    const Eigen::MatrixXd cross = G * activeP().topRows<3>();  // k x n
+    const Eigen::MatrixXd Pnn = G * activeP().topLeftCorner<3, 3>() * G.transpose() + noise;
     // Passive rows: cov(x_p, new) = P_pv G_v^T.
     if (passive_.numBlocks() > 0)
         passive_.appendActiveColumns(passive_.crossAll().leftCols<3>() * G.transpose());
 
+    // Rows and columns appended in place into the spare capacity: O(n k).
+    reserveStates(n + k);
     x_.conservativeResize(n + k);
-    P_.conservativeResize(n + k, n + k);
-    P_.bottomLeftCorner(k, n) = cross;
-    P_.topRightCorner(n, k) = cross.transpose();
-    P_.bottomRightCorner(k, k) = 0.5 * (Pnn + Pnn.transpose());
+    auto P = activeP();
+    P.bottomLeftCorner(k, n) = cross;
+    P.topRightCorner(n, k) = cross.transpose();
+    P.bottomRightCorner(k, k) = 0.5 * (Pnn + Pnn.transpose());
     Eigen::Index row = n;
     for (const auto& [id, mean] : blocks)
     {
@@ -326,8 +352,8 @@ void EkfSlam::removeLandmark(long id)
     const LandmarkBlock b = layout_.remove(id);  // throws if unknown
     first_estimates_.erase(id);
     const auto o = static_cast<Eigen::Index>(b.offset), d = static_cast<Eigen::Index>(b.dim);
+    eraseRowsColsInPlace(Pbuf_, x_.size(), o, d);
     eraseEntries(x_, o, d);
-    eraseRowsCols(P_, o, d);
     passive_.removeActiveColumns(b.offset, static_cast<size_t>(b.dim));
 }
 
@@ -342,7 +368,7 @@ Eigen::MatrixXd EkfSlam::landmarkBlockCov(long id) const
 {
     const LandmarkBlock& b = layout_.get(id);
     const auto o = static_cast<Eigen::Index>(b.offset);
-    return P_.block(o, o, b.dim, b.dim);
+    return activeP().block(o, o, b.dim, b.dim);
 }
 
 Eigen::Vector2d EkfSlam::landmarkMean(long id) const
@@ -375,9 +401,12 @@ void EkfSlam::setActiveState(const Eigen::VectorXd& x, const Eigen::MatrixXd& P,
         b.times_seen = 1;
     }
     layout_ = layout;
-    x_ = x;
+    const Eigen::VectorXd x_new = x;  // x may be mean() itself
+    x_.resize(0);  // nothing of the old covariance is kept if the storage grows
+    reserveStates(x_new.size());
+    x_ = x_new;
     x_[2] = mrpt::math::wrapToPi(x_[2]);
-    P_ = 0.5 * (P + P.transpose());
+    activeP() = 0.5 * (P + P.transpose());
     passive_.clear();
     first_estimates_.clear();
     for (const auto& b : layout_.blocks())
@@ -399,8 +428,8 @@ void EkfSlam::addPassiveFromVehicle(long id, const Eigen::VectorXd& mean,
     if (G_v.rows() != mean.size() || G_v.cols() != 3)
         throw std::invalid_argument("EkfSlam::addPassiveFromVehicle: G_v must be dim x 3");
     checkCovariance(noise_cov, mean.size(), "EkfSlam::addPassiveFromVehicle(noise_cov)");
-    const Eigen::MatrixXd cov = G_v * P_.topLeftCorner<3, 3>() * G_v.transpose() + noise_cov;
-    passive_.add(id, mean, 0.5 * (cov + cov.transpose()), G_v * P_.topRows<3>(),
+    const Eigen::MatrixXd cov = G_v * activeP().topLeftCorner<3, 3>() * G_v.transpose() + noise_cov;
+    passive_.add(id, mean, 0.5 * (cov + cov.transpose()), G_v * activeP().topRows<3>(),
                  static_cast<size_t>(x_.size()));
 }
 
@@ -419,9 +448,9 @@ void EkfSlam::addPassiveFromLandmarks(long id, const Eigen::VectorXd& mean,
                                         std::to_string(lid) + " must be dim x landmark dim");
         offsets.push_back(static_cast<Eigen::Index>(b.offset));
     }
-    Eigen::MatrixXd cross = G[0].second * P_.middleRows(offsets[0], G[0].second.cols());
+    Eigen::MatrixXd cross = G[0].second * activeP().middleRows(offsets[0], G[0].second.cols());
     for (size_t i = 1; i < G.size(); ++i)
-        cross += G[i].second * P_.middleRows(offsets[i], G[i].second.cols());
+        cross += G[i].second * activeP().middleRows(offsets[i], G[i].second.cols());
     Eigen::MatrixXd cov = cross.middleCols(offsets[0], G[0].second.cols()) * G[0].second.transpose();
     for (size_t i = 1; i < G.size(); ++i)
         cov += cross.middleCols(offsets[i], G[i].second.cols()) * G[i].second.transpose();

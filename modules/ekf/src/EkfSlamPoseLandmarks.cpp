@@ -58,7 +58,7 @@ PoseUpdateReport EkfSlam::updatePoseLandmark(long id, const Eigen::Vector3d& z,
     Eigen::Vector3d nu = z - h;
     nu.z() = mrpt::math::wrapToPi(nu.z());
     // P H^T from the vehicle and the landmark columns only (H is zero elsewhere).
-    const Eigen::MatrixXd PHt = P_.leftCols<3>() * Hv.transpose() + P_.middleCols<3>(o) * Hl.transpose();
+    const Eigen::MatrixXd PHt = activeP().leftCols<3>() * Hv.transpose() + activeP().middleCols<3>(o) * Hl.transpose();
     Eigen::Matrix3d S = Hv * PHt.topRows<3>() + Hl * PHt.middleRows<3>(o) + R;
     S = (0.5 * (S + S.transpose())).eval();
     Eigen::LLT<Eigen::Matrix3d> llt(S);
@@ -93,8 +93,8 @@ PoseUpdateReport EkfSlam::updatePoseLandmark(long id, const Eigen::Vector3d& z,
     x_[2] = mrpt::math::wrapToPi(x_[2]);
     x_[o + 2] = mrpt::math::wrapToPi(x_[o + 2]);
     // P -= W W^T (the Joseph form for the optimal gain; see fuse()), kept symmetric.
-    P_.selfadjointView<Eigen::Lower>().rankUpdate(Wt.transpose(), -1.0);
-    P_.triangularView<Eigen::StrictlyUpper>() = P_.transpose().triangularView<Eigen::StrictlyUpper>();
+    activeP().selfadjointView<Eigen::Lower>().rankUpdate(Wt.transpose(), -1.0);
+    activeP().triangularView<Eigen::StrictlyUpper>() = activeP().transpose().triangularView<Eigen::StrictlyUpper>();
     ++layout_.get(id).times_seen;
     rep.outcome = PoseUpdateReport::Outcome::updated;
     return rep;

@@ -143,10 +143,10 @@ void EkfSlam::associateBatch(
         {
             // Individual NIS with the marginal S of this landmark (Eq. 2.58).
             const auto o = static_cast<Eigen::Index>(b.offset);
-            const Eigen::Matrix2d cross = pr.Hv * P_.block<3, 2>(0, o) * pr.Hl.transpose();
-            const Eigen::Matrix2d S = pr.Hv * P_.topLeftCorner<3, 3>() * pr.Hv.transpose() +
+            const Eigen::Matrix2d cross = pr.Hv * activeP().block<3, 2>(0, o) * pr.Hl.transpose();
+            const Eigen::Matrix2d S = pr.Hv * activeP().topLeftCorner<3, 3>() * pr.Hv.transpose() +
                                       cross + cross.transpose() +
-                                      pr.Hl * P_.block<2, 2>(o, o) * pr.Hl.transpose() + obs[i].R;
+                                      pr.Hl * activeP().block<2, 2>(o, o) * pr.Hl.transpose() + obs[i].R;
             const Eigen::Vector2d nu = rangeBearingInnovation(obs[i].z, pr.h);
             if (!(nu.dot(S.ldlt().solve(nu)) < known_gate))
             {
@@ -164,17 +164,17 @@ void EkfSlam::associateBatch(
     // blocks); landmarks inside some observation's creation gate become the candidates.
     const double creation_gate = mrpt::math::chi2inv(options_.creation_gate_prob, 2);
     std::vector<Pairing> cand;
-    const Eigen::Matrix3d Pvv = P_.topLeftCorner<3, 3>();
+    const Eigen::Matrix3d Pvv = activeP().topLeftCorner<3, 3>();
     for (size_t k = 0; k < layout_.blocks().size(); ++k)
     {
         const LandmarkBlock& b = layout_.blocks()[k];
         if (b.dim != 2 || taken[k]) continue;
         const auto o = static_cast<Eigen::Index>(b.offset);
         Pairing pr = makePairing(0, b, sensor);
-        const Eigen::Matrix2d Pvl_term = pr.Hv * P_.block<3, 2>(0, o) * pr.Hl.transpose();
+        const Eigen::Matrix2d Pvl_term = pr.Hv * activeP().block<3, 2>(0, o) * pr.Hl.transpose();
         const Eigen::Matrix2d S0 = pr.Hv * Pvv * pr.Hv.transpose() + Pvl_term +
                                    Pvl_term.transpose() +
-                                   pr.Hl * P_.block<2, 2>(o, o) * pr.Hl.transpose();
+                                   pr.Hl * activeP().block<2, 2>(o, o) * pr.Hl.transpose();
         bool near = false;
         for (size_t i : unknown)
         {
@@ -194,14 +194,14 @@ void EkfSlam::associateBatch(
     }
     const auto kc = static_cast<Eigen::Index>(cand.size());
     // Joint C = H P H^T over the candidates, from gathered P H^T columns (O(n k + k^2)).
-    Eigen::MatrixXd PHt(P_.rows(), 2 * kc);
+    Eigen::MatrixXd PHt(activeP().rows(), 2 * kc);
     for (Eigen::Index a = 0; a < kc; ++a)
     {
         const auto& pr = cand[static_cast<size_t>(a)];
         prob.h.push_back(pr.h);
         PHt.middleCols<2>(2 * a).noalias() =
-            P_.leftCols<3>() * pr.Hv.transpose() +
-            P_.middleCols<2>(static_cast<Eigen::Index>(pr.offset)) * pr.Hl.transpose();
+            activeP().leftCols<3>() * pr.Hv.transpose() +
+            activeP().middleCols<2>(static_cast<Eigen::Index>(pr.offset)) * pr.Hl.transpose();
     }
     prob.C.resize(2 * kc, 2 * kc);
     for (Eigen::Index a = 0; a < kc; ++a)

@@ -215,6 +215,66 @@ TEST(EkfSlamTest, AugmentationMatchesDenseJacobianForm)
     EXPECT_GT(minEigenvalue(f.cov()), -1e-12);
 }
 
+TEST(EkfSlamTest, StorageGrowthAndInPlaceRemovalKeepEveryEntry)
+{
+    // The covariance lives in storage with spare capacity (grown 1.5x from 64 states):
+    // many additions (crossing several growths) and removals at random positions, each
+    // checked against a dense copy kept by hand. Untouched entries must be bit-identical.
+    std::mt19937 rng(11);
+    EkfSlam f = randomFilter(rng, 2);
+    Eigen::MatrixXd Pref = f.cov();
+    Eigen::VectorXd xref = f.mean();
+    std::uniform_real_distribution<double> u(-1.0, 1.0), coin(0.0, 1.0);
+    for (int it = 0; it < 300; ++it)
+    {
+        const Eigen::Index n = Pref.rows();
+        if (coin(rng) < 0.3 && f.numLandmarks() > 1)
+        {
+            const std::vector<long> ids = f.landmarkIds();
+            const long id = ids[static_cast<size_t>(coin(rng) * static_cast<double>(ids.size())) % ids.size()];
+            const auto o = static_cast<Eigen::Index>(f.landmarkBlock(id).offset);
+            const Eigen::Index d = f.landmarkBlock(id).dim, t = n - o - d;
+            f.removeLandmark(id);
+            Eigen::MatrixXd Q(n - d, n - d);
+            Q << Pref.topLeftCorner(o, o), Pref.topRightCorner(o, t), Pref.bottomLeftCorner(t, o),
+                Pref.bottomRightCorner(t, t);
+            Pref = Q;
+            Eigen::VectorXd y(n - d);
+            y << xref.head(o), xref.tail(t);
+            xref = y;
+        }
+        else
+        {
+            const int d = coin(rng) < 0.2 ? 3 : 2;
+            Eigen::VectorXd mean(d);
+            Eigen::MatrixXd G(d, 3);
+            for (int i = 0; i < d; ++i) mean[i] = 10.0 * u(rng);
+            for (int i = 0; i < d * 3; ++i) G(i) = u(rng);
+            const Eigen::MatrixXd noise = randomSpd(rng, d, 1e-3, 0.1);
+            f.addLandmark(mean, G, noise);
+            ASSERT_EQ(f.cov().rows(), n + d);
+            // The old block is kept bit for bit; the new rows follow Eq. 2.53.
+            EXPECT_TRUE(f.cov().topLeftCorner(n, n) == Pref) << "iteration " << it;
+            const Eigen::MatrixXd cross = G * Pref.topRows<3>();
+            const Eigen::MatrixXd Pnn = G * Pref.topLeftCorner<3, 3>() * G.transpose() + noise;
+            EXPECT_LT((f.cov().bottomLeftCorner(d, n) - cross).cwiseAbs().maxCoeff(), 1e-12);
+            EXPECT_LT((f.cov().bottomRightCorner(d, d) - Pnn).cwiseAbs().maxCoeff(), 1e-12);
+            Pref = f.cov();
+            xref.conservativeResize(n + d);
+            xref.tail(d) = mean;
+        }
+        ASSERT_TRUE(f.cov() == Pref) << "iteration " << it;
+        ASSERT_TRUE(f.mean() == xref) << "iteration " << it;
+        ASSERT_TRUE(f.cov() == f.cov().transpose()) << "iteration " << it;
+    }
+    EXPECT_GT(f.cov().rows(), 216);  // crossed the growths 64 -> 96 -> 144 -> 216 -> 324
+    // A copy is an independent filter with the same state.
+    EkfSlam g(f);
+    EXPECT_TRUE(g.cov() == f.cov());
+    g.removeLandmark(g.landmarkIds().front());
+    EXPECT_TRUE(f.cov() == Pref);
+}
+
 TEST(EkfSlamTest, GenericBlockAugmentationAndRemovalKeepTheRestIntact)
 {
     std::mt19937 rng(5);

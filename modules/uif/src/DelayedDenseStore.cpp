@@ -43,7 +43,7 @@ Mat9 jointCovariance(
         v[k] = ekf.mean().segment<2>(off[k]);
     }
     const Eigen::MatrixXd C = ekf.passive().crossCov(passive_id);  // 3 x n_a
-    const Eigen::MatrixXd& P = ekf.cov();
+    const Eigen::Ref<const Eigen::MatrixXd> P = ekf.cov();  // a view, no copy
     Mat9 S;
     S.topLeftCorner<3, 3>() = ekf.passive().cov(passive_id);
     for (int j = 0; j < 3; ++j)

@@ -12,7 +12,11 @@
  *  - update O(n^2 m): P H^T is gathered from the vehicle and one landmark block per
  *    observation (O(n m), never a dense H times P), then P -= W W^T is one symmetric
  *    rank-2m update with W = P H^T L^-T, S = L L^T (Eq. 2.44-2.47 rearranged);
- *  - augmentation O(n k) for k new landmarks plus one O(n^2) reallocation per batch.
+ *  - augmentation O(n k) for k new landmarks: the covariance lives in storage with spare
+ *    capacity (grown 1.5x when full, O(log n) reallocations over a growing map) and new
+ *    rows and columns are written in place;
+ *  - removal of a block at offset o O(n (n - o)) in place (pruned tentative landmarks are
+ *    the most recent, at the end of the state).
  */
 #pragma once
 
@@ -175,7 +179,7 @@ public:
     // ---- Active state access ----
 
     Eigen::Vector3d vehiclePose() const { return x_.head<3>(); }
-    Eigen::Matrix3d vehicleCov() const { return P_.topLeftCorner<3, 3>(); }
+    Eigen::Matrix3d vehicleCov() const { return activeP().topLeftCorner<3, 3>(); }
     size_t numLandmarks() const { return layout_.numLandmarks(); }
     std::vector<long> landmarkIds() const { return layout_.ids(); }
     bool hasLandmark(long id) const { return layout_.has(id); }
@@ -187,7 +191,11 @@ public:
     Eigen::VectorXd landmarkBlockMean(long id) const;
     Eigen::MatrixXd landmarkBlockCov(long id) const;
     const Eigen::VectorXd& mean() const { return x_; }  //!< active states
-    const Eigen::MatrixXd& cov() const { return P_; }   //!< active states
+    /** Covariance of the active states: a view of the filter's storage (n x n, outer
+     *  stride = the storage's capacity), valid until the state size changes (an update
+     *  that adds or prunes landmarks, addLandmark, removeLandmark, reset, setActiveState).
+     *  Assign it to an Eigen::MatrixXd to keep a copy. */
+    Eigen::Ref<const Eigen::MatrixXd> cov() const { return activeP(); }
     const StateLayout& layout() const { return layout_; }
     long currentStep() const { return step_; }
 
@@ -300,8 +308,19 @@ private:
 
     const Options options_;
     StateLayout layout_;
-    Eigen::VectorXd x_;
-    Eigen::MatrixXd P_;
+    /** Active part of the covariance storage: the top-left n x n, n = x_.size(). */
+    Eigen::Block<Eigen::MatrixXd> activeP() { return Pbuf_.topLeftCorner(x_.size(), x_.size()); }
+    Eigen::Block<const Eigen::MatrixXd> activeP() const
+    {
+        return Pbuf_.topLeftCorner(x_.size(), x_.size());
+    }
+    /** Grows the covariance storage to hold at least n states, keeping the active part. */
+    void reserveStates(Eigen::Index n);
+
+    Eigen::VectorXd x_;  //!< active states (exact size)
+    /** Covariance storage, capacity x capacity with capacity >= x_.size(); only activeP()
+     *  is meaningful (the rest is spare room for new landmarks). */
+    Eigen::MatrixXd Pbuf_;
     PassiveStates passive_;
     /** Mean of every active block when it was added (LinearisationPoint::FirstEstimates). */
     std::unordered_map<long, Eigen::VectorXd> first_estimates_;
