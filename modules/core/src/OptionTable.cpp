@@ -74,12 +74,23 @@ OptionTable& OptionTable::include(OptionTable other)
 OptionTable& OptionTable::real(const std::string& name, double& member, const std::string& unit,
                                Range range, const std::string& doc, double scale)
 {
+    if (scale == 1.0) return realConverted(name, member, unit, range, doc, nullptr, nullptr);
+    return realConverted(
+        name, member, unit, range, doc, [scale](double v) { return scale * v; },
+        [scale](double m) { return m / scale; });
+}
+
+OptionTable& OptionTable::realConverted(const std::string& name, double& member, const std::string& unit,
+                                        Range range, const std::string& doc,
+                                        std::function<double(double)> to_member,
+                                        std::function<double(double)> to_file)
+{
     OptionKey k;
     k.name = name;
     k.unit = unit;
     k.range = range.text();
     k.doc = doc;
-    k.parse = [&member, range, name, scale](const std::string& s, const std::string& raw) {
+    k.parse = [&member, range, name, to_member](const std::string& s, const std::string& raw) {
         char* end = nullptr;
         errno = 0;
         const double d = std::strtod(raw.c_str(), &end);
@@ -87,16 +98,19 @@ OptionTable& OptionTable::real(const std::string& name, double& member, const st
             throwConfigError(s, name, raw, "not a number");
         if (!std::isfinite(d)) throwConfigError(s, name, raw, "must be finite");
         if (!range.contains(d)) throwConfigError(s, name, raw, "out of range, must be " + range.text());
-        member = scale == 1.0 ? d : scale * d;
+        member = to_member ? to_member(d) : d;
     };
-    k.format = [&member, scale]() { return formatReal(scale == 1.0 ? member : member / scale); };
+    k.format = [&member, to_file]() { return formatReal(to_file ? to_file(member) : member); };
     return add(std::move(k));
 }
 
 OptionTable& OptionTable::degrees(const std::string& name, double& member_rad, Range range_deg,
                                   const std::string& doc)
 {
-    return real(name, member_rad, "deg", range_deg, doc, M_PI / 180.0);
+    // mrpt::DEG2RAD's rounding (x * pi / 180), so values stay bit-identical to MRPT's.
+    return realConverted(
+        name, member_rad, "deg", range_deg, doc, [](double v) { return v * M_PI / 180.0; },
+        [](double m) { return m * 180.0 / M_PI; });
 }
 
 void OptionTable::addInteger(const std::string& name, const std::string& unit, long long lo,

@@ -101,17 +101,22 @@ StrictConfigFile::StrictConfigFile(const std::string& text, const std::string& n
         if (!section.empty() && section_keys == 0)
             fail(name, section_line, "section [" + section + "] holds no key", section);
     };
+    // Binary content first: garbage must not be reported as a malformed line.
+    int byte_line = 1;
+    for (unsigned char c : text)
+    {
+        if (c == '\n')
+            ++byte_line;
+        else if ((c < 0x20 && c != '\t' && c != '\r') || c == 0x7f)
+        {
+            std::ostringstream h;
+            h << std::hex << static_cast<unsigned>(c);
+            fail(name, byte_line, "binary content (byte 0x" + h.str() + "), not an .ini text");
+        }
+    }
     while (std::getline(is, raw))
     {
         ++line;
-        for (unsigned char c : raw)
-            if ((c < 0x20 && c != '\t' && c != '\r') || c == 0x7f)
-                fail(name, line, "binary content (byte 0x" +
-                                     [](unsigned v) {
-                                         std::ostringstream h;
-                                         h << std::hex << v;
-                                         return h.str();
-                                     }(c) + "), not an .ini text");
         const std::string l = trim(raw);
         if (l.empty() || l[0] == ';' || l[0] == '#') continue;
         if (l[0] == '[')

@@ -59,7 +59,7 @@ TEST(OptionTableTest, LoadsPresentKeysAndKeepsDefaultsOfAbsentOnes)
     Opts o;
     o.table().load(cfg, "S");
     EXPECT_EQ(o.gain, 0.25);
-    EXPECT_EQ(o.angle, 45 * (M_PI / 180.0));
+    EXPECT_EQ(o.angle, 45 * M_PI / 180.0);
     EXPECT_EQ(o.budget, 7u);
     EXPECT_EQ(o.mode, Mode::B);
     EXPECT_EQ(o.count, 3);  // absent: unchanged

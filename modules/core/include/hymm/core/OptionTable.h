@@ -77,7 +77,8 @@ public:
      *  member = scale * value). Non-finite values are errors. */
     OptionTable& real(const std::string& name, double& member, const std::string& unit, Range range,
                       const std::string& doc, double scale = 1.0);
-    /** A real number in degrees stored in radians (member = value * pi/180). */
+    /** A real number in degrees stored in radians, rounded as mrpt::DEG2RAD
+     *  (member = value * pi / 180). */
     OptionTable& degrees(const std::string& name, double& member_rad, Range range_deg,
                          const std::string& doc);
     /** An integer within [lo, hi] (and within the member's type). */
@@ -148,6 +149,9 @@ public:
 
 private:
     OptionTable& add(OptionKey k);
+    OptionTable& realConverted(const std::string& name, double& member, const std::string& unit, Range range,
+                               const std::string& doc, std::function<double(double)> to_member,
+                               std::function<double(double)> to_file);
     void addInteger(const std::string& name, const std::string& unit, long long lo, long long hi,
                     const std::string& doc, std::function<void(long long)> set,
                     std::function<long long()> get);
