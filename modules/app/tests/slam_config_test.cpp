@@ -95,6 +95,23 @@ TEST(SlamConfigTest, MalformedFilesAreClearErrors)
     EXPECT_EQ(errorOf("[EkfSlam]\nassociation_method = jcbb\n"), "");
 }
 
+// [Laser] owns a laser return's noise; the keys it replaced still work (deprecated) unless
+// [Laser] sets the same quantity.
+TEST(SlamConfigTest, LaserSectionSetsTheNoiseOfEveryUser)
+{
+    const auto slam = loadSlamConfig(StrictConfigFile::fromText(
+        "[DenseSlam]\ndense_layers = particles,sog\n[Laser]\nstd_range_m = 0.2\nstd_bearing_deg = 2\n", "l.ini"));
+    EXPECT_EQ(slam.options().laser_std_range, 0.2);
+    EXPECT_EQ(slam.options().laser_std_bearing, 2 * (M_PI / 180.0));
+    const auto old = loadSlamConfig(StrictConfigFile::fromText("[DenseSlam]\nlaser_std_range = 0.3\n", "o.ini"));
+    EXPECT_EQ(old.options().laser_std_range, 0.3);
+    expectError("[DenseSlam]\nlaser_std_range = 0.3\n[Laser]\nstd_range_m = 0.2\n",
+                "line 2: [DenseSlam] laser_std_range=0.3: the laser noise is set in [Laser] std_range_m");
+    expectError("[SogLayer]\nbearing_std_deg = 1\n[Laser]\nstd_bearing_deg = 2\n",
+                "[SogLayer] bearing_std_deg=1: the laser noise is set in [Laser] std_bearing_deg");
+    expectError("[Laser]\nstd_range_m = 0\n", "line 2: [Laser] std_range_m=0: out of range, must be (0, 10]");
+}
+
 // The saver writes every declared key and the loader reads back the same values: a save
 // of the defaults, loaded into fresh options, saves identically (also for scaled keys).
 TEST(SlamConfigTest, EverySectionRoundTripsThroughSaveAndLoad)
