@@ -1,6 +1,6 @@
 #include "hymm/app/ConsistencyStudy.h"
 
-#include <hymm/core/config_utils.h>
+#include <hymm/app/slam_config.h>
 #include <hymm/denseslam/DenseSlam.h>
 #include <hymm/app/slam_outputs.h>
 #include <hymm/eval/TrajectoryEvaluator.h>
@@ -79,7 +79,9 @@ ConsistencyStudy::Result ConsistencyStudy::run() const
         scenario.run.laps = laps;
         scenario.run.duration_s = 0;
     }
-    const auto slam_cfg = core::openConfigFile(slam_ini);
+    const core::StrictConfigFile slam_file(slam_ini);
+    loadSlamConfig(slam_file);  // every error before the first run
+    const auto* slam_cfg = &slam_file.config();
 
     std::vector<RunOutcome> runs;
     for (long seed : seeds)

@@ -6,6 +6,7 @@
 
 #include <hymm/core/config_utils.h>
 #include <hymm/core/output_files.h>
+#include <hymm/app/slam_config.h>
 #include <hymm/io/RawlogReader.h>
 #include <hymm/io/ground_truth_io.h>
 #include <hymm/app/MapPlot.h>
@@ -71,8 +72,7 @@ void SlamApp::run(std::ostream& log)
         throw std::invalid_argument("hymm-slam needs --config, --rawlog and --out");
 
     // Inputs first: a bad config or rawlog must fail before anything is written.
-    const auto cfg = core::openConfigFile(args_.config);
-    slam_ = std::make_unique<DenseSlam>(DenseSlam::fromConfig(*cfg));
+    slam_ = std::make_unique<DenseSlam>(loadSlamConfig(args_.config));
     io::RawlogReader reader(args_.rawlog);
     std::optional<io::GroundTruth> gt;
     if (!args_.gt_path.empty() || !args_.gt_landmarks.empty() || !args_.gt_objects.empty())

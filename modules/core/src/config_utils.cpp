@@ -34,7 +34,7 @@ bool rawValue(
 
 [[noreturn]] void throwMissing(const std::string& section, const std::string& key)
 {
-    throw std::invalid_argument("[" + section + "] required key '" + key + "' is missing");
+    throw ConfigError("[" + section + "] required key '" + key + "' is missing", section, key);
 }
 }  // namespace
 
@@ -42,7 +42,7 @@ void throwConfigError(
     const std::string& section, const std::string& key, const std::string& value,
     const std::string& what)
 {
-    throw std::invalid_argument("[" + section + "] " + key + "=" + value + ": " + what);
+    throw ConfigError("[" + section + "] " + key + "=" + value + ": " + what, section, key);
 }
 
 std::unique_ptr<mrpt::config::CConfigFileBase> openConfigFile(const std::string& path)
@@ -74,7 +74,7 @@ void checkKnownKeys(
             ss << "[" << section << "] unknown key '" << k << "' (known:";
             for (const auto& kk : known) ss << " " << kk;
             ss << ")";
-            throw std::invalid_argument(ss.str());
+            throw ConfigError(ss.str(), section, k);
         }
     }
 }

@@ -6,27 +6,30 @@
 
 namespace hymm::dense
 {
+hymm::core::OptionTable ClassicOccupancyGrid::Options::table()
+{
+    using namespace hymm::core;
+    OptionTable t;
+    t.real("x_min_m", x_min_m, "m", between(-1e5, 1e5), "predefined map area (cell size from `[OccupancyLayer]`)");
+    t.real("x_max_m", x_max_m, "m", between(-1e5, 1e5), "predefined map area (> x_min_m)");
+    t.real("y_min_m", y_min_m, "m", between(-1e5, 1e5), "predefined map area");
+    t.real("y_max_m", y_max_m, "m", between(-1e5, 1e5), "predefined map area (> y_min_m)");
+    t.real("max_range_m", max_range_m, "m", above(0, 1000), "returns beyond are free space only");
+    return t;
+}
+
 void ClassicOccupancyGrid::Options::loadFromConfigFile(
     const mrpt::config::CConfigFileBase& cfg, const std::string& s)
 {
-    using namespace hymm::core;
-    checkKnownKeys(cfg, s, {"x_min_m", "x_max_m", "y_min_m", "y_max_m", "max_range_m"});
-    x_min_m = readDouble(cfg, s, "x_min_m", x_min_m);
-    x_max_m = readDouble(cfg, s, "x_max_m", x_max_m);
-    y_min_m = readDouble(cfg, s, "y_min_m", y_min_m);
-    y_max_m = readDouble(cfg, s, "y_max_m", y_max_m);
-    max_range_m = readDoubleMin(cfg, s, "max_range_m", max_range_m, 0.0, true);
+    table().load(cfg, s);
     validate(s);
 }
 
 void ClassicOccupancyGrid::Options::saveToConfigFile(
     mrpt::config::CConfigFileBase& cfg, const std::string& s) const
 {
-    cfg.write(s, "x_min_m", x_min_m);
-    cfg.write(s, "x_max_m", x_max_m);
-    cfg.write(s, "y_min_m", y_min_m);
-    cfg.write(s, "y_max_m", y_max_m);
-    cfg.write(s, "max_range_m", max_range_m);
+    auto copy = *this;
+    copy.table().save(cfg, s);
 }
 
 void ClassicOccupancyGrid::Options::validate(const std::string& s) const

@@ -6,44 +6,40 @@
 
 namespace hymm::dense
 {
+hymm::core::OptionTable HybridMetricMap::Options::table()
+{
+    using namespace hymm::core;
+    OptionTable t;
+    t.flag("enable_points", enable_points, "keep raw returns (Sec. 3.9); `[DenseSlam] dense_layers` overrides");
+    t.flag("enable_occupancy", enable_occupancy, "keep occupancy grids (Sec. 4.1); `[DenseSlam] dense_layers` overrides");
+    t.flag("enable_particles", enable_particles, "keep particle sets (Sec. 4.2); `[DenseSlam] dense_layers` overrides");
+    t.flag("enable_sog", enable_sog, "keep sums of Gaussians (Sec. 4.3); `[DenseSlam] dense_layers` overrides");
+    t.flag("enable_property", enable_property, "keep scalar property grids; `[DenseSlam] dense_layers` overrides");
+    t.real("max_range_m", max_range_m, "m", above(0, 1000), "returns beyond are free space only (Table 4.1)");
+    t.real("no_return_free_range_m", no_return_free_range_m, "m", atLeast(0, 1000),
+           "beams with no return are free space up to min(this, `max_range_m`); 0 = off");
+    t.integer("coarsen_every_n_scans", coarsen_every_n_scans, "scans", 0, 1000000,
+              "insertScan() runs coarsenIdleRegions() every n scans; 0 = only when called");
+    t.real("fallback_max_distance_m", fallback_max_distance_m, "m", atLeast(0, 1e4),
+           "a return in no region is kept in the frame of the nearest region whose current triangle is at most "
+           "this far (`FallbackTiles.h`); 0 = off");
+    t.real("fallback_tile_m", fallback_tile_m, "m", above(0, 1e4), "side of the square fallback tiles (two triangles each)");
+    t.flag("enable_profiler", enable_profiler, "CTimeLogger sections `dense.*`");
+    return t;
+}
+
 void HybridMetricMap::Options::loadFromConfigFile(
     const mrpt::config::CConfigFileBase& cfg, const std::string& s)
 {
-    using namespace hymm::core;
-    checkKnownKeys(
-        cfg, s,
-        {"enable_points", "enable_occupancy", "enable_particles", "enable_sog", "enable_property", "max_range_m",
-         "no_return_free_range_m", "coarsen_every_n_scans", "fallback_max_distance_m", "fallback_tile_m",
-         "enable_profiler"});
-    enable_points = readBool(cfg, s, "enable_points", enable_points);
-    enable_occupancy = readBool(cfg, s, "enable_occupancy", enable_occupancy);
-    enable_particles = readBool(cfg, s, "enable_particles", enable_particles);
-    enable_sog = readBool(cfg, s, "enable_sog", enable_sog);
-    enable_property = readBool(cfg, s, "enable_property", enable_property);
-    max_range_m = readDoubleMin(cfg, s, "max_range_m", max_range_m, 0.0, true);
-    no_return_free_range_m = readDoubleMin(cfg, s, "no_return_free_range_m", no_return_free_range_m, 0.0, false);
-    coarsen_every_n_scans = static_cast<int>(readInt(cfg, s, "coarsen_every_n_scans", coarsen_every_n_scans));
-    fallback_max_distance_m =
-        readDoubleMin(cfg, s, "fallback_max_distance_m", fallback_max_distance_m, 0.0, false);
-    fallback_tile_m = readDoubleMin(cfg, s, "fallback_tile_m", fallback_tile_m, 0.0, true);
-    enable_profiler = readBool(cfg, s, "enable_profiler", enable_profiler);
+    table().load(cfg, s);
     validate(s);
 }
 
 void HybridMetricMap::Options::saveToConfigFile(
     mrpt::config::CConfigFileBase& cfg, const std::string& s) const
 {
-    cfg.write(s, "enable_points", enable_points);
-    cfg.write(s, "enable_occupancy", enable_occupancy);
-    cfg.write(s, "enable_particles", enable_particles);
-    cfg.write(s, "enable_sog", enable_sog);
-    cfg.write(s, "enable_property", enable_property);
-    cfg.write(s, "max_range_m", max_range_m);
-    cfg.write(s, "no_return_free_range_m", no_return_free_range_m);
-    cfg.write(s, "coarsen_every_n_scans", coarsen_every_n_scans);
-    cfg.write(s, "fallback_max_distance_m", fallback_max_distance_m);
-    cfg.write(s, "fallback_tile_m", fallback_tile_m);
-    cfg.write(s, "enable_profiler", enable_profiler);
+    auto copy = *this;
+    copy.table().save(cfg, s);
 }
 
 void HybridMetricMap::Options::loadAll(const mrpt::config::CConfigFileBase& cfg)

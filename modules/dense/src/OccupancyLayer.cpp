@@ -29,38 +29,35 @@ Eigen::Vector2d boxHi(const hymm::ltr::TriangleFrame::Vertices& v)
 }
 }  // namespace
 
+hymm::core::OptionTable OccupancyLayer::Options::table()
+{
+    using namespace hymm::core;
+    OptionTable t;
+    t.real("cell_size_m", cell_size_m, "m", between(0.001, 100), "local grid cell");
+    t.real("prob_hit", prob_hit, "", openInterval(0, 1), "inverse sensor model at the cell of a return (> prob_prior)");
+    t.real("prob_miss", prob_miss, "", openInterval(0, 1), "inverse sensor model along the beam before it (< prob_prior)");
+    t.real("prob_prior", prob_prior, "", openInterval(0, 1), "P(C_i) before any observation");
+    t.real("prob_clamp_min", prob_clamp_min, "", openInterval(0, 1), "lower clamp of the posterior (<= prob_prior)");
+    t.real("prob_clamp_max", prob_clamp_max, "", openInterval(0, 1), "upper clamp of the posterior (>= prob_prior)");
+    t.real("coarse_cell_size_m", coarse_cell_size_m, "m", between(0, 1000),
+           "cell after coarsen(); 0 = never coarsen, else > cell_size_m");
+    t.real("coarsen_cells_percent", coarsen_cells_percent, "", above(0, 1), "fraction of free cells needed to coarsen");
+    t.real("coarsen_min_prob", coarsen_min_prob, "", openInterval(0, 1), "a cell is free below this P");
+    return t;
+}
+
 void OccupancyLayer::Options::loadFromConfigFile(
     const mrpt::config::CConfigFileBase& cfg, const std::string& s)
 {
-    using namespace hymm::core;
-    checkKnownKeys(
-        cfg, s,
-        {"cell_size_m", "prob_hit", "prob_miss", "prob_prior", "prob_clamp_min", "prob_clamp_max",
-         "coarse_cell_size_m", "coarsen_cells_percent", "coarsen_min_prob"});
-    cell_size_m = readDoubleMin(cfg, s, "cell_size_m", cell_size_m, 0.0, true);
-    prob_hit = readDouble(cfg, s, "prob_hit", prob_hit);
-    prob_miss = readDouble(cfg, s, "prob_miss", prob_miss);
-    prob_prior = readDouble(cfg, s, "prob_prior", prob_prior);
-    prob_clamp_min = readDouble(cfg, s, "prob_clamp_min", prob_clamp_min);
-    prob_clamp_max = readDouble(cfg, s, "prob_clamp_max", prob_clamp_max);
-    coarse_cell_size_m = readDouble(cfg, s, "coarse_cell_size_m", coarse_cell_size_m);
-    coarsen_cells_percent = readDouble(cfg, s, "coarsen_cells_percent", coarsen_cells_percent);
-    coarsen_min_prob = readDouble(cfg, s, "coarsen_min_prob", coarsen_min_prob);
+    table().load(cfg, s);
     validate(s);
 }
 
 void OccupancyLayer::Options::saveToConfigFile(
     mrpt::config::CConfigFileBase& cfg, const std::string& s) const
 {
-    cfg.write(s, "cell_size_m", cell_size_m);
-    cfg.write(s, "prob_hit", prob_hit);
-    cfg.write(s, "prob_miss", prob_miss);
-    cfg.write(s, "prob_prior", prob_prior);
-    cfg.write(s, "prob_clamp_min", prob_clamp_min);
-    cfg.write(s, "prob_clamp_max", prob_clamp_max);
-    cfg.write(s, "coarse_cell_size_m", coarse_cell_size_m);
-    cfg.write(s, "coarsen_cells_percent", coarsen_cells_percent);
-    cfg.write(s, "coarsen_min_prob", coarsen_min_prob);
+    auto copy = *this;
+    copy.table().save(cfg, s);
 }
 
 void OccupancyLayer::Options::validate(const std::string& s) const

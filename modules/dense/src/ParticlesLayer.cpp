@@ -72,49 +72,43 @@ void checkFinite(const RegionScan& scan)
 }
 }  // namespace
 
+hymm::core::OptionTable ParticlesLayer::Options::table()
+{
+    using namespace hymm::core;
+    OptionTable t;
+    t.integer("samples_per_return", samples_per_return, "", 1, 10000, "samples drawn from the sensor model per return");
+    t.real("range_std_m", range_std_m, "m", above(0, 10), "sensor range noise when the scan carries none (Table 4.1); hymm-slam: `[Laser] std_range_m`");
+    t.real("bearing_std_deg", bearing_std_deg, "deg", openInterval(0, 60),
+           "sensor bearing noise when the scan carries none (Table 4.1); hymm-slam: `[Laser] std_bearing_deg`");
+    t.real("prob_min", prob_min, "", openInterval(0, 0.5), "p_min of Eq. 4.4: occupancy deep in free space");
+    t.real("prob_max", prob_max, "", openInterval(0.5, 1), "p_max of Eq. 4.4: occupancy at the return");
+    t.real("d_min_m", d_min_m, "m", above(0, 100), "association distance, Eq. 4.10 (Sec. 4.2.3)");
+    t.flag("position_averaging", position_averaging, "move associated particles to the mean (Sec. 4.2.3)");
+    t.flag("free_space_update", free_space_update, "step 4: vacated areas lose weight");
+    t.flag("free_space_protection", free_space_protection,
+           "the free-space step leaves particles explained by a return of the scan (`d_min`) or hidden behind one of "
+           "their own beams' returns");
+    t.real("min_weight", min_weight, "", halfOpen(0, 0.5), "particles below are removed");
+    t.real("max_weight", max_weight, "", halfOpen(0.5, 1), "upper clamp so particles stay revisable (>= prob_max)");
+    t.integer("max_particles", max_particles, "", 0, 100000000, "per region; 0 = unbounded (thesis: no subsampling)");
+    t.integer("random_seed", random_seed, "", std::numeric_limits<int>::min(), std::numeric_limits<int>::max(),
+              "mixed with the region's vertices: reproducible maps");
+    t.real("render_min_weight", render_min_weight, "", between(0, 1), "renderInto draws particles with w >= this");
+    return t;
+}
+
 void ParticlesLayer::Options::loadFromConfigFile(
     const mrpt::config::CConfigFileBase& cfg, const std::string& s)
 {
-    using namespace hymm::core;
-    checkKnownKeys(
-        cfg, s,
-        {"samples_per_return", "range_std_m", "bearing_std_deg", "prob_min", "prob_max", "d_min_m",
-         "position_averaging", "free_space_update", "free_space_protection", "min_weight", "max_weight",
-         "max_particles", "random_seed", "render_min_weight"});
-    samples_per_return = static_cast<int>(readInt(cfg, s, "samples_per_return", samples_per_return));
-    range_std_m = readDouble(cfg, s, "range_std_m", range_std_m);
-    bearing_std_deg = readDouble(cfg, s, "bearing_std_deg", bearing_std_deg);
-    prob_min = readDouble(cfg, s, "prob_min", prob_min);
-    prob_max = readDouble(cfg, s, "prob_max", prob_max);
-    d_min_m = readDouble(cfg, s, "d_min_m", d_min_m);
-    position_averaging = readBool(cfg, s, "position_averaging", position_averaging);
-    free_space_update = readBool(cfg, s, "free_space_update", free_space_update);
-    free_space_protection = readBool(cfg, s, "free_space_protection", free_space_protection);
-    min_weight = readDouble(cfg, s, "min_weight", min_weight);
-    max_weight = readDouble(cfg, s, "max_weight", max_weight);
-    max_particles = static_cast<int>(readInt(cfg, s, "max_particles", max_particles));
-    random_seed = static_cast<int>(readInt(cfg, s, "random_seed", random_seed));
-    render_min_weight = readDouble(cfg, s, "render_min_weight", render_min_weight);
+    table().load(cfg, s);
     validate(s);
 }
 
 void ParticlesLayer::Options::saveToConfigFile(
     mrpt::config::CConfigFileBase& cfg, const std::string& s) const
 {
-    cfg.write(s, "samples_per_return", samples_per_return);
-    cfg.write(s, "range_std_m", range_std_m);
-    cfg.write(s, "bearing_std_deg", bearing_std_deg);
-    cfg.write(s, "prob_min", prob_min);
-    cfg.write(s, "prob_max", prob_max);
-    cfg.write(s, "d_min_m", d_min_m);
-    cfg.write(s, "position_averaging", position_averaging);
-    cfg.write(s, "free_space_update", free_space_update);
-    cfg.write(s, "free_space_protection", free_space_protection);
-    cfg.write(s, "min_weight", min_weight);
-    cfg.write(s, "max_weight", max_weight);
-    cfg.write(s, "max_particles", max_particles);
-    cfg.write(s, "random_seed", random_seed);
-    cfg.write(s, "render_min_weight", render_min_weight);
+    auto copy = *this;
+    copy.table().save(cfg, s);
 }
 
 void ParticlesLayer::Options::validate(const std::string& s) const

@@ -11,19 +11,26 @@
 
 namespace hymm::dense
 {
+hymm::core::OptionTable PointsLayer::Options::table()
+{
+    using namespace hymm::core;
+    OptionTable t;
+    t.real("voxel_size_m", voxel_size_m, "m", between(0, 100), "keep one point per voxel; 0 = keep every return");
+    return t;
+}
+
 void PointsLayer::Options::loadFromConfigFile(
     const mrpt::config::CConfigFileBase& cfg, const std::string& s)
 {
-    using namespace hymm::core;
-    checkKnownKeys(cfg, s, {"voxel_size_m"});
-    voxel_size_m = readDoubleMin(cfg, s, "voxel_size_m", voxel_size_m, 0.0, false);
+    table().load(cfg, s);
     validate(s);
 }
 
 void PointsLayer::Options::saveToConfigFile(
     mrpt::config::CConfigFileBase& cfg, const std::string& s) const
 {
-    cfg.write(s, "voxel_size_m", voxel_size_m);
+    auto copy = *this;
+    copy.table().save(cfg, s);
 }
 
 void PointsLayer::Options::validate(const std::string& s) const

@@ -37,19 +37,27 @@ CellRange rangeOver(
 }
 }  // namespace
 
-void PropertyLayer::Options::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& s)
+hymm::core::OptionTable PropertyLayer::Options::table()
 {
     using namespace hymm::core;
-    checkKnownKeys(cfg, s, {"cell_size_m", "default_value_std"});
-    cell_size_m = readDouble(cfg, s, "cell_size_m", cell_size_m);
-    default_value_std = readDouble(cfg, s, "default_value_std", default_value_std);
+    OptionTable t;
+    t.real("cell_size_m", cell_size_m, "m", between(0.001, 100), "local cell (reference frame)");
+    t.real("default_value_std", default_value_std, "value units", above(0, 1e9), "used when a return has no std");
+    return t;
+}
+
+void PropertyLayer::Options::loadFromConfigFile(
+    const mrpt::config::CConfigFileBase& cfg, const std::string& s)
+{
+    table().load(cfg, s);
     validate(s);
 }
 
-void PropertyLayer::Options::saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& s) const
+void PropertyLayer::Options::saveToConfigFile(
+    mrpt::config::CConfigFileBase& cfg, const std::string& s) const
 {
-    cfg.write(s, "cell_size_m", cell_size_m);
-    cfg.write(s, "default_value_std", default_value_std);
+    auto copy = *this;
+    copy.table().save(cfg, s);
 }
 
 void PropertyLayer::Options::validate(const std::string& s) const

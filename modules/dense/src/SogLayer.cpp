@@ -48,11 +48,6 @@ bool isCovariance(const Eigen::Matrix2d& p)
 {
     return p.allFinite() && p(0, 1) == p(1, 0) && p(0, 0) > 0 && p(1, 1) > 0 && p.determinant() > 0;
 }
-
-const char* ruleName(SogLayer::FusionRule r)
-{
-    return r == SogLayer::FusionRule::Product ? "product" : "average";
-}
 }  // namespace
 
 double majorSigma(const Eigen::Matrix2d& cov)
@@ -61,33 +56,33 @@ double majorSigma(const Eigen::Matrix2d& cov)
     return std::sqrt(std::max(0.0, es.eigenvalues()(1)));
 }
 
-void SogLayer::Options::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& s)
+hymm::core::OptionTable SogLayer::Options::table()
 {
     using namespace hymm::core;
-    checkKnownKeys(cfg, s, {"range_std_m", "bearing_std_deg", "d_min_m", "k", "fusion_rule", "cutoff_sigmas"});
-    range_std_m = readDouble(cfg, s, "range_std_m", range_std_m);
-    bearing_std_deg = readDouble(cfg, s, "bearing_std_deg", bearing_std_deg);
-    d_min_m = readDouble(cfg, s, "d_min_m", d_min_m);
-    k = readDouble(cfg, s, "k", k);
-    const std::string rule = readString(cfg, s, "fusion_rule", ruleName(fusion_rule));
-    if (rule == "average")
-        fusion_rule = FusionRule::Average;
-    else if (rule == "product")
-        fusion_rule = FusionRule::Product;
-    else
-        throwConfigError(s, "fusion_rule", rule, "must be 'average' (Eq. 4.17-4.20) or 'product'");
-    cutoff_sigmas = readDouble(cfg, s, "cutoff_sigmas", cutoff_sigmas);
+    OptionTable t;
+    t.real("range_std_m", range_std_m, "m", above(0, 10), "sensor range noise when the scan carries none (Table 4.1); hymm-slam: `[Laser] std_range_m`");
+    t.real("bearing_std_deg", bearing_std_deg, "deg", openInterval(0, 60),
+           "sensor bearing noise when the scan carries none (Table 4.1); hymm-slam: `[Laser] std_bearing_deg`");
+    t.real("d_min_m", d_min_m, "m", above(0, 100), "fusion distance of the means (Sec. 4.3.3)");
+    t.real("k", k, "", above(0, 100), "Eq. 4.18 factor (Sec. 4.3.3)");
+    t.choice("fusion_rule", fusion_rule, {{"average", FusionRule::Average}, {"product", FusionRule::Product}},
+             "Eq. 4.17-4.20 average, or the Bayesian product");
+    t.real("cutoff_sigmas", cutoff_sigmas, "sigmas", above(0, 100), "surface rendering ignores a Gaussian beyond this");
+    return t;
+}
+
+void SogLayer::Options::loadFromConfigFile(
+    const mrpt::config::CConfigFileBase& cfg, const std::string& s)
+{
+    table().load(cfg, s);
     validate(s);
 }
 
-void SogLayer::Options::saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& s) const
+void SogLayer::Options::saveToConfigFile(
+    mrpt::config::CConfigFileBase& cfg, const std::string& s) const
 {
-    cfg.write(s, "range_std_m", range_std_m);
-    cfg.write(s, "bearing_std_deg", bearing_std_deg);
-    cfg.write(s, "d_min_m", d_min_m);
-    cfg.write(s, "k", k);
-    cfg.write(s, "fusion_rule", std::string(ruleName(fusion_rule)));
-    cfg.write(s, "cutoff_sigmas", cutoff_sigmas);
+    auto copy = *this;
+    copy.table().save(cfg, s);
 }
 
 void SogLayer::Options::validate(const std::string& s) const

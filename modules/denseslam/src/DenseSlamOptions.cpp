@@ -2,9 +2,10 @@
 // and the sections of the dense part, and fromConfig.
 #include "hymm/denseslam/DenseSlam.h"
 
-#include <hymm/core/config_utils.h>
+#include <hymm/core/OptionTable.h>
 
 #include <cmath>
+#include <iostream>
 #include <sstream>
 #include <string>
 
@@ -13,32 +14,6 @@ namespace hymm::denseslam
 namespace
 {
 constexpr double kDeg = M_PI / 180.0;
-
-DenseSlam::LandmarkSource parseSource(const std::string& s, const std::string& section)
-{
-    if (s == "bearing_range") return DenseSlam::LandmarkSource::BearingRange;
-    if (s == "laser_trees") return DenseSlam::LandmarkSource::LaserTrees;
-    if (s == "both") return DenseSlam::LandmarkSource::Both;
-    if (s == "laser_reflectors") return DenseSlam::LandmarkSource::LaserReflectors;
-    if (s == "laser_reflectors_and_trees")
-        return DenseSlam::LandmarkSource::LaserReflectorsAndTrees;
-    core::throwConfigError(section, "landmark_source", s,
-                           "must be one of bearing_range, laser_trees, both, laser_reflectors, "
-                           "laser_reflectors_and_trees");
-}
-
-const char* sourceName(DenseSlam::LandmarkSource s)
-{
-    switch (s)
-    {
-        case DenseSlam::LandmarkSource::BearingRange: return "bearing_range";
-        case DenseSlam::LandmarkSource::LaserTrees: return "laser_trees";
-        case DenseSlam::LandmarkSource::LaserReflectors: return "laser_reflectors";
-        case DenseSlam::LandmarkSource::LaserReflectorsAndTrees:
-            return "laser_reflectors_and_trees";
-        default: return "both";
-    }
-}
 
 const char* const kDenseLayersHelp =
     "must be none, or a comma-separated list of points, occupancy, particles, sog, property "
@@ -83,56 +58,62 @@ std::string denseLayersName(const DenseSlam::Options& o)
 }
 }  // namespace
 
+core::OptionTable DenseSlam::Options::table()
+{
+    using namespace hymm::core;
+    OptionTable t;
+    t.choice("landmark_source", landmark_source,
+             {{"bearing_range", LandmarkSource::BearingRange},
+              {"laser_trees", LandmarkSource::LaserTrees},
+              {"both", LandmarkSource::Both},
+              {"laser_reflectors", LandmarkSource::LaserReflectors},
+              {"laser_reflectors_and_trees", LandmarkSource::LaserReflectorsAndTrees}},
+             "where landmark observations come from (see Landmark sources)");
+    t.flag("use_landmark_ids", use_landmark_ids, "use the ids the rawlog carries; false: data association");
+    t.real("odometry_cov_scale", odometry_cov_scale, "", above(0, 1e6), "multiplies the odometry covariance of the rawlog");
+    t.real("odometry_std_xy", odometry_std_xy, "m", atLeast(0, 100), "added in quadrature to the odometry (per step)");
+    t.real("odometry_std_phi_deg", odometry_std_phi, "deg", atLeast(0, 180),
+           "added in quadrature to the odometry heading (per step)", kDeg);
+    t.real("sensor_std_range", sensor_std_range, "m", atLeast(0, 100),
+           "> 0 overrides the range noise of every landmark observation");
+    t.real("sensor_std_bearing_deg", sensor_std_bearing, "deg", atLeast(0, 90),
+           "> 0 overrides the bearing noise of every landmark observation", kDeg);
+    t.real("min_range", min_range, "m", atLeast(0, 1e5), "observations closer than this are skipped");
+    t.real("max_range", max_range, "m", above(0, 1e9), "observations farther than this are skipped (> min_range)");
+    t.flag("enable_profiler", enable_profiler, "CTimeLogger sections `denseslam.*`");
+    OptionKey layers;
+    layers.name = "dense_layers";
+    layers.range = "`none` or a list of `points`, `occupancy`, `particles`, `sog`, `property`";
+    layers.doc = "layers of the HybridMetricMap; overrides `[HybridMetricMap] enable_*`";
+    layers.parse = [this](const std::string& s, const std::string& raw) { parseDenseLayers(raw, s, *this); };
+    layers.format = [this]() { return denseLayersName(*this); };
+    t.custom(std::move(layers));
+    t.flag("classic_grid", classic_grid, "also build the classic occupancy-grid baseline (`[ClassicOccupancyGrid]`)");
+    t.real("laser_std_range", laser_std_range, "m", above(0, 10), "deprecated in hymm-slam: `[Laser] std_range_m`. Laser range noise (delayed store covariances)");
+    t.real("laser_std_bearing_deg", laser_std_bearing, "deg", above(0, 60),
+           "deprecated in hymm-slam: `[Laser] std_bearing_deg`. Laser bearing noise (delayed store covariances)", kDeg);
+    t.real("max_local_std_m", max_local_std_m, "m", atLeast(0, 1000),
+           "a scan is fused into a region only while its returns' error in the region's frame is at most this "
+           "(Sec. 3.6, 3.7.3); 0 = always fuse");
+    t.real("same_object_distance_m", same_object_distance, "m", atLeast(0, 100),
+           "laser_reflectors_and_trees: a tree this close to a reflector of the same scan is the same object; "
+           "0 = beam overlap only");
+    return t;
+}
+
 void DenseSlam::Options::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
                                             const std::string& s)
 {
-    core::checkKnownKeys(cfg, s,
-                         {"landmark_source", "use_landmark_ids", "odometry_cov_scale",
-                          "odometry_std_xy", "odometry_std_phi_deg", "sensor_std_range",
-                          "sensor_std_bearing_deg", "min_range", "max_range", "enable_profiler",
-                          "dense_layers", "classic_grid", "laser_std_range",
-                          "laser_std_bearing_deg", "max_local_std_m", "same_object_distance_m"});
-    landmark_source = parseSource(core::readString(cfg, s, "landmark_source", sourceName(landmark_source)), s);
-    use_landmark_ids = core::readBool(cfg, s, "use_landmark_ids", use_landmark_ids);
-    odometry_cov_scale = core::readDoubleMin(cfg, s, "odometry_cov_scale", odometry_cov_scale, 0.0, true);
-    odometry_std_xy = core::readDoubleMin(cfg, s, "odometry_std_xy", odometry_std_xy, 0.0, false);
-    odometry_std_phi =
-        kDeg * core::readDoubleMin(cfg, s, "odometry_std_phi_deg", odometry_std_phi / kDeg, 0.0, false);
-    sensor_std_range = core::readDoubleMin(cfg, s, "sensor_std_range", sensor_std_range, 0.0, false);
-    sensor_std_bearing = kDeg * core::readDoubleMin(cfg, s, "sensor_std_bearing_deg",
-                                                    sensor_std_bearing / kDeg, 0.0, false);
-    min_range = core::readDoubleMin(cfg, s, "min_range", min_range, 0.0, false);
-    max_range = core::readDoubleMin(cfg, s, "max_range", max_range, min_range, true);
-    enable_profiler = core::readBool(cfg, s, "enable_profiler", enable_profiler);
-    parseDenseLayers(core::readString(cfg, s, "dense_layers", denseLayersName(*this)), s, *this);
-    classic_grid = core::readBool(cfg, s, "classic_grid", classic_grid);
-    laser_std_range = core::readDoubleMin(cfg, s, "laser_std_range", laser_std_range, 0.0, true);
-    laser_std_bearing = kDeg * core::readDoubleMin(cfg, s, "laser_std_bearing_deg",
-                                                   laser_std_bearing / kDeg, 0.0, true);
-    max_local_std_m = core::readDoubleMin(cfg, s, "max_local_std_m", max_local_std_m, 0.0, false);
-    same_object_distance =
-        core::readDoubleMin(cfg, s, "same_object_distance_m", same_object_distance, 0.0, false);
+    table().load(cfg, s);
+    if (!(max_range > min_range))
+        core::throwConfigError(s, "max_range", core::formatReal(max_range), "must be > min_range");
 }
 
 void DenseSlam::Options::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
                                           const std::string& s) const
 {
-    cfg.write(s, "landmark_source", sourceName(landmark_source));
-    cfg.write(s, "use_landmark_ids", use_landmark_ids);
-    cfg.write(s, "odometry_cov_scale", odometry_cov_scale);
-    cfg.write(s, "odometry_std_xy", odometry_std_xy);
-    cfg.write(s, "odometry_std_phi_deg", odometry_std_phi / kDeg);
-    cfg.write(s, "sensor_std_range", sensor_std_range);
-    cfg.write(s, "sensor_std_bearing_deg", sensor_std_bearing / kDeg);
-    cfg.write(s, "min_range", min_range);
-    cfg.write(s, "max_range", max_range);
-    cfg.write(s, "enable_profiler", enable_profiler);
-    cfg.write(s, "dense_layers", denseLayersName(*this));
-    cfg.write(s, "classic_grid", classic_grid);
-    cfg.write(s, "laser_std_range", laser_std_range);
-    cfg.write(s, "laser_std_bearing_deg", laser_std_bearing / kDeg);
-    cfg.write(s, "max_local_std_m", max_local_std_m);
-    cfg.write(s, "same_object_distance_m", same_object_distance);
+    auto copy = *this;
+    copy.table().save(cfg, s);
 }
 
 void DenseSlam::DenseOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg)
@@ -144,6 +125,58 @@ void DenseSlam::DenseOptions::loadFromConfigFile(const mrpt::config::CConfigFile
     classic.loadFromConfigFile(cfg, "ClassicOccupancyGrid");
     dynamic.loadAll(cfg, "DynamicSlam");
 }
+
+core::OptionTable DenseSlam::LaserOptions::table()
+{
+    using namespace hymm::core;
+    OptionTable t;
+    t.real("std_range_m", std_range_m, "m", above(0, 10),
+           "range noise of a laser return: delayed store covariances, particle and SOG sensor models");
+    t.real("std_bearing_deg", std_bearing_deg, "deg", openInterval(0, 60),
+           "bearing noise of a laser return (same users)");
+    return t;
+}
+
+namespace
+{
+/** [Laser] owns the raw-return noise; the keys it replaces are deprecated. */
+void applyLaser(const mrpt::config::CConfigFileBase& cfg, DenseSlam::Options& o,
+                dense::HybridMetricMap::Options& h)
+{
+    DenseSlam::LaserOptions laser;
+    laser.table().load(cfg, "Laser");
+    struct Old
+    {
+        const char* section;
+        const char* key;
+        const char* laser_key;
+    };
+    static const Old old_keys[] = {{"DenseSlam", "laser_std_range", "std_range_m"},
+                                   {"DenseSlam", "laser_std_bearing_deg", "std_bearing_deg"},
+                                   {"ParticlesLayer", "range_std_m", "std_range_m"},
+                                   {"ParticlesLayer", "bearing_std_deg", "std_bearing_deg"},
+                                   {"SogLayer", "range_std_m", "std_range_m"},
+                                   {"SogLayer", "bearing_std_deg", "std_bearing_deg"}};
+    for (const auto& k : old_keys)
+    {
+        if (!cfg.keyExists(k.section, k.key)) continue;
+        const std::string value = cfg.read_string(k.section, k.key, "", false);
+        if (cfg.keyExists("Laser", k.laser_key))
+            core::throwConfigError(k.section, k.key, value,
+                                   std::string("the laser noise is set in [Laser] ") + k.laser_key +
+                                       "; remove this key");
+        std::cerr << "warning: [" << k.section << "] " << k.key << " is deprecated: set [Laser] "
+                  << k.laser_key << " instead\n";
+    }
+    if (cfg.keyExists("Laser", "std_range_m"))
+        o.laser_std_range = h.particles.range_std_m = h.sog.range_std_m = laser.std_range_m;
+    if (cfg.keyExists("Laser", "std_bearing_deg"))
+    {
+        o.laser_std_bearing = kDeg * laser.std_bearing_deg;
+        h.particles.bearing_std_deg = h.sog.bearing_std_deg = laser.std_bearing_deg;
+    }
+}
+}  // namespace
 
 DenseSlam DenseSlam::fromConfig(const mrpt::config::CConfigFileBase& cfg)
 {
@@ -157,6 +190,7 @@ DenseSlam DenseSlam::fromConfig(const mrpt::config::CConfigFileBase& cfg)
     r.loadFromConfigFile(cfg, "ReflectorExtractor");
     DenseOptions d;
     d.loadFromConfigFile(cfg);
+    applyLaser(cfg, o, d.hybrid);
     return DenseSlam(o, e, t, r, d);
 }
 

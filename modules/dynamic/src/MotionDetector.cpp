@@ -79,36 +79,34 @@ Difference differenceOccupancy(
     return d;
 }
 
+hymm::core::OptionTable MotionDetector::Options::table()
+{
+    using namespace hymm::core;
+    OptionTable t;
+    t.flag("enable_fast", enable_fast, "fast-motion layer (Sec. 6.3.2)");
+    t.flag("enable_slow", enable_slow, "slow-motion layer (Sec. 6.3.1)");
+    t.real("fast_period_s", fast_period_s, "s", above(0, 1e6), "differencing period of the fast layer (thesis: 1 s)");
+    t.real("slow_period_s", slow_period_s, "s", above(0, 1e6), "differencing period of the slow layer (thesis: 150 s)");
+    t.real("threshold", threshold, "", openInterval(0, 1), "on the filtered |dP| (thesis: 0.5)");
+    t.flag("lowpass", lowpass, "Gaussian low-pass before the threshold");
+    t.real("lowpass_sigma_m", lowpass_sigma_m, "m", above(0, 100), "standard deviation of the low-pass");
+    t.integer("slow_max_regions_per_call", slow_max_regions_per_call, "", 1, 1000000,
+              "slow differencings per call at most (the rest wait for the next calls)");
+    return t;
+}
+
 void MotionDetector::Options::loadFromConfigFile(
     const mrpt::config::CConfigFileBase& cfg, const std::string& s)
 {
-    using namespace hymm::core;
-    checkKnownKeys(cfg, s,
-                   {"enable_fast", "enable_slow", "fast_period_s", "slow_period_s", "threshold",
-                    "lowpass", "lowpass_sigma_m", "slow_max_regions_per_call"});
-    enable_fast = readBool(cfg, s, "enable_fast", enable_fast);
-    enable_slow = readBool(cfg, s, "enable_slow", enable_slow);
-    fast_period_s = readDouble(cfg, s, "fast_period_s", fast_period_s);
-    slow_period_s = readDouble(cfg, s, "slow_period_s", slow_period_s);
-    threshold = readDouble(cfg, s, "threshold", threshold);
-    lowpass = readBool(cfg, s, "lowpass", lowpass);
-    lowpass_sigma_m = readDouble(cfg, s, "lowpass_sigma_m", lowpass_sigma_m);
-    slow_max_regions_per_call =
-        static_cast<int>(readInt(cfg, s, "slow_max_regions_per_call", slow_max_regions_per_call));
+    table().load(cfg, s);
     validate(s);
 }
 
 void MotionDetector::Options::saveToConfigFile(
     mrpt::config::CConfigFileBase& cfg, const std::string& s) const
 {
-    cfg.write(s, "enable_fast", enable_fast);
-    cfg.write(s, "enable_slow", enable_slow);
-    cfg.write(s, "fast_period_s", fast_period_s);
-    cfg.write(s, "slow_period_s", slow_period_s);
-    cfg.write(s, "threshold", threshold);
-    cfg.write(s, "lowpass", lowpass);
-    cfg.write(s, "lowpass_sigma_m", lowpass_sigma_m);
-    cfg.write(s, "slow_max_regions_per_call", slow_max_regions_per_call);
+    auto copy = *this;
+    copy.table().save(cfg, s);
 }
 
 void MotionDetector::Options::validate(const std::string& s) const

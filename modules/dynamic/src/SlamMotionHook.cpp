@@ -7,34 +7,34 @@
 
 namespace hymm::dynamic
 {
+hymm::core::OptionTable SlamMotionHook::Options::table()
+{
+    using namespace hymm::core;
+    OptionTable t;
+    t.flag("enabled", enabled, "build the motion layers (Sec. 6.3) at all");
+    t.flag("block_creation", block_creation, "no new landmarks from dynamic cells");
+    t.real("creation_guard_m", creation_guard_m, "m", atLeast(0, 100),
+           "without ids, an observation in a dynamic cell passes if a landmark is this close to it");
+    t.flag("flag_landmarks", flag_landmarks, "mark landmarks that sit in dynamic cells");
+    t.flag("prune_flagged", prune_flagged, "remove flagged landmarks no longer observed");
+    t.real("prune_unseen_s", prune_unseen_s, "s", atLeast(0, 1e6), "unobserved this long before the removal");
+    t.real("view_range_m", view_range_m, "m", above(0, 1000), "regions in a box of this half side are in view");
+    t.real("view_fov_deg", view_fov_deg, "deg", above(0, 360),
+           "a flagged landmark within view_range_m and this field of view that goes unobserved is gone");
+    return t;
+}
+
 void SlamMotionHook::Options::loadFromConfigFile(
     const mrpt::config::CConfigFileBase& cfg, const std::string& s)
 {
-    using namespace hymm::core;
-    checkKnownKeys(cfg, s,
-                   {"enabled", "block_creation", "creation_guard_m", "flag_landmarks",
-                    "prune_flagged", "prune_unseen_s", "view_range_m", "view_fov_deg"});
-    enabled = readBool(cfg, s, "enabled", enabled);
-    block_creation = readBool(cfg, s, "block_creation", block_creation);
-    creation_guard_m = readDoubleMin(cfg, s, "creation_guard_m", creation_guard_m, 0.0, false);
-    flag_landmarks = readBool(cfg, s, "flag_landmarks", flag_landmarks);
-    prune_flagged = readBool(cfg, s, "prune_flagged", prune_flagged);
-    prune_unseen_s = readDoubleMin(cfg, s, "prune_unseen_s", prune_unseen_s, 0.0, false);
-    view_range_m = readDoubleMin(cfg, s, "view_range_m", view_range_m, 0.0, true);
-    view_fov_deg = readDoubleMin(cfg, s, "view_fov_deg", view_fov_deg, 0.0, true);
+    table().load(cfg, s);
 }
 
 void SlamMotionHook::Options::saveToConfigFile(
     mrpt::config::CConfigFileBase& cfg, const std::string& s) const
 {
-    cfg.write(s, "enabled", enabled);
-    cfg.write(s, "block_creation", block_creation);
-    cfg.write(s, "creation_guard_m", creation_guard_m);
-    cfg.write(s, "flag_landmarks", flag_landmarks);
-    cfg.write(s, "prune_flagged", prune_flagged);
-    cfg.write(s, "prune_unseen_s", prune_unseen_s);
-    cfg.write(s, "view_range_m", view_range_m);
-    cfg.write(s, "view_fov_deg", view_fov_deg);
+    auto copy = *this;
+    copy.table().save(cfg, s);
     detector.saveToConfigFile(cfg, "MotionDetector");
 }
 

@@ -8,14 +8,6 @@ namespace hymm::ekf
 {
 namespace
 {
-std::string methodName(AssociationMethod m)
-{
-    return m == AssociationMethod::JCBB ? "jcbb" : "nn";
-}
-std::string jacobiansName(LinearisationPoint j)
-{
-    return j == LinearisationPoint::FirstEstimates ? "first_estimates" : "current";
-}
 std::string str(double v)
 {
     std::ostringstream os;
@@ -24,63 +16,48 @@ std::string str(double v)
 }
 }  // namespace
 
+hymm::core::OptionTable EkfSlam::Options::table()
+{
+    using namespace hymm::core;
+    OptionTable t;
+    t.choice("association_method", association_method,
+             {{"nn", AssociationMethod::NearestNeighbour}, {"jcbb", AssociationMethod::JCBB}},
+             "association of observations without id: nearest neighbour (Eq. 2.60) or JCBB");
+    t.real("association_gate_prob", association_gate_prob, "", openInterval(0, 1),
+           "chi-square probability of the individual and joint association gates");
+    t.real("creation_gate_prob", creation_gate_prob, "", openInterval(0, 1),
+           "larger gate (> association_gate_prob): inside it for some landmark but unpaired = ambiguous");
+    t.real("known_id_gate_prob", known_id_gate_prob, "", halfOpen(0, 1),
+           "outlier gate for known-id observations: NIS above chi2inv(p, 2) rejected (`rejected_gate`); 0 = off");
+    t.integer("jcbb_max_nodes", jcbb_max_nodes, "nodes", 0, 1000000000, "JCBB node budget per step (0: unlimited)");
+    t.flag("prune_tentative", prune_tentative, "remove landmarks that are never confirmed");
+    t.integer("confirm_min_observations", confirm_min_observations, "observations", 1, 1000,
+              "a landmark is confirmed once used by this many observations (creation counts)");
+    t.integer("confirm_window_steps", confirm_window_steps, "steps", 1, 100000,
+              "unconfirmed landmarks older than this many update steps are removed");
+    t.real("stabilising_std_xy", stabilising_std_xy, "m", atLeast(0, 100),
+           "additive stabilising noise per prediction (Eq. 2.6's v), std dev");
+    t.degrees("stabilising_std_phi_deg", stabilising_std_phi, atLeast(0, 180),
+              "additive stabilising heading noise per prediction, std dev");
+    t.flag("enable_profiler", enable_profiler, "CTimeLogger sections `ekf.*`");
+    t.choice("jacobians", jacobians,
+             {{"current", LinearisationPoint::Current}, {"first_estimates", LinearisationPoint::FirstEstimates}},
+             "linearisation points of the Jacobians (standard EKF or First-Estimates Jacobian EKF)");
+    return t;
+}
+
 void EkfSlam::Options::loadFromConfigFile(
     const mrpt::config::CConfigFileBase& cfg, const std::string& s)
 {
-    using namespace hymm::core;
-    checkKnownKeys(
-        cfg, s,
-        {"association_method", "association_gate_prob", "creation_gate_prob", "known_id_gate_prob",
-         "jcbb_max_nodes",
-         "prune_tentative", "confirm_min_observations", "confirm_window_steps",
-         "stabilising_std_xy", "stabilising_std_phi_deg", "enable_profiler", "jacobians"});
-    const std::string m = readString(cfg, s, "association_method", methodName(association_method));
-    if (m == "nn")
-        association_method = AssociationMethod::NearestNeighbour;
-    else if (m == "jcbb")
-        association_method = AssociationMethod::JCBB;
-    else
-        throwConfigError(s, "association_method", m, "must be nn or jcbb");
-    association_gate_prob = readDouble(cfg, s, "association_gate_prob", association_gate_prob);
-    creation_gate_prob = readDouble(cfg, s, "creation_gate_prob", creation_gate_prob);
-    known_id_gate_prob = readDouble(cfg, s, "known_id_gate_prob", known_id_gate_prob);
-    const long nodes = readInt(cfg, s, "jcbb_max_nodes", static_cast<long>(jcbb_max_nodes));
-    if (nodes < 0) throwConfigError(s, "jcbb_max_nodes", std::to_string(nodes), "must be >= 0");
-    jcbb_max_nodes = static_cast<size_t>(nodes);
-    prune_tentative = readBool(cfg, s, "prune_tentative", prune_tentative);
-    confirm_min_observations =
-        static_cast<int>(readInt(cfg, s, "confirm_min_observations", confirm_min_observations));
-    confirm_window_steps =
-        static_cast<int>(readInt(cfg, s, "confirm_window_steps", confirm_window_steps));
-    stabilising_std_xy = readDoubleMin(cfg, s, "stabilising_std_xy", stabilising_std_xy, 0.0, false);
-    stabilising_std_phi = mrpt::DEG2RAD(readDoubleMin(
-        cfg, s, "stabilising_std_phi_deg", mrpt::RAD2DEG(stabilising_std_phi), 0.0, false));
-    enable_profiler = readBool(cfg, s, "enable_profiler", enable_profiler);
-    const std::string j = readString(cfg, s, "jacobians", jacobiansName(jacobians));
-    if (j == "current")
-        jacobians = LinearisationPoint::Current;
-    else if (j == "first_estimates")
-        jacobians = LinearisationPoint::FirstEstimates;
-    else
-        throwConfigError(s, "jacobians", j, "must be current or first_estimates");
+    table().load(cfg, s);
     validate(s);
 }
 
 void EkfSlam::Options::saveToConfigFile(
     mrpt::config::CConfigFileBase& cfg, const std::string& s) const
 {
-    cfg.write(s, "association_method", methodName(association_method));
-    cfg.write(s, "association_gate_prob", association_gate_prob);
-    cfg.write(s, "creation_gate_prob", creation_gate_prob);
-    cfg.write(s, "known_id_gate_prob", known_id_gate_prob);
-    cfg.write(s, "jcbb_max_nodes", static_cast<int>(jcbb_max_nodes));
-    cfg.write(s, "prune_tentative", prune_tentative);
-    cfg.write(s, "confirm_min_observations", confirm_min_observations);
-    cfg.write(s, "confirm_window_steps", confirm_window_steps);
-    cfg.write(s, "stabilising_std_xy", stabilising_std_xy);
-    cfg.write(s, "stabilising_std_phi_deg", mrpt::RAD2DEG(stabilising_std_phi));
-    cfg.write(s, "enable_profiler", enable_profiler);
-    cfg.write(s, "jacobians", jacobiansName(jacobians));
+    auto copy = *this;
+    copy.table().save(cfg, s);
 }
 
 void EkfSlam::Options::validate(const std::string& s) const

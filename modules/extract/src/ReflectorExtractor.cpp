@@ -15,38 +15,34 @@ namespace
 constexpr double kDeg = 3.14159265358979323846 / 180.0;
 }  // namespace
 
+hymm::core::OptionTable ReflectorExtractor::Options::table()
+{
+    using namespace hymm::core;
+    OptionTable t;
+    t.integer("min_intensity", min_intensity, "sensor units", 0, 1000000, "beams at or above mark a reflector");
+    t.real("range_jump", range_jump, "m", above(0, 10), "range step that splits two reflectors");
+    t.integer("min_points", min_points, "beams", 1, 10000, "smaller clusters are rejected");
+    t.real("max_width", max_width, "m", above(0, 100), "wider bright clusters (e.g. a shiny wall) are rejected");
+    t.real("beacon_radius", beacon_radius, "m", atLeast(0, 10), "radius of cylindrical beacons (0: flat or point)");
+    t.real("min_range", min_range, "m", atLeast(0, 1000), "shorter returns are skipped");
+    t.real("max_range", max_range, "m", above(0, 1000), "returns at or beyond this (or the scan's maxRange) are skipped");
+    t.real("std_range", std_range, "m", atLeast(0, 10), "range noise put in the observation");
+    t.real("std_bearing_deg", std_bearing, "deg", atLeast(0, 90), "bearing noise put in the observation", kDeg);
+    return t;
+}
+
 void ReflectorExtractor::Options::loadFromConfigFile(
     const mrpt::config::CConfigFileBase& cfg, const std::string& s)
 {
-    using namespace hymm::core;
-    checkKnownKeys(
-        cfg, s,
-        {"min_intensity", "range_jump", "min_points", "max_width", "beacon_radius", "min_range",
-         "max_range", "std_range", "std_bearing_deg"});
-    min_intensity = static_cast<int>(readInt(cfg, s, "min_intensity", min_intensity));
-    range_jump = readDouble(cfg, s, "range_jump", range_jump);
-    min_points = static_cast<int>(readInt(cfg, s, "min_points", min_points));
-    max_width = readDouble(cfg, s, "max_width", max_width);
-    beacon_radius = readDouble(cfg, s, "beacon_radius", beacon_radius);
-    min_range = readDouble(cfg, s, "min_range", min_range);
-    max_range = readDouble(cfg, s, "max_range", max_range);
-    std_range = readDouble(cfg, s, "std_range", std_range);
-    std_bearing = kDeg * readDouble(cfg, s, "std_bearing_deg", std_bearing / kDeg);
+    table().load(cfg, s);
     validate(s);
 }
 
 void ReflectorExtractor::Options::saveToConfigFile(
     mrpt::config::CConfigFileBase& cfg, const std::string& s) const
 {
-    cfg.write(s, "min_intensity", min_intensity);
-    cfg.write(s, "range_jump", range_jump);
-    cfg.write(s, "min_points", min_points);
-    cfg.write(s, "max_width", max_width);
-    cfg.write(s, "beacon_radius", beacon_radius);
-    cfg.write(s, "min_range", min_range);
-    cfg.write(s, "max_range", max_range);
-    cfg.write(s, "std_range", std_range);
-    cfg.write(s, "std_bearing_deg", std_bearing / kDeg);
+    auto copy = *this;
+    copy.table().save(cfg, s);
 }
 
 void ReflectorExtractor::Options::validate(const std::string& s) const

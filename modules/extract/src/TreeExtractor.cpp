@@ -85,48 +85,41 @@ std::optional<TrunkModel> fittedModel(
 }
 }  // namespace
 
+hymm::core::OptionTable TreeExtractor::Options::table()
+{
+    using namespace hymm::core;
+    OptionTable t;
+    t.real("min_diameter", min_diameter, "m", above(0, 10), "smallest accepted trunk diameter");
+    t.real("max_diameter", max_diameter, "m", above(0, 10), "largest accepted trunk diameter (> min_diameter)");
+    t.real("range_jump", range_jump, "m", above(0, 10), "range step between consecutive beams that splits clusters");
+    t.integer("min_points", min_points, "beams", 1, 10000, "clusters with fewer beams are rejected");
+    t.integer("fit_min_points", fit_min_points, "beams", 3, 10000,
+              "clusters with fewer beams get the angular-width model instead of a circle fit");
+    t.real("min_range", min_range, "m", atLeast(0, 1000), "shorter returns are skipped");
+    t.real("max_range", max_range, "m", above(0, 1000),
+           "returns at or beyond this (or the scan's maxRange) are skipped");
+    t.real("max_fit_rms", max_fit_rms, "m", above(0, 10), "largest RMS distance of the points to the fitted circle");
+    t.real("max_fit_width_ratio", max_fit_width_ratio, "", above(1, 100),
+           "circle fit kept only if fitted / angular-width diameter is within [1/ratio, ratio]");
+    t.flag("reject_occluded", reject_occluded, "reject clusters next to a closer return");
+    t.flag("reject_scan_edges", reject_scan_edges, "reject clusters touching the first or last beam");
+    t.real("std_range", std_range, "m", atLeast(0, 10), "range noise put in the observation");
+    t.real("std_bearing_deg", std_bearing, "deg", atLeast(0, 90), "bearing noise put in the observation", kDeg);
+    return t;
+}
+
 void TreeExtractor::Options::loadFromConfigFile(
     const mrpt::config::CConfigFileBase& cfg, const std::string& s)
 {
-    using namespace hymm::core;
-    checkKnownKeys(
-        cfg, s,
-        {"min_diameter", "max_diameter", "range_jump", "min_points", "fit_min_points",
-         "min_range", "max_range", "max_fit_rms", "max_fit_width_ratio", "reject_occluded",
-         "reject_scan_edges", "std_range", "std_bearing_deg"});
-    min_diameter = readDoubleMin(cfg, s, "min_diameter", min_diameter, 0.0, true);
-    max_diameter = readDoubleMin(cfg, s, "max_diameter", max_diameter, 0.0, true);
-    range_jump = readDoubleMin(cfg, s, "range_jump", range_jump, 0.0, true);
-    min_points = static_cast<int>(readInt(cfg, s, "min_points", min_points));
-    fit_min_points = static_cast<int>(readInt(cfg, s, "fit_min_points", fit_min_points));
-    min_range = readDoubleMin(cfg, s, "min_range", min_range, 0.0, false);
-    max_range = readDoubleMin(cfg, s, "max_range", max_range, 0.0, true);
-    max_fit_rms = readDoubleMin(cfg, s, "max_fit_rms", max_fit_rms, 0.0, true);
-    max_fit_width_ratio =
-        readDoubleMin(cfg, s, "max_fit_width_ratio", max_fit_width_ratio, 1.0, true);
-    reject_occluded = readBool(cfg, s, "reject_occluded", reject_occluded);
-    reject_scan_edges = readBool(cfg, s, "reject_scan_edges", reject_scan_edges);
-    std_range = readDoubleMin(cfg, s, "std_range", std_range, 0.0, false);
-    std_bearing = kDeg * readDoubleMin(cfg, s, "std_bearing_deg", std_bearing / kDeg, 0.0, false);
+    table().load(cfg, s);
     validate(s);
 }
 
 void TreeExtractor::Options::saveToConfigFile(
     mrpt::config::CConfigFileBase& cfg, const std::string& s) const
 {
-    cfg.write(s, "min_diameter", min_diameter);
-    cfg.write(s, "max_diameter", max_diameter);
-    cfg.write(s, "range_jump", range_jump);
-    cfg.write(s, "min_points", min_points);
-    cfg.write(s, "fit_min_points", fit_min_points);
-    cfg.write(s, "min_range", min_range);
-    cfg.write(s, "max_range", max_range);
-    cfg.write(s, "max_fit_rms", max_fit_rms);
-    cfg.write(s, "max_fit_width_ratio", max_fit_width_ratio);
-    cfg.write(s, "reject_occluded", reject_occluded);
-    cfg.write(s, "reject_scan_edges", reject_scan_edges);
-    cfg.write(s, "std_range", std_range);
-    cfg.write(s, "std_bearing_deg", std_bearing / kDeg);
+    auto copy = *this;
+    copy.table().save(cfg, s);
 }
 
 void TreeExtractor::Options::validate(const std::string& s) const

@@ -95,58 +95,38 @@ const char* toString(BaseCondition c)
 // ---------------------------------------------------------------------------------
 // Options
 // ---------------------------------------------------------------------------------
-std::vector<std::string> BaseConditionChecker::Options::keys()
+hymm::core::OptionTable BaseConditionChecker::Options::table()
 {
-    return {"min_vertex_correlation", "min_vehicle_correlation", "correlation_measure",
-            "ellipse_sigma",          "min_area_m2",             "min_angle_deg",
-            "max_edge_length_m",      "max_condition_number"};
+    using namespace hymm::core;
+    OptionTable t;
+    t.real("min_vertex_correlation", min_vertex_correlation, "", between(0, 1),
+           "every vertex pair at least this correlated (condition 1)");
+    t.real("min_vehicle_correlation", min_vehicle_correlation, "", between(0, 1),
+           "every vertex with the vehicle at least this correlated (0: off)");
+    t.choice("correlation_measure", correlation_measure,
+             {{"min_canonical", CorrelationMeasure::MinCanonical}, {"per_axis", CorrelationMeasure::PerAxis}},
+             "how two 2-D positions' correlation is measured");
+    t.real("ellipse_sigma", ellipse_sigma, "sigmas", atLeast(0, 100), "uncertainty ellipse of condition 2 (Fig. 3.10)");
+    t.real("min_area_m2", min_area_m2, "m^2", above(0, 1e6), "smallest triangle area");
+    t.real("min_angle_deg", min_angle, "deg", halfOpen(0, 60), "smallest triangle angle", kDeg);
+    t.real("max_edge_length_m", max_edge_length_m, "m", above(0, 1e4), "longest triangle edge");
+    t.real("max_condition_number", max_condition_number, "", atLeast(1, 1e12),
+           "of the axes matrix D = [L2-L1, L3-L1]");
+    return t;
 }
 
 void BaseConditionChecker::Options::loadFromConfigFile(
-    const mrpt::config::CConfigFileBase& cfg, const std::string& section)
-{
-    hymm::core::checkKnownKeys(cfg, section, keys());
-    loadValues(cfg, section);
-}
-
-void BaseConditionChecker::Options::loadValues(
     const mrpt::config::CConfigFileBase& cfg, const std::string& s)
 {
-    using namespace hymm::core;
-    min_vertex_correlation = readDouble(cfg, s, "min_vertex_correlation", min_vertex_correlation);
-    min_vehicle_correlation =
-        readDouble(cfg, s, "min_vehicle_correlation", min_vehicle_correlation);
-    const std::string m = readString(
-        cfg, s, "correlation_measure",
-        correlation_measure == CorrelationMeasure::PerAxis ? "per_axis" : "min_canonical");
-    if (m == "min_canonical")
-        correlation_measure = CorrelationMeasure::MinCanonical;
-    else if (m == "per_axis")
-        correlation_measure = CorrelationMeasure::PerAxis;
-    else
-        throwConfigError(s, "correlation_measure", m, "must be min_canonical or per_axis");
-    ellipse_sigma = readDouble(cfg, s, "ellipse_sigma", ellipse_sigma);
-    min_area_m2 = readDouble(cfg, s, "min_area_m2", min_area_m2);
-    min_angle = kDeg * readDouble(cfg, s, "min_angle_deg", min_angle / kDeg);
-    max_edge_length_m = readDouble(cfg, s, "max_edge_length_m", max_edge_length_m);
-    max_condition_number = readDouble(cfg, s, "max_condition_number", max_condition_number);
+    table().load(cfg, s);
     validate(s);
 }
 
 void BaseConditionChecker::Options::saveToConfigFile(
     mrpt::config::CConfigFileBase& cfg, const std::string& s) const
 {
-    cfg.write(s, "min_vertex_correlation", min_vertex_correlation);
-    cfg.write(s, "min_vehicle_correlation", min_vehicle_correlation);
-    cfg.write(
-        s, "correlation_measure",
-        std::string(
-            correlation_measure == CorrelationMeasure::PerAxis ? "per_axis" : "min_canonical"));
-    cfg.write(s, "ellipse_sigma", ellipse_sigma);
-    cfg.write(s, "min_area_m2", min_area_m2);
-    cfg.write(s, "min_angle_deg", min_angle / kDeg);
-    cfg.write(s, "max_edge_length_m", max_edge_length_m);
-    cfg.write(s, "max_condition_number", max_condition_number);
+    auto copy = *this;
+    copy.table().save(cfg, s);
 }
 
 void BaseConditionChecker::Options::validate(const std::string& s) const

@@ -40,38 +40,35 @@ std::optional<Eigen::Vector2d> localIn(const TriangleFrame::Vertices& v, const E
 // ---------------------------------------------------------------------------------
 // Options
 // ---------------------------------------------------------------------------------
+hymm::core::OptionTable RegionPartition::Options::table()
+{
+    using namespace hymm::core;
+    OptionTable t = conditions.table();
+    t.real("search_radius_m", search_radius_m, "m", above(0, 1e4), "candidate vertices lie this close to the vehicle");
+    t.real("grid_cell_size_m", grid_cell_size_m, "m", above(0, 1e4), "cell of the point-lookup grid");
+    t.integer("max_new_regions_per_update", max_new_regions_per_update, "", 0, 100000,
+              "bound on the regions created per update");
+    t.integer("max_seed_landmarks", max_seed_landmarks, "", 3, 1000,
+              "nearest eligible landmarks tried when seeding");
+    t.flag("local_refresh", local_refresh,
+           "grow around the vehicle only (updateNear); far regions refreshed after a large correction");
+    t.real("full_refresh_correction_m", full_refresh_correction_m, "m", atLeast(0, 1e4),
+           "with local_refresh: a larger vehicle correction refreshes every region");
+    return t;
+}
+
 void RegionPartition::Options::loadFromConfigFile(
     const mrpt::config::CConfigFileBase& cfg, const std::string& s)
 {
-    using namespace hymm::core;
-    std::vector<std::string> known = BaseConditionChecker::Options::keys();
-    for (const char* k : {"search_radius_m", "grid_cell_size_m", "max_new_regions_per_update",
-                          "max_seed_landmarks", "local_refresh", "full_refresh_correction_m"})
-        known.emplace_back(k);
-    checkKnownKeys(cfg, s, known);
-    conditions.loadValues(cfg, s);
-    search_radius_m = readDouble(cfg, s, "search_radius_m", search_radius_m);
-    grid_cell_size_m = readDouble(cfg, s, "grid_cell_size_m", grid_cell_size_m);
-    max_new_regions_per_update = static_cast<int>(
-        readInt(cfg, s, "max_new_regions_per_update", max_new_regions_per_update));
-    max_seed_landmarks =
-        static_cast<int>(readInt(cfg, s, "max_seed_landmarks", max_seed_landmarks));
-    local_refresh = readBool(cfg, s, "local_refresh", local_refresh);
-    full_refresh_correction_m =
-        readDouble(cfg, s, "full_refresh_correction_m", full_refresh_correction_m);
+    table().load(cfg, s);
     validate(s);
 }
 
 void RegionPartition::Options::saveToConfigFile(
     mrpt::config::CConfigFileBase& cfg, const std::string& s) const
 {
-    conditions.saveToConfigFile(cfg, s);
-    cfg.write(s, "search_radius_m", search_radius_m);
-    cfg.write(s, "grid_cell_size_m", grid_cell_size_m);
-    cfg.write(s, "max_new_regions_per_update", max_new_regions_per_update);
-    cfg.write(s, "max_seed_landmarks", max_seed_landmarks);
-    cfg.write(s, "local_refresh", local_refresh);
-    cfg.write(s, "full_refresh_correction_m", full_refresh_correction_m);
+    auto copy = *this;
+    copy.table().save(cfg, s);
 }
 
 void RegionPartition::Options::validate(const std::string& s) const

@@ -10,38 +10,36 @@
 
 namespace hymm::ltr
 {
+hymm::core::OptionTable VirtualLandmarkOptions::table()
+{
+    using namespace hymm::core;
+    OptionTable t;
+    t.flag("enabled", enabled, "create virtual landmarks (Sec. 3.5.1)");
+    t.real("min_vehicle_correlation", min_vehicle_correlation, "", between(0, 1),
+           "of each real edge vertex with the vehicle");
+    t.integer("min_points", min_points, "returns", 1, 100000, "returns beyond an edge needed to propose a virtual vertex");
+    t.real("min_depth_m", min_depth_m, "m", above(0, 1000), "smallest apex distance from the edge");
+    t.real("max_depth_m", max_depth_m, "m", above(0, 1000), "returns deeper than this are not considered (> min_depth_m)");
+    t.real("margin_m", margin_m, "m", atLeast(0, 1000), "added to the depth that holds the returns");
+    t.real("search_radius_m", search_radius_m, "m", above(0, 1e4), "edges with both ends this close to the vehicle");
+    t.integer("max_per_frame", max_per_frame, "", 0, 1000, "virtual landmarks created per frame at most");
+    t.real("position_std_m", position_std_m, "m", above(0, 100),
+           "definitional noise added to the propagated covariance");
+    return t;
+}
+
 void VirtualLandmarkOptions::loadFromConfigFile(
     const mrpt::config::CConfigFileBase& cfg, const std::string& s)
 {
-    using namespace hymm::core;
-    checkKnownKeys(cfg, s,
-                   {"enabled", "min_vehicle_correlation", "min_points", "min_depth_m",
-                    "max_depth_m", "margin_m", "search_radius_m", "max_per_frame",
-                    "position_std_m"});
-    enabled = readBool(cfg, s, "enabled", enabled);
-    min_vehicle_correlation = readDouble(cfg, s, "min_vehicle_correlation", min_vehicle_correlation);
-    min_points = static_cast<int>(readInt(cfg, s, "min_points", min_points));
-    min_depth_m = readDouble(cfg, s, "min_depth_m", min_depth_m);
-    max_depth_m = readDouble(cfg, s, "max_depth_m", max_depth_m);
-    margin_m = readDouble(cfg, s, "margin_m", margin_m);
-    search_radius_m = readDouble(cfg, s, "search_radius_m", search_radius_m);
-    max_per_frame = static_cast<int>(readInt(cfg, s, "max_per_frame", max_per_frame));
-    position_std_m = readDouble(cfg, s, "position_std_m", position_std_m);
+    table().load(cfg, s);
     validate(s);
 }
 
 void VirtualLandmarkOptions::saveToConfigFile(
     mrpt::config::CConfigFileBase& cfg, const std::string& s) const
 {
-    cfg.write(s, "enabled", enabled);
-    cfg.write(s, "min_vehicle_correlation", min_vehicle_correlation);
-    cfg.write(s, "min_points", min_points);
-    cfg.write(s, "min_depth_m", min_depth_m);
-    cfg.write(s, "max_depth_m", max_depth_m);
-    cfg.write(s, "margin_m", margin_m);
-    cfg.write(s, "search_radius_m", search_radius_m);
-    cfg.write(s, "max_per_frame", max_per_frame);
-    cfg.write(s, "position_std_m", position_std_m);
+    auto copy = *this;
+    copy.table().save(cfg, s);
 }
 
 void VirtualLandmarkOptions::validate(const std::string& s) const

@@ -1,5 +1,6 @@
 #include "hymm/sim/Scenario.h"
 
+#include <hymm/core/StrictConfigFile.h>
 #include <hymm/core/config_utils.h>
 #include <mrpt/config/CConfigFileMemory.h>
 
@@ -135,11 +136,17 @@ std::string Scenario::toIniText() const
 
 Scenario Scenario::fromFile(const std::string& path)
 {
-    const auto cfg = hymm::core::openConfigFile(path);
+    // Strict: empty, binary, duplicate and unknown sections are errors naming file and line.
+    const hymm::core::StrictConfigFile file(path);
     Scenario s;
     try
     {
-        s.loadFromConfigFile(*cfg);
+        file.load([&](const mrpt::config::CConfigFileBase& cfg) { s.loadFromConfigFile(cfg); });
+        file.checkAllSectionsKnown();
+    }
+    catch (const hymm::core::ConfigError&)
+    {
+        throw;
     }
     catch (const std::exception& e)
     {

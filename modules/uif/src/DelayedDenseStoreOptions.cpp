@@ -23,46 +23,39 @@ std::string str(double v)
 }
 }  // namespace
 
+hymm::core::OptionTable DelayedDenseStore::Options::table()
+{
+    using namespace hymm::core;
+    OptionTable t;
+    t.flag("enabled", enabled, "store returns in no region with their scan's pose as a passive state (Sec. 3.7)");
+    t.flag("require_potential_region", require_potential_region,
+           "store a return only inside a potential region (Sec. 3.7.3); false: every return in no region");
+    t.integer("max_stored_points", max_stored_points, "returns", 1, 100000000, "returns kept at most");
+    t.integer("max_stored_scans", max_stored_scans, "scans", 1, 100000, "passive EKF blocks at most");
+    t.real("max_age_s", max_age_s, "s", atLeast(0, 1e7), "older scans are dropped; 0 = no limit");
+    t.real("search_radius_m", search_radius_m, "m", above(0, 1e4), "potential-region vertices near the vehicle");
+    t.integer("max_candidate_landmarks", max_candidate_landmarks, "", 3, 32,
+              "nearest landmarks tried (k^3/6 triangles)");
+    t.flag("fuse_free_space", fuse_free_space,
+           "also fuse the free-space beam into a covering region created after the scan");
+    t.integer("first_passive_id", first_passive_id, "", 0, kMaxFirstPassiveId,
+              "passive ids are taken from here upwards");
+    t.flag("enable_profiler", enable_profiler, "CTimeLogger sections `uif.*`");
+    return t;
+}
+
 void DelayedDenseStore::Options::loadFromConfigFile(
     const mrpt::config::CConfigFileBase& cfg, const std::string& s)
 {
-    using namespace hymm::core;
-    checkKnownKeys(
-        cfg, s,
-        {"enabled", "require_potential_region", "max_stored_points", "max_stored_scans", "max_age_s",
-         "search_radius_m", "max_candidate_landmarks", "fuse_free_space", "first_passive_id",
-         "enable_profiler"});
-    enabled = readBool(cfg, s, "enabled", enabled);
-    require_potential_region = readBool(cfg, s, "require_potential_region", require_potential_region);
-    const long pts = readInt(cfg, s, "max_stored_points", static_cast<long>(max_stored_points));
-    if (pts < 1) throwConfigError(s, "max_stored_points", std::to_string(pts), "must be >= 1");
-    max_stored_points = static_cast<size_t>(pts);
-    const long scans = readInt(cfg, s, "max_stored_scans", static_cast<long>(max_stored_scans));
-    if (scans < 1) throwConfigError(s, "max_stored_scans", std::to_string(scans), "must be >= 1");
-    max_stored_scans = static_cast<size_t>(scans);
-    max_age_s = readDoubleMin(cfg, s, "max_age_s", max_age_s, 0.0, false);
-    search_radius_m = readDoubleMin(cfg, s, "search_radius_m", search_radius_m, 0.0, true);
-    max_candidate_landmarks =
-        static_cast<int>(readInt(cfg, s, "max_candidate_landmarks", max_candidate_landmarks));
-    fuse_free_space = readBool(cfg, s, "fuse_free_space", fuse_free_space);
-    first_passive_id = readInt(cfg, s, "first_passive_id", first_passive_id);
-    enable_profiler = readBool(cfg, s, "enable_profiler", enable_profiler);
+    table().load(cfg, s);
     validate(s);
 }
 
 void DelayedDenseStore::Options::saveToConfigFile(
     mrpt::config::CConfigFileBase& cfg, const std::string& s) const
 {
-    cfg.write(s, "enabled", enabled);
-    cfg.write(s, "require_potential_region", require_potential_region);
-    cfg.write(s, "max_stored_points", static_cast<int>(max_stored_points));
-    cfg.write(s, "max_stored_scans", static_cast<int>(max_stored_scans));
-    cfg.write(s, "max_age_s", max_age_s);
-    cfg.write(s, "search_radius_m", search_radius_m);
-    cfg.write(s, "max_candidate_landmarks", max_candidate_landmarks);
-    cfg.write(s, "fuse_free_space", fuse_free_space);
-    cfg.write(s, "first_passive_id", static_cast<int>(first_passive_id));
-    cfg.write(s, "enable_profiler", enable_profiler);
+    auto copy = *this;
+    copy.table().save(cfg, s);
 }
 
 void DelayedDenseStore::Options::validate(const std::string& s) const

@@ -12,11 +12,24 @@
 
 #include <initializer_list>
 #include <memory>
+#include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace hymm::core
 {
+/** A bad config value or key; `section` and `key` let a file-level loader add the line. */
+struct ConfigError : public std::invalid_argument
+{
+    ConfigError(const std::string& what, std::string section_, std::string key_)
+        : std::invalid_argument(what), section(std::move(section_)), key(std::move(key_))
+    {
+    }
+    std::string section;
+    std::string key;  //!< empty for errors about a whole section
+};
+
 /** Opens an .ini file for reading; throws if the file does not exist or cannot be
  *  parsed. The returned object keeps the path for error messages. */
 std::unique_ptr<mrpt::config::CConfigFileBase> openConfigFile(const std::string& path);
@@ -57,7 +70,7 @@ std::vector<double> readDoubleList(
     const mrpt::config::CConfigFileBase& cfg, const std::string& section, const std::string& key,
     const std::vector<double>& def, bool required = false);
 
-/** Throws a std::invalid_argument "[section] key=value: what". */
+/** Throws a ConfigError "[section] key=value: what". */
 [[noreturn]] void throwConfigError(
     const std::string& section, const std::string& key, const std::string& value,
     const std::string& what);

@@ -11,6 +11,7 @@
  */
 #pragma once
 
+#include <hymm/core/OptionTable.h>
 #include "hymm/dense/LogOddsGrid.h"
 #include "hymm/dense/OccupancyLayer.h"
 #include "hymm/dense/ScanPoints.h"
@@ -30,6 +31,8 @@ public:
         double y_min_m = -50, y_max_m = 50;  //!< [m]
         double max_range_m = 25.0;           //!< [m] returns beyond are free space only
 
+        /** Every ini key, declared once: loader, saver and README table come from it. */
+        hymm::core::OptionTable table();
         void loadFromConfigFile(
             const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
         void saveToConfigFile(

@@ -39,6 +39,7 @@
  */
 #pragma once
 
+#include <hymm/core/OptionTable.h>
 #include "hymm/dense/FallbackTiles.h"
 #include "hymm/dense/LocalDenseMap.h"
 #include "hymm/dense/OccupancyLayer.h"
@@ -102,6 +103,8 @@ public:
         SogLayer::Options sog;
         PropertyLayer::Options property;
 
+        /** Every ini key, declared once: loader, saver and README table come from it. */
+        hymm::core::OptionTable table();
         /** Reads only the [section] keys of this class. */
         void loadFromConfigFile(
             const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;

@@ -31,6 +31,7 @@
  */
 #pragma once
 
+#include <hymm/core/OptionTable.h>
 #include "hymm/dense/DenseLayer.h"
 #include "hymm/dense/LogOddsGrid.h"
 
@@ -55,6 +56,8 @@ public:
         double coarsen_cells_percent = 0.99; //!< cellsPercent: fraction of free cells needed
         double coarsen_min_prob = 0.2;       //!< minProb: a cell is free below this P
 
+        /** Every ini key, declared once: loader, saver and README table come from it. */
+        hymm::core::OptionTable table();
         void loadFromConfigFile(
             const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
         void saveToConfigFile(

@@ -49,6 +49,7 @@
  */
 #pragma once
 
+#include <hymm/core/OptionTable.h>
 #include "hymm/dense/DenseLayer.h"
 #include "hymm/dense/sensor_models.h"
 
@@ -83,6 +84,8 @@ public:
         int random_seed = 1;          //!< mixed with the region's vertices: reproducible maps
         double render_min_weight = 0.0;  //!< renderInto draws particles with w >= this
 
+        /** Every ini key, declared once: loader, saver and README table come from it. */
+        hymm::core::OptionTable table();
         void loadFromConfigFile(
             const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
         void saveToConfigFile(

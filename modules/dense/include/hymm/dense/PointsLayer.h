@@ -12,6 +12,7 @@
  */
 #pragma once
 
+#include <hymm/core/OptionTable.h>
 #include "hymm/dense/DenseLayer.h"
 
 #include <mrpt/config/CLoadableOptions.h>
@@ -30,6 +31,8 @@ public:
     {
         double voxel_size_m = 0.0;  //!< [m] keep one point per voxel; 0 = keep every return
 
+        /** Every ini key, declared once: loader, saver and README table come from it. */
+        hymm::core::OptionTable table();
         void loadFromConfigFile(
             const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
         void saveToConfigFile(

@@ -18,6 +18,7 @@
  */
 #pragma once
 
+#include <hymm/core/OptionTable.h>
 #include "hymm/dense/DenseLayer.h"
 #include "hymm/dense/ScalarField.h"
 
@@ -38,6 +39,8 @@ public:
         double cell_size_m = 0.2;        //!< [m] local cell (reference frame)
         double default_value_std = 1.0;  //!< value units; used when a return has no std
 
+        /** Every ini key, declared once: loader, saver and README table come from it. */
+        hymm::core::OptionTable table();
         void loadFromConfigFile(
             const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
         void saveToConfigFile(

@@ -27,6 +27,7 @@
  */
 #pragma once
 
+#include <hymm/core/OptionTable.h>
 #include "hymm/dense/DenseLayer.h"
 #include "hymm/dense/ScalarField.h"
 #include "hymm/dense/sensor_models.h"
@@ -57,6 +58,8 @@ public:
         FusionRule fusion_rule = FusionRule::Average;  //!< ini: "average" | "product"
         double cutoff_sigmas = 3.0;    //!< surface rendering ignores a Gaussian beyond this
 
+        /** Every ini key, declared once: loader, saver and README table come from it. */
+        hymm::core::OptionTable table();
         void loadFromConfigFile(
             const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
         void saveToConfigFile(

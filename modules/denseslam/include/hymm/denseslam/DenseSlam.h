@@ -131,6 +131,8 @@ public:
             return dense_points || dense_occupancy || dense_particles || dense_sog || dense_property;
         }
 
+        /** Every ini key of [DenseSlam], declared once (loader, saver, README table). */
+        core::OptionTable table();
         void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
                                 const std::string& section) override;
         void saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
@@ -141,6 +143,23 @@ public:
      *  [OccupancyLayer], [PointsLayer] and [ClassicOccupancyGrid]. The layers switched on
      *  come from Options::dense_* (ini: [DenseSlam] dense_layers), which override
      *  HybridMetricMap::Options::enable_*. */
+    /**
+     * Ini section [Laser]: the laser scanner's raw-return noise, one place for every part
+     * that models a return: the delayed store's covariances (Options::laser_std_*) and the
+     * particle and SOG layers' sensor model (ParticlesLayer / SogLayer range_std_m,
+     * bearing_std_deg, used when a scan carries no noise of its own). The extractors'
+     * std_range / std_bearing_deg are the noise of an extracted feature (a trunk centre),
+     * not of a return, and stay in their sections. fromConfig: a [Laser] key overrides the
+     * four places; the old per-section keys are deprecated (a warning on stderr) and an
+     * error when [Laser] sets the same quantity.
+     */
+    struct LaserOptions
+    {
+        double std_range_m = 0.1;      //!< [m]
+        double std_bearing_deg = 1.0;  //!< [deg]
+        core::OptionTable table();
+    };
+
     struct DenseOptions
     {
         ltr::RegionPartition::Options partition;
@@ -226,8 +245,8 @@ public:
         size_t scans_without_valid_beam = 0;  //!< laser scans with every beam marked invalid (or none)
     };
 
-    /** Builds the pipeline from an .ini: sections [DenseSlam], [EkfSlam], [TreeExtractor],
-     *  [ReflectorExtractor] and the DenseOptions sections. */
+    /** Builds the pipeline from an .ini: sections [DenseSlam], [Laser], [EkfSlam],
+     *  [TreeExtractor], [ReflectorExtractor] and the DenseOptions sections. */
     static DenseSlam fromConfig(const mrpt::config::CConfigFileBase& cfg);
 
     DenseSlam(const Options& opts, const ekf::EkfSlam::Options& ekf_opts,

@@ -39,6 +39,7 @@
  */
 #pragma once
 
+#include <hymm/core/OptionTable.h>
 #include "hymm/dynamic/MotionLayer.h"
 
 #include <hymm/dense/HybridMetricMap.h>
@@ -113,6 +114,8 @@ public:
         /** Slow differencings per call at most (the rest wait for the next calls). */
         int slow_max_regions_per_call = 4;
 
+        /** Every ini key, declared once: loader, saver and README table come from it. */
+        hymm::core::OptionTable table();
         void loadFromConfigFile(
             const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
         void saveToConfigFile(

@@ -22,6 +22,7 @@
  */
 #pragma once
 
+#include <hymm/core/OptionTable.h>
 #include "hymm/dynamic/MotionDetector.h"
 
 #include <hymm/ekf/EkfSlam.h>
@@ -55,6 +56,8 @@ public:
         double view_fov_deg = 180.0;
         MotionDetector::Options detector;
 
+        /** Every ini key, declared once: loader, saver and README table come from it. */
+        hymm::core::OptionTable table();
         void loadFromConfigFile(
             const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
         void saveToConfigFile(

@@ -20,6 +20,7 @@
  */
 #pragma once
 
+#include <hymm/core/OptionTable.h>
 #include <hymm/core/UteVehicleModel.h>
 #include <hymm/ekf/DataAssociation.h>
 #include <hymm/ekf/PassiveStates.h>
@@ -133,6 +134,8 @@ public:
          *  first_estimates. */
         LinearisationPoint jacobians = LinearisationPoint::Current;
 
+        /** Every ini key, declared once: loader, saver and README table come from it. */
+        hymm::core::OptionTable table();
         void loadFromConfigFile(
             const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
         void saveToConfigFile(

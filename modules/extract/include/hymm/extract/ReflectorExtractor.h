@@ -14,6 +14,7 @@
  */
 #pragma once
 
+#include <hymm/core/OptionTable.h>
 #include <hymm/extract/scan_features.h>
 #include <mrpt/config/CLoadableOptions.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
@@ -40,6 +41,8 @@ public:
         double std_range = 0.02;       //!< [m] range noise put in the observation
         double std_bearing = 0.25 * 3.14159265358979323846 / 180.0;  //!< [rad] (ini: std_bearing_deg)
 
+        /** Every ini key, declared once: loader, saver and README table come from it. */
+        hymm::core::OptionTable table();
         void loadFromConfigFile(
             const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
         void saveToConfigFile(

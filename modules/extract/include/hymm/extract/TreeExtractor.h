@@ -29,6 +29,7 @@
  */
 #pragma once
 
+#include <hymm/core/OptionTable.h>
 #include <hymm/extract/scan_features.h>
 #include <mrpt/config/CLoadableOptions.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
@@ -63,6 +64,8 @@ public:
 
         /** Strict load: unknown keys and out-of-range values throw std::invalid_argument
          *  naming the section, key and value. Absent keys keep their defaults. */
+        /** Every ini key, declared once: loader, saver and README table come from it. */
+        hymm::core::OptionTable table();
         void loadFromConfigFile(
             const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
         void saveToConfigFile(

@@ -32,6 +32,7 @@
  */
 #pragma once
 
+#include <hymm/core/OptionTable.h>
 #include "hymm/ltr/LandmarkCovarianceView.h"
 #include "hymm/ltr/TriangleFrame.h"
 
@@ -94,15 +95,13 @@ public:
         double max_edge_length_m = 50.0;   //!< [m]
         double max_condition_number = 1e3;  //!< of the axes matrix D = [L2-L1, L3-L1]
 
-        /** Keys this struct reads (for strict checking by the owner of the section). */
-        static std::vector<std::string> keys();
+        /** Every ini key, declared once: loader, saver and README table come from it. */
+        hymm::core::OptionTable table();
         /** Strict: unknown keys in `section` are errors. */
         void loadFromConfigFile(
             const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
         void saveToConfigFile(
             mrpt::config::CConfigFileBase& cfg, const std::string& section) const override;
-        /** Reads this struct's keys without checking for unknown ones. */
-        void loadValues(const mrpt::config::CConfigFileBase& cfg, const std::string& section);
         void validate(const std::string& section = "LtrPartition") const;
         FrameLimits frameLimits() const { return {min_area_m2, max_condition_number}; }
     };

@@ -39,6 +39,7 @@
  */
 #pragma once
 
+#include <hymm/core/OptionTable.h>
 #include "hymm/ltr/AffineRegionMap.h"
 #include "hymm/ltr/BaseConditionChecker.h"
 #include "hymm/ltr/LandmarkCovarianceView.h"
@@ -88,6 +89,8 @@ public:
          *  than this is treated as a loop closure and every region is refreshed. */
         double full_refresh_correction_m = 1.0;
 
+        /** Every ini key, declared once: loader, saver and README table come from it. */
+        hymm::core::OptionTable table();
         void loadFromConfigFile(
             const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
         void saveToConfigFile(

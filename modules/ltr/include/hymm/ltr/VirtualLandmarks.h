@@ -23,6 +23,7 @@
  */
 #pragma once
 
+#include <hymm/core/OptionTable.h>
 #include "hymm/ltr/LandmarkCovarianceView.h"
 #include "hymm/ltr/RegionPartition.h"
 
@@ -45,6 +46,8 @@ struct VirtualLandmarkOptions : public mrpt::config::CLoadableOptions
     int max_per_frame = 2;        //!< virtual landmarks created per frame at most
     double position_std_m = 0.05;  //!< [m] definitional noise added to the propagated covariance
 
+    /** Every ini key, declared once: loader, saver and README table come from it. */
+    hymm::core::OptionTable table();
     void loadFromConfigFile(
         const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
     void saveToConfigFile(

@@ -58,6 +58,7 @@
  */
 #pragma once
 
+#include <hymm/core/OptionTable.h>
 #include <hymm/dense/RegionScan.h>
 #include <hymm/ekf/EkfSlam.h>
 #include <hymm/ltr/RegionPartition.h>
@@ -133,6 +134,8 @@ public:
         long first_passive_id = 1000000000;  //!< passive ids are taken from here upwards
         bool enable_profiler = false;        //!< CTimeLogger sections "uif.*"
 
+        /** Every ini key, declared once: loader, saver and README table come from it. */
+        hymm::core::OptionTable table();
         void loadFromConfigFile(
             const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
         void saveToConfigFile(

@@ -1,0 +1,109 @@
+#include "hymm/app/slam_config.h"
+
+#include <fstream>
+#include <memory>
+#include <sstream>
+#include <stdexcept>
+
+namespace hymm::app
+{
+namespace
+{
+template <class O>
+OptionSection declared(const char* module, const char* section)
+{
+    return {module, section, [](std::shared_ptr<void>& hold) {
+                auto o = std::make_shared<O>();
+                hold = o;
+                return o->table();
+            }};
+}
+
+std::string beginMarker(const OptionSection& s)
+{
+    return "<!-- options [" + s.section + "] begin: generated from the declarations by hymm-options-doc -->";
+}
+std::string endMarker(const OptionSection& s) { return "<!-- options [" + s.section + "] end -->"; }
+}  // namespace
+
+denseslam::DenseSlam loadSlamConfig(const core::StrictConfigFile& file)
+{
+    std::unique_ptr<denseslam::DenseSlam> slam;
+    file.load([&](const mrpt::config::CConfigFileBase& cfg) {
+        slam = std::make_unique<denseslam::DenseSlam>(denseslam::DenseSlam::fromConfig(cfg));
+    });
+    file.checkAllSectionsKnown();
+    return std::move(*slam);
+}
+
+denseslam::DenseSlam loadSlamConfig(const std::string& path)
+{
+    return loadSlamConfig(core::StrictConfigFile(path));
+}
+
+const std::vector<OptionSection>& optionSections()
+{
+    using namespace hymm;
+    static const std::vector<OptionSection> all = {
+        declared<denseslam::DenseSlam::Options>("denseslam", "DenseSlam"),
+        declared<denseslam::DenseSlam::LaserOptions>("denseslam", "Laser"),
+        declared<ekf::EkfSlam::Options>("ekf", "EkfSlam"),
+        declared<extract::TreeExtractor::Options>("extract", "TreeExtractor"),
+        declared<extract::ReflectorExtractor::Options>("extract", "ReflectorExtractor"),
+        declared<ltr::RegionPartition::Options>("ltr", "LtrPartition"),
+        declared<ltr::VirtualLandmarkOptions>("ltr", "VirtualLandmarks"),
+        declared<uif::DelayedDenseStore::Options>("uif", "DelayedDenseStore"),
+        declared<dense::HybridMetricMap::Options>("dense", "HybridMetricMap"),
+        declared<dense::OccupancyLayer::Options>("dense", "OccupancyLayer"),
+        declared<dense::PointsLayer::Options>("dense", "PointsLayer"),
+        declared<dense::ParticlesLayer::Options>("dense", "ParticlesLayer"),
+        declared<dense::SogLayer::Options>("dense", "SogLayer"),
+        declared<dense::PropertyLayer::Options>("dense", "PropertyLayer"),
+        declared<dense::ClassicOccupancyGrid::Options>("dense", "ClassicOccupancyGrid"),
+        declared<dynamic::SlamMotionHook::Options>("dynamic", "DynamicSlam"),
+        declared<dynamic::MotionDetector::Options>("dynamic", "MotionDetector"),
+    };
+    return all;
+}
+
+std::string readmeBlock(const OptionSection& s)
+{
+    std::shared_ptr<void> hold;
+    return beginMarker(s) + "\n\n" + s.table(hold).markdown() + "\n" + endMarker(s) + "\n";
+}
+
+std::vector<std::string> syncReadmeTables(const std::string& root, bool write)
+{
+    std::vector<std::string> stale;
+    for (const auto& s : optionSections())
+    {
+        const std::string path = root + "/modules/" + s.module + "/README.md";
+        std::ifstream in(path);
+        if (!in) throw std::runtime_error("cannot read '" + path + "'");
+        std::stringstream ss;
+        ss << in.rdbuf();
+        std::string text = ss.str();
+        const std::string block = readmeBlock(s);
+        const auto b = text.find(beginMarker(s));
+        const auto e = b == std::string::npos ? b : text.find(endMarker(s), b);
+        std::string updated;
+        if (b == std::string::npos || e == std::string::npos)
+            updated = text + "\n### `[" + s.section + "]` keys\n\n" + block;
+        else
+        {
+            const auto e_end = text.find('\n', e);
+            updated = text.substr(0, b) + block + (e_end == std::string::npos ? "" : text.substr(e_end + 1));
+        }
+        if (updated == text) continue;
+        stale.push_back("[" + s.section + "] in " + path);
+        if (write)
+        {
+            std::ofstream out(path, std::ios::trunc);
+            out << updated;
+            if (!out) throw std::runtime_error("cannot write '" + path + "'");
+        }
+    }
+    return stale;
+}
+
+}  // namespace hymm::app

@@ -1,0 +1,210 @@
+#include "hymm/core/OptionTable.h"
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <sstream>
+
+namespace hymm::core
+{
+namespace
+{
+std::string trim(const std::string& s)
+{
+    const auto b = s.find_first_not_of(" \t\r\n");
+    if (b == std::string::npos) return {};
+    const auto e = s.find_last_not_of(" \t\r\n");
+    return s.substr(b, e - b + 1);
+}
+
+std::string num(double v)
+{
+    if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+    return formatReal(v);
+}
+}  // namespace
+
+std::string formatReal(double v)
+{
+    // The shortest of %.15g..%.17g that reads back exactly: 0.1 stays "0.1".
+    for (int prec = 15; prec <= 17; ++prec)
+    {
+        std::ostringstream os;
+        os.precision(prec);
+        os << v;
+        if (std::strtod(os.str().c_str(), nullptr) == v || prec == 17) return os.str();
+    }
+    return {};
+}
+
+bool Range::contains(double v) const
+{
+    const bool lo_ok = lo_open ? v > lo : v >= lo;
+    const bool hi_ok = hi_open ? v < hi : v <= hi;
+    return lo_ok && hi_ok;
+}
+
+std::string Range::text() const
+{
+    const bool no_lo = std::isinf(lo) && lo < 0;
+    const bool no_hi = std::isinf(hi) && hi > 0;
+    if (no_lo && no_hi) return "any";
+    if (no_hi) return (lo_open ? "> " : ">= ") + num(lo);
+    if (no_lo) return (hi_open ? "< " : "<= ") + num(hi);
+    return (lo_open ? "(" : "[") + num(lo) + ", " + num(hi) + (hi_open ? ")" : "]");
+}
+
+OptionTable& OptionTable::add(OptionKey k)
+{
+    for (const auto& e : keys_)
+        if (e.name == k.name) throw std::logic_error("option key '" + k.name + "' declared twice");
+    keys_.push_back(std::move(k));
+    return *this;
+}
+
+OptionTable& OptionTable::custom(OptionKey key) { return add(std::move(key)); }
+
+OptionTable& OptionTable::include(OptionTable other)
+{
+    for (auto& k : other.keys_) add(std::move(k));
+    return *this;
+}
+
+OptionTable& OptionTable::real(const std::string& name, double& member, const std::string& unit,
+                               Range range, const std::string& doc, double scale)
+{
+    if (scale == 1.0) return realConverted(name, member, unit, range, doc, nullptr, nullptr);
+    return realConverted(
+        name, member, unit, range, doc, [scale](double v) { return scale * v; },
+        [scale](double m) { return m / scale; });
+}
+
+OptionTable& OptionTable::realConverted(const std::string& name, double& member, const std::string& unit,
+                                        Range range, const std::string& doc,
+                                        std::function<double(double)> to_member,
+                                        std::function<double(double)> to_file)
+{
+    OptionKey k;
+    k.name = name;
+    k.unit = unit;
+    k.range = range.text();
+    k.doc = doc;
+    k.parse = [&member, range, name, to_member](const std::string& s, const std::string& raw) {
+        char* end = nullptr;
+        errno = 0;
+        const double d = std::strtod(raw.c_str(), &end);
+        if (raw.empty() || end == raw.c_str() || !trim(end).empty() || errno == ERANGE)
+            throwConfigError(s, name, raw, "not a number");
+        if (!std::isfinite(d)) throwConfigError(s, name, raw, "must be finite");
+        if (!range.contains(d)) throwConfigError(s, name, raw, "out of range, must be " + range.text());
+        member = to_member ? to_member(d) : d;
+    };
+    k.format = [&member, to_file]() { return formatReal(to_file ? to_file(member) : member); };
+    return add(std::move(k));
+}
+
+OptionTable& OptionTable::degrees(const std::string& name, double& member_rad, Range range_deg,
+                                  const std::string& doc)
+{
+    // mrpt::DEG2RAD's rounding (x * pi / 180), so values stay bit-identical to MRPT's.
+    return realConverted(
+        name, member_rad, "deg", range_deg, doc, [](double v) { return v * M_PI / 180.0; },
+        [](double m) { return m * 180.0 / M_PI; });
+}
+
+void OptionTable::addInteger(const std::string& name, const std::string& unit, long long lo,
+                             long long hi, const std::string& doc, std::function<void(long long)> set,
+                             std::function<long long()> get)
+{
+    OptionKey k;
+    k.name = name;
+    k.unit = unit;
+    const bool no_hi = hi == std::numeric_limits<long long>::max() ||
+                       hi == std::numeric_limits<int>::max() || hi == std::numeric_limits<long>::max();
+    k.range = no_hi ? "integer >= " + std::to_string(lo)
+                    : "integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
+    k.doc = doc;
+    const std::string range_text = k.range;
+    k.parse = [set, lo, hi, name, range_text](const std::string& s, const std::string& raw) {
+        char* end = nullptr;
+        errno = 0;
+        const long long v = std::strtoll(raw.c_str(), &end, 10);
+        if (raw.empty() || end == raw.c_str() || !trim(end).empty())
+            throwConfigError(s, name, raw, "not an integer");
+        if (errno == ERANGE || v < lo || v > hi)
+            throwConfigError(s, name, raw, "out of range, must be " + range_text);
+        set(v);
+    };
+    k.format = [get]() { return std::to_string(get()); };
+    add(std::move(k));
+}
+
+OptionTable& OptionTable::flag(const std::string& name, bool& member, const std::string& doc)
+{
+    OptionKey k;
+    k.name = name;
+    k.range = "`true` \\| `false`";
+    k.doc = doc;
+    k.parse = [&member, name](const std::string& s, const std::string& raw) {
+        std::string l = raw;
+        std::transform(l.begin(), l.end(), l.begin(), [](unsigned char c) { return std::tolower(c); });
+        if (l == "true" || l == "1" || l == "yes" || l == "on")
+            member = true;
+        else if (l == "false" || l == "0" || l == "no" || l == "off")
+            member = false;
+        else
+            throwConfigError(s, name, raw, "not a boolean (true/false)");
+    };
+    k.format = [&member]() { return std::string(member ? "true" : "false"); };
+    return add(std::move(k));
+}
+
+OptionTable& OptionTable::text(const std::string& name, std::string& member, const std::string& doc,
+                               const std::string& range)
+{
+    OptionKey k;
+    k.name = name;
+    k.range = range;
+    k.doc = doc;
+    k.parse = [&member](const std::string&, const std::string& raw) { member = raw; };
+    k.format = [&member]() { return member; };
+    return add(std::move(k));
+}
+
+std::vector<std::string> OptionTable::names() const
+{
+    std::vector<std::string> out;
+    for (const auto& k : keys_) out.push_back(k.name);
+    return out;
+}
+
+void OptionTable::load(const mrpt::config::CConfigFileBase& cfg, const std::string& section) const
+{
+    checkKnownKeys(cfg, section, names());
+    for (const auto& k : keys_)
+    {
+        if (!cfg.keyExists(section, k.name)) continue;
+        k.parse(section, trim(cfg.read_string(section, k.name, "", false)));
+    }
+}
+
+void OptionTable::save(mrpt::config::CConfigFileBase& cfg, const std::string& section) const
+{
+    for (const auto& k : keys_) cfg.write(section, k.name, k.format());
+}
+
+std::string OptionTable::markdown() const
+{
+    std::ostringstream os;
+    os << "| key | unit | default | range | meaning |\n|---|---|---|---|---|\n";
+    for (const auto& k : keys_)
+    {
+        const std::string def = k.format();
+        os << "| `" << k.name << "` | " << k.unit << " | " << (def.empty() ? "(empty)" : "`" + def + "`")
+           << " | " << k.range << " | " << k.doc << " |\n";
+    }
+    return os.str();
+}
+
+}  // namespace hymm::core
