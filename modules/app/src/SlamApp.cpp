@@ -101,6 +101,7 @@ void SlamApp::writeOutputs(const io::GroundTruth* gt, const std::vector<dense::P
     const std::string out = args_.out_dir + "/";
     writeEstimatedPath(*slam_, out + "path.tum");
     writeEstimatedLandmarks(slam_->ekf(), out + "landmarks.csv");
+    if (slam_->scanLandmarks()) writeScanLandmarks(*slam_, out + "scan_landmarks.csv");
     if (args_.png) writeMapPng(makeMapPlot(*slam_, gt), out + "map.png");
     writeDenseOutputs(*slam_, out, args_.png);
     writeMotionOutputs(*slam_, out, args_.png);

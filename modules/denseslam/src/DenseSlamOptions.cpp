@@ -4,7 +4,9 @@
 
 #include <hymm/core/config_utils.h>
 
+#include <algorithm>
 #include <cmath>
+#include <optional>
 #include <sstream>
 #include <string>
 
@@ -14,30 +16,53 @@ namespace
 {
 constexpr double kDeg = M_PI / 180.0;
 
-DenseSlam::LandmarkSource parseSource(const std::string& s, const std::string& section)
+const std::pair<const char*, DenseSlam::LandmarkSource> kPointSources[] = {
+    {"bearing_range", DenseSlam::LandmarkSource::BearingRange},
+    {"laser_trees", DenseSlam::LandmarkSource::LaserTrees},
+    {"both", DenseSlam::LandmarkSource::Both},
+    {"laser_reflectors", DenseSlam::LandmarkSource::LaserReflectors},
+    {"laser_reflectors_and_trees", DenseSlam::LandmarkSource::LaserReflectorsAndTrees}};
+
+std::string sourceHelp()
 {
-    if (s == "bearing_range") return DenseSlam::LandmarkSource::BearingRange;
-    if (s == "laser_trees") return DenseSlam::LandmarkSource::LaserTrees;
-    if (s == "both") return DenseSlam::LandmarkSource::Both;
-    if (s == "laser_reflectors") return DenseSlam::LandmarkSource::LaserReflectors;
-    if (s == "laser_reflectors_and_trees")
-        return DenseSlam::LandmarkSource::LaserReflectorsAndTrees;
-    core::throwConfigError(section, "landmark_source", s,
-                           "must be one of bearing_range, laser_trees, both, laser_reflectors, "
-                           "laser_reflectors_and_trees");
+    std::string h = "must be a comma-separated list of at most one of bearing_range, laser_trees, "
+                    "both, laser_reflectors, laser_reflectors_and_trees and any of";
+    for (const auto& k : landmarkSourceKinds()) h += " " + k.name;
+    return h + " (each at most once)";
 }
 
-const char* sourceName(DenseSlam::LandmarkSource s)
+// landmark_source = point source and/or registered per-scan sources (DenseSlam.h).
+void parseSources(const std::string& value, const std::string& section, DenseSlam::Options& o)
 {
-    switch (s)
+    std::string v;
+    for (char c : value)
+        if (c != ' ' && c != '\t') v += c;
+    std::stringstream ss(v);
+    std::string item;
+    std::optional<DenseSlam::LandmarkSource> point;
+    std::vector<std::string> scan;
+    while (std::getline(ss, item, ','))
     {
-        case DenseSlam::LandmarkSource::BearingRange: return "bearing_range";
-        case DenseSlam::LandmarkSource::LaserTrees: return "laser_trees";
-        case DenseSlam::LandmarkSource::LaserReflectors: return "laser_reflectors";
-        case DenseSlam::LandmarkSource::LaserReflectorsAndTrees:
-            return "laser_reflectors_and_trees";
-        default: return "both";
+        bool known = false;
+        for (const auto& [name, src] : kPointSources)
+            if (item == name && !point) point = src, known = true;
+        if (!known && findLandmarkSourceKind(item) &&
+            std::find(scan.begin(), scan.end(), item) == scan.end())
+            scan.push_back(item), known = true;
+        if (!known) core::throwConfigError(section, "landmark_source", value, sourceHelp());
     }
+    if (!point && scan.empty()) core::throwConfigError(section, "landmark_source", value, sourceHelp());
+    o.landmark_source = point.value_or(DenseSlam::LandmarkSource::None);
+    o.scan_sources = std::move(scan);
+}
+
+std::string sourceName(const DenseSlam::Options& o)
+{
+    std::string out;
+    for (const auto& [name, src] : kPointSources)
+        if (src == o.landmark_source) out = name;
+    for (const auto& s : o.scan_sources) out += (out.empty() ? "" : ",") + s;
+    return out;
 }
 
 const char* const kDenseLayersHelp =
@@ -92,7 +117,7 @@ void DenseSlam::Options::loadFromConfigFile(const mrpt::config::CConfigFileBase&
                           "sensor_std_bearing_deg", "min_range", "max_range", "enable_profiler",
                           "dense_layers", "classic_grid", "laser_std_range",
                           "laser_std_bearing_deg", "max_local_std_m", "same_object_distance_m"});
-    landmark_source = parseSource(core::readString(cfg, s, "landmark_source", sourceName(landmark_source)), s);
+    parseSources(core::readString(cfg, s, "landmark_source", sourceName(*this)), s, *this);
     use_landmark_ids = core::readBool(cfg, s, "use_landmark_ids", use_landmark_ids);
     odometry_cov_scale = core::readDoubleMin(cfg, s, "odometry_cov_scale", odometry_cov_scale, 0.0, true);
     odometry_std_xy = core::readDoubleMin(cfg, s, "odometry_std_xy", odometry_std_xy, 0.0, false);
@@ -117,7 +142,7 @@ void DenseSlam::Options::loadFromConfigFile(const mrpt::config::CConfigFileBase&
 void DenseSlam::Options::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
                                           const std::string& s) const
 {
-    cfg.write(s, "landmark_source", sourceName(landmark_source));
+    cfg.write(s, "landmark_source", sourceName(*this));
     cfg.write(s, "use_landmark_ids", use_landmark_ids);
     cfg.write(s, "odometry_cov_scale", odometry_cov_scale);
     cfg.write(s, "odometry_std_xy", odometry_std_xy);
@@ -157,7 +182,7 @@ DenseSlam DenseSlam::fromConfig(const mrpt::config::CConfigFileBase& cfg)
     r.loadFromConfigFile(cfg, "ReflectorExtractor");
     DenseOptions d;
     d.loadFromConfigFile(cfg);
-    return DenseSlam(o, e, t, r, d);
+    return DenseSlam(o, e, t, r, d, &cfg);
 }
 
 }  // namespace hymm::denseslam
