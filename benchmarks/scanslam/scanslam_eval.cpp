@@ -68,7 +68,7 @@ int main(int argc, char** argv)
         if (duration.getValue() > 0) sc.run.duration_s = duration.getValue();
 
         std::vector<hymm::app::ScanSlamRun> runs;
-        std::cout << "seed,steps,closure_t,path_rmse_before,path_rmse_after,lm_before,lm_xy_before,"
+        std::cout << "seed,steps,closure_t,dr_rmse,path_rmse,path_rmse_before,path_rmse_after,lm_before,lm_xy_before,"
                      "lm_phi_deg_before,lm_after,lm_xy_after,lm_phi_deg_after,lm_nees_after,"
                      "template_outline_m,created,updated,gated,out_of_view,align_failed,"
                      "ms_per_step,x_real_time\n";
@@ -81,8 +81,9 @@ int main(int argc, char** argv)
             size_t failed = 0;
             for (const auto& [key, n] : r.counters)
                 if (key.find("align_failed") != std::string::npos) failed += n;
-            std::printf("%ld,%zu,%.1f,%.4f,%.4f,%zu,%.4f,%.4f,%zu,%.4f,%.4f,%.3f,%.4f,%zu,%zu,%zu,%zu,%zu,%.3f,%.1f\n",
-                        sc.run.seed, r.steps.size(), r.closure_t, r.path_rmse_before_m,
+            std::printf("%ld,%zu,%.1f,%.4f,%.4f,%.4f,%.4f,%zu,%.4f,%.4f,%zu,%.4f,%.4f,%.3f,%.4f,%zu,%zu,%zu,%zu,%zu,%.3f,%.1f\n",
+                        sc.run.seed, r.steps.size(), r.closure_t, r.dead_reckoning_rmse_m,
+                        r.path_rmse_m, r.path_rmse_before_m,
                         r.path_rmse_after_m, r.before_closure.landmarks, r.before_closure.rmse_xy_m,
                         r.before_closure.rmse_phi * 180 / M_PI, r.after_closure.landmarks,
                         r.after_closure.rmse_xy_m, r.after_closure.rmse_phi * 180 / M_PI,
@@ -116,6 +117,8 @@ int main(int argc, char** argv)
             for (const auto& s : r.steps) step_ms.push_back(1e3 * s.seconds);
         std::cout << "\n| quantity (median, 10th-90th percentile over " << runs.size() << " seeds) | value |\n|---|---|\n"
                   << "| loop closure at [s] | " << fmt(col([](const R& r) { return r.closure_t; }), 1, 1) << " |\n"
+                  << "| dead-reckoning path RMSE, whole run [m] | " << fmt(col([](const R& r) { return r.dead_reckoning_rmse_m; }), 1, 3) << " |\n"
+                  << "| Scan-SLAM path RMSE, whole run [m] | " << fmt(col([](const R& r) { return r.path_rmse_m; }), 1, 3) << " |\n"
                   << "| path RMSE before the closure [m] | " << fmt(col([](const R& r) { return r.path_rmse_before_m; }), 1, 3) << " |\n"
                   << "| path RMSE after the closure [m] | " << fmt(col([](const R& r) { return r.path_rmse_after_m; }), 1, 3) << " |\n"
                   << "| landmarks before / after | " << fmt(col([](const R& r) { return double(r.before_closure.landmarks); }), 1, 0)
@@ -128,8 +131,8 @@ int main(int argc, char** argv)
                   << "| vehicle NEES, run-averaged: steps inside the 95 % band [" << band.lower << ", " << band.upper
                   << "] | " << inside << " (above: " << static_cast<double>(above) / static_cast<double>(n_steps) << ") |\n"
                   << "| template points' mean distance to the true outlines [m] | " << fmt(col([](const R& r) { return r.template_outline_mean_m; }), 1, 3) << " |\n"
-                  << "| time per step [ms] (all steps) | " << fmt(spread(step_ms), 1, 2) << " |\n"
-                  << "| x real time (per run) | " << fmt(col([](const R& r) {
+                  << "| CPU time per step [ms] (all steps) | " << fmt(spread(step_ms), 1, 2) << " |\n"
+                  << "| x real time, CPU (per run) | " << fmt(col([](const R& r) {
                          double s = 0;
                          for (const auto& st : r.steps) s += st.seconds;
                          return r.duration_s / s;

@@ -130,21 +130,6 @@ double radius(const ScanTemplate& tpl)
     return r;
 }
 
-/** [m] Scan points farther than the template's radius plus this from its predicted
- *  origin cannot pair with it (beyond the matchers' largest correction, 1 m, plus their
- *  widest smoothing, 0.5 m, at several sigma): left out of the alignment. */
-constexpr double kNearMargin = 3.0;
-
-/** The returns of `pts` within `reach` of z's origin. */
-PointSet near(const PointSet& pts, const Vec3& z, double reach)
-{
-    PointSet out;
-    const Vec2 o = z.head<2>();
-    for (size_t i = 0; i < pts.size(); ++i)
-        if ((pts.points[i] - o).norm() <= reach) out.add(pts.points[i], pts.covs[i]);
-    return out;
-}
-
 /** Marks the returns within `d` of a template point placed at z (sensor frame). */
 size_t markExplained(const ScanTemplate& tpl, const Vec3& z, const PointSet& pts, double d,
                      std::vector<char>& explained)
@@ -206,8 +191,7 @@ void ScanLandmarkMap::observe(ekf::EkfSlam& ekf, long id, const ScanTemplate& tp
     Vec3 placed = z_hat;
     if (fractionInView(tpl, z_hat, max_range, fov) <= options_.in_view_fraction)
         ++stats_.out_of_view;
-    else if (const AlignResult res = matcher_->align(tpl.sog, near(pts, z_hat, radius(tpl) + kNearMargin), z_hat);
-             !res.ok)
+    else if (const AlignResult res = matcher_->align(tpl.sog, pts, z_hat); !res.ok)
         ++stats_.align_failed[res.failure];
     else
     {

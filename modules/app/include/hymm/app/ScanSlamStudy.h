@@ -32,7 +32,8 @@ struct ScanSlamRun
         Eigen::Vector3d estimate = Eigen::Vector3d::Zero();
         Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
         double nees = 0;     //!< vehicle NEES (3 DOF), NaN if the covariance is singular
-        double seconds = 0;  //!< processing time of the frame (odometry + scan)
+        Eigen::Vector3d dead_reckoning = Eigen::Vector3d::Zero();  //!< the simulator's
+        double seconds = 0;  //!< CPU time of the frame (odometry + scan), this thread
     };
     /** Landmark pose errors at one instant. */
     struct LandmarkErrors
@@ -51,6 +52,7 @@ struct ScanSlamRun
     double path_rmse_before_m = 0;  //!< up to the closure
     double path_rmse_after_m = 0;   //!< from the closure to the end
     double path_rmse_m = 0;         //!< the whole run
+    double dead_reckoning_rmse_m = 0;  //!< the odometry alone, the whole run
     double template_outline_mean_m = 0;  //!< template points (at the final estimates) to the true outlines
     size_t template_points = 0;
     denseslam::DenseSlam::Stats stats;

@@ -11,6 +11,9 @@
  *  - metrics.json    with ground truth: path RMSE, landmark errors, NEES statistics
  *  - summary.txt     counters (associations, rejections, skipped readings) and timing
  *  - timing.csv      processing time of every sensory frame against map size
+ *  - scan_landmarks.csv  with landmark_source scan_landmarks: id,x,y,phi, the 3x3
+ *                    covariance and the template's point count (writeScanLandmarks);
+ *                    map.png then also shows templates, frame axes and 3-sigma ellipses
  * and with dense layers / the classic grid on ([DenseSlam] dense_layers, classic_grid):
  *  - regions.txt, points.{png,bin,txt}, occupancy.{png,gridmap}, occupancy_regions.csv,
  *    particles.{png,bin,txt}, sog.bin, sog_surface.png, sog_ellipses.png,
