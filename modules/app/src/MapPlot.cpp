@@ -42,6 +42,8 @@ Frame makeFrame(const MapPlot& plot)
     for (const auto& p : plot.true_landmarks) grow(p);
     for (const auto& p : plot.dense_points)
         if (p.allFinite()) grow(p);
+    for (const auto& l : plot.pose_landmarks)
+        for (const auto& p : l.points) grow(p);
     if (xmin > xmax) throw std::invalid_argument("map plot: nothing to draw");
     const double margin = 5.0;  // [m]
     xmin -= margin, ymin -= margin, xmax += margin, ymax += margin;
@@ -64,6 +66,37 @@ void drawPolyline(cv::Mat& img, const Frame& f, const std::vector<Eigen::Vector2
         cv::polylines(img, std::vector<std::vector<cv::Point>>{px}, false, colour, thickness,
                       cv::LINE_AA);
 }
+void drawEllipse(cv::Mat& img, const Frame& f, const Eigen::Vector2d& mean,
+                 const Eigen::Matrix2d& cov, double sigma_scale, const cv::Scalar& colour)
+{
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(0.5 * (cov + cov.transpose()));
+    if (es.info() != Eigen::Success) return;
+    const Eigen::Vector2d ev = es.eigenvalues().cwiseMax(0.0);
+    const Eigen::Vector2d major = es.eigenvectors().col(1);
+    const double ang = -std::atan2(major.y(), major.x()) * 180.0 / M_PI;  // image y down
+    const cv::Size axes(
+        std::max(1, static_cast<int>(std::lround(sigma_scale * std::sqrt(ev[1]) * f.scale))),
+        std::max(1, static_cast<int>(std::lround(sigma_scale * std::sqrt(ev[0]) * f.scale))));
+    cv::ellipse(img, f.px(mean), axes, ang, 0, 360, colour, 1, cv::LINE_AA);
+}
+
+// Template points (green), the frame's x (red) and y (green) axes, its xy ellipse.
+void drawPoseLandmarks(cv::Mat& img, const Frame& f, const MapPlot& plot)
+{
+    const cv::Scalar green(0, 150, 0), red(0, 0, 220);
+    for (const auto& l : plot.pose_landmarks)
+    {
+        if (!l.pose.allFinite()) continue;
+        for (const auto& p : l.points)
+            if (p.allFinite()) cv::circle(img, f.px(p), 1, green, cv::FILLED);
+        const Eigen::Vector2d o = l.pose.head<2>();
+        const Eigen::Vector2d ex(std::cos(l.pose.z()), std::sin(l.pose.z()));
+        const Eigen::Vector2d ey(-ex.y(), ex.x());
+        cv::line(img, f.px(o), f.px(o + plot.axis_length * ex), red, 1, cv::LINE_AA);
+        cv::line(img, f.px(o), f.px(o + plot.axis_length * ey), green, 1, cv::LINE_AA);
+        drawEllipse(img, f, o, l.cov.topLeftCorner<2, 2>(), plot.sigma_scale, red);
+    }
+}
 }  // namespace
 
 void writeMapPng(const MapPlot& plot, const std::string& path)
@@ -81,18 +114,10 @@ void writeMapPng(const MapPlot& plot, const std::string& path)
     for (const auto& l : plot.estimated_landmarks)
     {
         if (!l.mean.allFinite()) continue;
-        const cv::Point c = f.px(l.mean);
-        cv::circle(img, c, 2, blue, cv::FILLED, cv::LINE_AA);
-        Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(0.5 * (l.cov + l.cov.transpose()));
-        if (es.info() != Eigen::Success) continue;
-        const Eigen::Vector2d ev = es.eigenvalues().cwiseMax(0.0);
-        const Eigen::Vector2d major = es.eigenvectors().col(1);
-        const double ang = -std::atan2(major.y(), major.x()) * 180.0 / M_PI;  // image y down
-        const cv::Size axes(
-            std::max(1, static_cast<int>(std::lround(plot.sigma_scale * std::sqrt(ev[1]) * f.scale))),
-            std::max(1, static_cast<int>(std::lround(plot.sigma_scale * std::sqrt(ev[0]) * f.scale))));
-        cv::ellipse(img, c, axes, ang, 0, 360, red, 1, cv::LINE_AA);
+        cv::circle(img, f.px(l.mean), 2, blue, cv::FILLED, cv::LINE_AA);
+        drawEllipse(img, f, l.mean, l.cov, plot.sigma_scale, red);
     }
+    drawPoseLandmarks(img, f, plot);
     // Scale bar: 10 m.
     const int bar = static_cast<int>(std::lround(10.0 * f.scale));
     cv::line(img, {10, f.h - 10}, {10 + bar, f.h - 10}, cv::Scalar(0, 0, 0), 2);

@@ -121,6 +121,7 @@ void SlamApp::writeOutputs(const std::string& out, const io::GroundTruth* gt,
     slam_->refreshRegions();
     writeEstimatedPath(*slam_, out + "path.tum");
     writeEstimatedLandmarks(slam_->ekf(), out + "landmarks.csv");
+    if (slam_->scanLandmarks()) writeScanLandmarks(*slam_, out + "scan_landmarks.csv");
     if (args_.png) writeMapPng(makeMapPlot(*slam_, gt), out + "map.png");
     writeDenseOutputs(*slam_, out, args_.png);
     writeMotionOutputs(*slam_, out, args_.png);

@@ -80,6 +80,7 @@ MapPlot makeMapPlot(const DenseSlam& slam, const GroundTruth* gt)
         hybrid->renderPoints(*slam.partition(), pts);
         p.dense_points = dense::pointsOf(pts);
     }
+    addScanLandmarksToPlot(slam, p);
     if (gt)
     {
         for (const auto& s : gt->path) p.true_path.emplace_back(s.x, s.y);
@@ -94,7 +95,8 @@ eval::MetricsJson computeMetrics(const DenseSlam& slam, const GroundTruth& gt, d
     j.set("run_seconds", run_seconds);
     j.set("steps", static_cast<unsigned long>(slam.path().size()));
     j.set("landmarks_estimated", static_cast<unsigned long>(slam.ekf().numLandmarks()));
-    if (slam.options().landmark_source != DenseSlam::LandmarkSource::BearingRange)
+    if (slam.options().landmark_source != DenseSlam::LandmarkSource::BearingRange &&
+        slam.options().landmark_source != DenseSlam::LandmarkSource::None)
     {
         const auto& st = slam.stats();
         const auto by = landmarksByFeature(slam);
@@ -108,6 +110,7 @@ eval::MetricsJson computeMetrics(const DenseSlam& slam, const GroundTruth& gt, d
         ej.set("landmarks_tree_only", static_cast<unsigned long>(by.tree_only));
         ej.set("landmarks_reflector_and_tree", static_cast<unsigned long>(by.both));
     }
+    writeScanSourceMetrics(j, slam);
     eval::writeRunMetrics(j, estimatedPoses(slam), estimatedLandmarks(slam.ekf()),
                           landmarkAssociationFor(slam), gt);
     return j;

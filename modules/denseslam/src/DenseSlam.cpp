@@ -71,7 +71,8 @@ bool sameObject(const extract::ScanFeature& tree, const extract::ScanFeature& re
 DenseSlam::DenseSlam(const Options& opts, const ekf::EkfSlam::Options& ekf_opts,
                      const extract::TreeExtractor::Options& tree_opts,
                      const extract::ReflectorExtractor::Options& reflector_opts,
-                     const DenseOptions& dense_opts)
+                     const DenseOptions& dense_opts,
+                     const mrpt::config::CConfigFileBase* sources_cfg)
     : options_(opts),
       ekf_(ekf_opts),
       trees_(tree_opts),
@@ -101,6 +102,45 @@ DenseSlam::DenseSlam(const Options& opts, const ekf::EkfSlam::Options& ekf_opts,
             throw std::invalid_argument(
                 "[DynamicSlam] enabled = true needs the occupancy layer ([DenseSlam] dense_layers)");
         motion_ = std::make_unique<dynamic::SlamMotionHook>(dense_opts.dynamic);
+    }
+    makeScanSources(sources_cfg);
+}
+
+void DenseSlam::makeScanSources(const mrpt::config::CConfigFileBase* cfg)
+{
+    sources_.clear();
+    for (const auto& name : options_.scan_sources)
+    {
+        const LandmarkSourceKind* kind = findLandmarkSourceKind(name);
+        if (!kind) throw std::invalid_argument("unknown landmark source '" + name + "'");
+        sources_.push_back(kind->make(cfg));
+    }
+}
+
+const ScanLandmarksSource* DenseSlam::scanLandmarks() const
+{
+    for (const auto& s : sources_)
+        if (const auto* p = dynamic_cast<const ScanLandmarksSource*>(s.get())) return p;
+    return nullptr;
+}
+
+std::vector<std::pair<std::string, size_t>> DenseSlam::scanSourceCounters() const
+{
+    std::vector<std::pair<std::string, size_t>> out;
+    for (const auto& s : sources_)
+        for (const auto& [k, n] : s->counters()) out.emplace_back(s->name() + "." + k, n);
+    return out;
+}
+
+void DenseSlam::processScanSources(const mrpt::obs::CObservation2DRangeScan& scan)
+{
+    if (sources_.empty()) return;
+    mrpt::system::CTimeLoggerEntry tle(profiler_, "denseslam.3_scan_sources");
+    for (auto& src : sources_)
+    {
+        const size_t before = src->mapChanges();
+        src->processScan(ekf_, scan);
+        updates_ += src->mapChanges() - before;
     }
 }
 
@@ -215,8 +255,12 @@ void DenseSlam::processFrame(const mrpt::obs::CSensoryFrame& frame)
             for (size_t i = 0; i < scan->getScanSize() && !any_valid; ++i)
                 any_valid = scan->getScanRangeValidity(i);
             if (!any_valid) ++stats_.scans_without_valid_beam;
-            if (options_.landmark_source != LandmarkSource::BearingRange) processScan(*scan);
-            else if (!partition_ && !classic_) ++stats_.observations_unused;
+            const bool laser_points = options_.landmark_source != LandmarkSource::BearingRange &&
+                                      options_.landmark_source != LandmarkSource::None;
+            if (laser_points) processScan(*scan);
+            processScanSources(*scan);
+            if (!laser_points && sources_.empty() && !partition_ && !classic_)
+                ++stats_.observations_unused;
         }
         else if (IS_CLASS(*o, mrpt::obs::CObservationOdometry))
         {

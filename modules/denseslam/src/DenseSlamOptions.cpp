@@ -4,8 +4,10 @@
 
 #include <hymm/core/OptionTable.h>
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
+#include <optional>
 #include <sstream>
 #include <string>
 
@@ -14,6 +16,55 @@ namespace hymm::denseslam
 namespace
 {
 constexpr double kDeg = M_PI / 180.0;
+
+const std::pair<const char*, DenseSlam::LandmarkSource> kPointSources[] = {
+    {"bearing_range", DenseSlam::LandmarkSource::BearingRange},
+    {"laser_trees", DenseSlam::LandmarkSource::LaserTrees},
+    {"both", DenseSlam::LandmarkSource::Both},
+    {"laser_reflectors", DenseSlam::LandmarkSource::LaserReflectors},
+    {"laser_reflectors_and_trees", DenseSlam::LandmarkSource::LaserReflectorsAndTrees}};
+
+std::string sourceHelp()
+{
+    std::string h = "must be a comma-separated list of at most one of bearing_range, laser_trees, "
+                    "both, laser_reflectors, laser_reflectors_and_trees and any of";
+    for (const auto& k : landmarkSourceKinds()) h += " " + k.name;
+    return h + " (each at most once)";
+}
+
+// landmark_source = point source and/or registered per-scan sources (DenseSlam.h).
+void parseSources(const std::string& value, const std::string& section, DenseSlam::Options& o)
+{
+    std::string v;
+    for (char c : value)
+        if (c != ' ' && c != '\t') v += c;
+    std::stringstream ss(v);
+    std::string item;
+    std::optional<DenseSlam::LandmarkSource> point;
+    std::vector<std::string> scan;
+    while (std::getline(ss, item, ','))
+    {
+        bool known = false;
+        for (const auto& [name, src] : kPointSources)
+            if (item == name && !point) point = src, known = true;
+        if (!known && findLandmarkSourceKind(item) &&
+            std::find(scan.begin(), scan.end(), item) == scan.end())
+            scan.push_back(item), known = true;
+        if (!known) core::throwConfigError(section, "landmark_source", value, sourceHelp());
+    }
+    if (!point && scan.empty()) core::throwConfigError(section, "landmark_source", value, sourceHelp());
+    o.landmark_source = point.value_or(DenseSlam::LandmarkSource::None);
+    o.scan_sources = std::move(scan);
+}
+
+std::string sourceName(const DenseSlam::Options& o)
+{
+    std::string out;
+    for (const auto& [name, src] : kPointSources)
+        if (src == o.landmark_source) out = name;
+    for (const auto& s : o.scan_sources) out += (out.empty() ? "" : ",") + s;
+    return out;
+}
 
 const char* const kDenseLayersHelp =
     "must be none, or a comma-separated list of points, occupancy, particles, sog, property "
@@ -62,13 +113,14 @@ core::OptionTable DenseSlam::Options::table()
 {
     using namespace hymm::core;
     OptionTable t;
-    t.choice("landmark_source", landmark_source,
-             {{"bearing_range", LandmarkSource::BearingRange},
-              {"laser_trees", LandmarkSource::LaserTrees},
-              {"both", LandmarkSource::Both},
-              {"laser_reflectors", LandmarkSource::LaserReflectors},
-              {"laser_reflectors_and_trees", LandmarkSource::LaserReflectorsAndTrees}},
-             "where landmark observations come from (see Landmark sources)");
+    OptionKey sources;
+    sources.name = "landmark_source";
+    sources.range = "a list: at most one of `bearing_range`, `laser_trees`, `both`, `laser_reflectors`, "
+                    "`laser_reflectors_and_trees`, and any registered per-scan source (`scan_landmarks`)";
+    sources.doc = "where landmark observations come from (see Landmark sources)";
+    sources.parse = [this](const std::string& s, const std::string& raw) { parseSources(raw, s, *this); };
+    sources.format = [this]() { return sourceName(*this); };
+    t.custom(std::move(sources));
     t.flag("use_landmark_ids", use_landmark_ids, "use the ids the rawlog carries; false: data association");
     t.real("odometry_cov_scale", odometry_cov_scale, "", above(0, 1e6), "multiplies the odometry covariance of the rawlog");
     t.real("odometry_std_xy", odometry_std_xy, "m", atLeast(0, 100), "added in quadrature to the odometry (per step)");
@@ -191,7 +243,7 @@ DenseSlam DenseSlam::fromConfig(const mrpt::config::CConfigFileBase& cfg)
     DenseOptions d;
     d.loadFromConfigFile(cfg);
     applyLaser(cfg, o, d.hybrid);
-    return DenseSlam(o, e, t, r, d);
+    return DenseSlam(o, e, t, r, d, &cfg);
 }
 
 }  // namespace hymm::denseslam

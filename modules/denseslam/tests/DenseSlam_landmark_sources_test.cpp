@@ -278,4 +278,45 @@ TEST(DenseSlamLandmarkSources, ConfigNamesAndErrors)
     EXPECT_DOUBLE_EQ(back.same_object_distance, 0.7);
 }
 
+// landmark_source lists at most one point source and any registered per-scan sources;
+// the pipeline builds the registered ones with their sections.
+TEST(DenseSlamLandmarkSources, RegisteredScanSourcesParseAndBuild)
+{
+    auto load = [](const std::string& body) {
+        mrpt::config::CConfigFileMemory cfg("[DenseSlam]\n" + body);
+        DenseSlam::Options o;
+        o.loadFromConfigFile(cfg, "DenseSlam");
+        return o;
+    };
+    const auto alone = load("landmark_source = scan_landmarks\n");
+    EXPECT_EQ(alone.landmark_source, DenseSlam::LandmarkSource::None);
+    EXPECT_EQ(alone.scan_sources, std::vector<std::string>{"scan_landmarks"});
+    const auto both = load("landmark_source = laser_reflectors, scan_landmarks\n");
+    EXPECT_EQ(both.landmark_source, DenseSlam::LandmarkSource::LaserReflectors);
+    EXPECT_EQ(both.scan_sources, std::vector<std::string>{"scan_landmarks"});
+    EXPECT_TRUE(load("landmark_source = bearing_range\n").scan_sources.empty());
+    EXPECT_THROW(load("landmark_source = scan_landmarks,scan_landmarks\n"), std::invalid_argument);
+    EXPECT_THROW(load("landmark_source = laser_trees,bearing_range\n"), std::invalid_argument);
+    EXPECT_THROW(load("landmark_source = scan_landmark\n"), std::invalid_argument);
+    EXPECT_THROW(load("landmark_source =  ,\n"), std::invalid_argument);
+    mrpt::config::CConfigFileMemory out;
+    both.saveToConfigFile(out, "DenseSlam");
+    DenseSlam::Options back;
+    back.loadFromConfigFile(out, "DenseSlam");
+    EXPECT_EQ(back.landmark_source, DenseSlam::LandmarkSource::LaserReflectors);
+    EXPECT_EQ(back.scan_sources, both.scan_sources);
+
+    // fromConfig builds the source with its sections; a bad key there is an error.
+    mrpt::config::CConfigFileMemory cfg(
+        "[DenseSlam]\nlandmark_source = scan_landmarks\n[ScanLandmarks]\nmatcher = icp\n");
+    const auto slam = DenseSlam::fromConfig(cfg);
+    ASSERT_NE(slam.scanLandmarks(), nullptr);
+    EXPECT_EQ(slam.scanLandmarks()->map().matcher().name(), "icp");
+    mrpt::config::CConfigFileMemory bad(
+        "[DenseSlam]\nlandmark_source = scan_landmarks\n[ScanLandmarks]\nmatchr = icp\n");
+    EXPECT_THROW(DenseSlam::fromConfig(bad), std::invalid_argument);
+    // Without it, nothing is built and no counter appears.
+    EXPECT_EQ(DenseSlam::fromConfig(mrpt::config::CConfigFileMemory("")).scanSources().size(), 0u);
+}
+
 }  // namespace

@@ -24,6 +24,16 @@ struct MapPlot
     std::vector<Eigen::Vector2d> true_path;
     std::vector<Landmark> estimated_landmarks;
     std::vector<Eigen::Vector2d> true_landmarks;
+    /** A Scan-SLAM landmark: its frame (x, y, phi) with covariance and its template
+     *  points placed at the frame's estimate (drawn green, with the frame's axes). */
+    struct PoseLandmark
+    {
+        Eigen::Vector3d pose = Eigen::Vector3d::Zero();
+        Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+        std::vector<Eigen::Vector2d> points;  //!< global
+    };
+    std::vector<PoseLandmark> pose_landmarks;
+    double axis_length = 2.0;  //!< [m] drawn length of a pose landmark's x and y axes
     std::vector<Eigen::Vector2d> dense_points;  //!< rendered dense returns (drawn first, black)
     double sigma_scale = 3.0;      //!< ellipses at this many standard deviations
     double pixels_per_metre = 8;   //!< scale, reduced if the image would exceed max_side

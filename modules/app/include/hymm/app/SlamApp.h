@@ -14,6 +14,9 @@
  *  - map.3Dscene     for SceneViewer3D, map.simplemap (keyframes for MRPT's apps) and,
  *    with dense layers, map.hymm (the hybrid map as dense::CHybridMetricMap): see
  *    mrpt_outputs.h
+ *  - scan_landmarks.csv  with landmark_source scan_landmarks: id,x,y,phi, the 3x3
+ *                    covariance and the template's point count (writeScanLandmarks);
+ *                    map.png then also shows templates, frame axes and 3-sigma ellipses
  * and with dense layers / the classic grid on ([DenseSlam] dense_layers, classic_grid):
  *  - regions.txt, points.{png,bin,txt}, occupancy.{png,gridmap}, occupancy_regions.csv,
  *    particles.{png,bin,txt}, sog.bin, sog_surface.png, sog_ellipses.png,

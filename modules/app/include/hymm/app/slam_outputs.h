@@ -52,6 +52,31 @@ MapPlot makeMapPlot(const DenseSlam& slam, const GroundTruth* gt);
  */
 eval::MetricsJson computeMetrics(const DenseSlam& slam, const GroundTruth& gt, double run_seconds);
 
+/** A Scan-SLAM landmark's estimate (scan_landmark_outputs.cpp). */
+struct ScanLandmarkEstimate
+{
+    long id = -1;
+    Eigen::Vector3d pose = Eigen::Vector3d::Zero();  //!< template frame (x, y, phi)
+    Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+    std::vector<Eigen::Vector2d> points;  //!< template points at `pose` (global)
+};
+
+/** Every scan landmark in the filter (none without landmark_source scan_landmarks). */
+std::vector<ScanLandmarkEstimate> scanLandmarkEstimates(const DenseSlam& slam);
+
+/** CSV "id,x,y,phi,cxx,cxy,cxphi,cyy,cyphi,cphiphi,points" of the scan landmarks
+ *  (pose, 3x3 covariance, template point count). */
+void writeScanLandmarks(const DenseSlam& slam, const std::string& file);
+
+/** Templates, local axes and 3-sigma ellipses of the scan landmarks in the map figure. */
+void addScanLandmarksToPlot(const DenseSlam& slam, MapPlot& plot);
+
+/** "scan_sources": every registered source's counters (nothing when none is in use). */
+void writeScanSourceMetrics(eval::MetricsJson& j, const DenseSlam& slam);
+
+/** One summary line of the registered sources' counters (nothing when none is in use). */
+void writeScanSourceSummary(std::ostream& f, const DenseSlam& slam);
+
 /** Wall-clock cost of processing one sensory frame (or single observation). */
 struct FrameTiming
 {

@@ -36,6 +36,7 @@
 #include <hymm/dense/ScanPoints.h>
 #include <hymm/io/RawlogReader.h>
 #include <hymm/dynamic/SlamMotionHook.h>
+#include <hymm/denseslam/LandmarkSources.h>
 #include <hymm/ekf/EkfSlam.h>
 #include <hymm/extract/ReflectorExtractor.h>
 #include <hymm/extract/TreeExtractor.h>
@@ -71,7 +72,10 @@ public:
         /** Both extractors on every scan, each feature with its own extractor's noise; a
          *  tree that is the object of a reflector of the same scan (Options::
          *  same_object_distance) is dropped in favour of the reflector. */
-        LaserReflectorsAndTrees
+        LaserReflectorsAndTrees,
+        /** No point source: only the registered per-scan sources of
+         *  Options::scan_sources (e.g. landmark_source = scan_landmarks). */
+        None
     };
 
     /** The extractor an observation of a scan came from. */
@@ -95,7 +99,13 @@ public:
 
     struct Options : public mrpt::config::CLoadableOptions
     {
+        /** [DenseSlam] landmark_source is a comma-separated list: at most one point
+         *  source (bearing_range, laser_trees, both, laser_reflectors,
+         *  laser_reflectors_and_trees) and any registered per-scan sources
+         *  (LandmarkSources.h: scan_landmarks). The point source goes here (None when
+         *  the list names none), the registered ones in scan_sources. */
         LandmarkSource landmark_source = LandmarkSource::BearingRange;
+        std::vector<std::string> scan_sources;  //!< registered sources, in list order
         bool use_landmark_ids = true;   //!< use IDs the rawlog carries; false: data association
         double odometry_cov_scale = 1.0;  //!< multiplies the odometry covariance of the rawlog
         double odometry_std_xy = 0.0;     //!< [m] added in quadrature to the odometry (per step)
@@ -246,13 +256,16 @@ public:
     };
 
     /** Builds the pipeline from an .ini: sections [DenseSlam], [Laser], [EkfSlam],
-     *  [TreeExtractor], [ReflectorExtractor] and the DenseOptions sections. */
+     *  [TreeExtractor], [ReflectorExtractor], the DenseOptions sections and those of the
+     *  registered landmark sources named in landmark_source (LandmarkSources.h). */
     static DenseSlam fromConfig(const mrpt::config::CConfigFileBase& cfg);
+
 
     DenseSlam(const Options& opts, const ekf::EkfSlam::Options& ekf_opts,
               const extract::TreeExtractor::Options& tree_opts,
               const extract::ReflectorExtractor::Options& reflector_opts = {},
-              const DenseOptions& dense_opts = {});
+              const DenseOptions& dense_opts = {},
+              const mrpt::config::CConfigFileBase* sources_cfg = nullptr);
 
     /** Processes one rawlog entry (actions, sensory frame or single observation). */
     void processEntry(const io::RawlogEntry& entry);
@@ -271,6 +284,12 @@ public:
     /** The scan observations (reflectors, trees) behind every landmark now in the filter;
      *  landmarks never observed in a scan are absent (all of them with bearing_range). */
     const std::map<long, LandmarkFeatures>& landmarkFeatures() const { return features_; }
+    /** The registered per-scan landmark sources in use (Options::scan_sources). */
+    const std::vector<std::unique_ptr<ScanLandmarkSource>>& scanSources() const { return sources_; }
+    /** The scan_landmarks source, or nullptr when it is not in use. */
+    const ScanLandmarksSource* scanLandmarks() const;
+    /** Every registered source's counters as "<source>.<counter>". */
+    std::vector<std::pair<std::string, size_t>> scanSourceCounters() const;
 
     /** Brings the current vertices of every region to the latest landmark estimates
      *  (RegionPartition::updateVertexPositions, O(regions)). With [LtrPartition]
@@ -306,6 +325,11 @@ public:
 private:
     void processBearingRange(const mrpt::obs::CObservationBearingRange& obs);
     void processScan(const mrpt::obs::CObservation2DRangeScan& scan);
+    /** Builds the registered sources of Options::scan_sources from `cfg` (their
+     *  sections; defaults when null). */
+    void makeScanSources(const mrpt::config::CConfigFileBase* cfg);
+    /** The registered sources' step for one scan (after the point sources). */
+    void processScanSources(const mrpt::obs::CObservation2DRangeScan& scan);
     void processOdometryObservation(const mrpt::obs::CObservation& obs);
     /** EKF update with the observations of one sensor (an empty report when `obs` is
      *  empty). */
@@ -376,6 +400,7 @@ private:
     /** Virtual landmarks live in the passive-state id space, far above real landmark ids. */
     long next_virtual_id_ = 1L << 40;
     mrpt::system::CTimeLogger profiler_{false, "hymm::DenseSlam"};
+    std::vector<std::unique_ptr<ScanLandmarkSource>> sources_;  //!< registered per-scan sources
 };
 
 }  // namespace hymm::denseslam

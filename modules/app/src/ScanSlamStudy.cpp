@@ -1,0 +1,164 @@
+// Scan-SLAM on a simulated run against the simulator's truth (ScanSlamStudy.h).
+#include "hymm/app/ScanSlamStudy.h"
+
+#include <hymm/dense/outline_metrics.h>
+#include <hymm/eval/nees.h>
+#include <hymm/scanslam/PointSet.h>
+#include <hymm/sim/Simulator.h>
+#include <mrpt/math/wrap2pi.h>
+#include <mrpt/obs/CSensoryFrame.h>
+#include <mrpt/poses/CPosePDFGaussian.h>
+
+#include <cmath>
+#include <ctime>
+#include <limits>
+#include <map>
+
+namespace hymm::app
+{
+namespace
+{
+using scanslam::compose;
+
+Eigen::Vector3d poseError(const Eigen::Vector3d& est, const Eigen::Vector3d& truth)
+{
+    Eigen::Vector3d e = est - truth;
+    e.z() = mrpt::math::wrapToPi(e.z());
+    return e;
+}
+
+ScanSlamRun::LandmarkErrors landmarkErrors(const denseslam::DenseSlam& slam,
+                                           const std::map<long, Eigen::Vector3d>& truth)
+{
+    ScanSlamRun::LandmarkErrors r;
+    double sxy = 0, sphi = 0, snees = 0;
+    size_t n_nees = 0;
+    for (const auto& [id, x_true] : truth)
+    {
+        if (!slam.ekf().hasLandmark(id)) continue;
+        const Eigen::Vector3d e = poseError(slam.ekf().landmarkBlockMean(id).head<3>(), x_true);
+        ++r.landmarks;
+        sxy += e.head<2>().squaredNorm();
+        sphi += e.z() * e.z();
+        const auto v = eval::nees(e, slam.ekf().landmarkBlockCov(id));
+        if (v.ok()) snees += v.value, ++n_nees;
+    }
+    const double n = static_cast<double>(std::max<size_t>(r.landmarks, 1));
+    r.rmse_xy_m = std::sqrt(sxy / n);
+    r.rmse_phi = std::sqrt(sphi / n);
+    r.mean_nees = n_nees ? snees / static_cast<double>(n_nees) : std::nan("");
+    return r;
+}
+
+double pathRmse(const std::vector<ScanSlamRun::Step>& s, size_t from, size_t to)
+{
+    double sum = 0;
+    for (size_t i = from; i < to; ++i) sum += (s[i].estimate - s[i].truth).head<2>().squaredNorm();
+    return to > from ? std::sqrt(sum / static_cast<double>(to - from)) : std::nan("");
+}
+
+void scoreTemplates(const denseslam::DenseSlam& slam, const sim::World& world, ScanSlamRun& run)
+{
+    std::vector<Eigen::Vector2d> pts;
+    const auto* src = slam.scanLandmarks();
+    if (!src) return;
+    for (const auto& [id, tpl] : src->map().templates())
+    {
+        if (!slam.ekf().hasLandmark(id)) continue;
+        const Eigen::Vector3d pose = slam.ekf().landmarkBlockMean(id).head<3>();
+        for (const auto& p : tpl.sog.points) pts.push_back(scanslam::transformPoint(pose, p));
+    }
+    std::vector<dense::Polygon> outlines;
+    for (const auto& o : world.objects())
+    {
+        const auto poly = o.outlineAt(0.0);
+        outlines.emplace_back(poly.begin(), poly.end());
+    }
+    run.template_points = pts.size();
+    run.template_outline_mean_m =
+        pts.empty() || outlines.empty() ? std::nan("") : dense::evaluateOutlines(pts, outlines).mean_distance_m;
+}
+}  // namespace
+
+ScanSlamRun runScanSlamStudy(const sim::Scenario& scenario,
+                             const mrpt::config::CConfigFileBase& slam_cfg, double closure_min_age_s)
+{
+    auto slam = denseslam::DenseSlam::fromConfig(slam_cfg);
+    sim::Simulator sim(scenario);
+    sim::SimFrame f;
+    ScanSlamRun run;
+    std::map<long, Eigen::Vector3d> truth;  // landmark id -> true frame pose
+    std::map<long, std::pair<double, int>> seen;  // id -> (creation time, times_seen)
+    std::map<long, Eigen::Vector3d> truth_before;
+    bool closed = false;
+    // CPU time of this thread: the cost of the step, not the machine's load.
+    const auto cpu = [] {
+        timespec ts{};
+        clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+        return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+    };
+    while (sim.next(f))
+    {
+        // Scores of the state before this frame (the closure is found after it).
+        const auto before = closed ? ScanSlamRun::LandmarkErrors{} : landmarkErrors(slam, truth);
+        const double t0 = cpu();
+        slam.processOdometry(mrpt::poses::CPosePDFGaussian(
+            mrpt::poses::CPose2D(f.odometry_mean[0], f.odometry_mean[1], f.odometry_mean[2]),
+            mrpt::math::CMatrixDouble33(f.odometry_cov)));
+        mrpt::obs::CSensoryFrame sf;
+        if (f.scan) sf.insert(f.scan);
+        if (f.detections) sf.insert(f.detections);
+        slam.processFrame(sf);
+        ScanSlamRun::Step s;
+        s.seconds = cpu() - t0;
+        s.dead_reckoning = f.dr_pose;
+        s.t = f.t;
+        s.truth = f.true_pose;
+        s.estimate = slam.ekf().vehiclePose();
+        s.cov = slam.ekf().vehicleCov();
+        const auto v = eval::nees(poseError(s.estimate, s.truth), s.cov);
+        s.nees = v.ok() ? v.value : std::nan("");
+        run.steps.push_back(s);
+        const auto* src = slam.scanLandmarks();
+        if (!src || !f.scan) continue;
+        const auto& sp = f.scan->sensorPose;
+        const Eigen::Vector3d sensor(sp.x(), sp.y(), sp.yaw());
+        for (const auto& [id, tpl] : src->map().templates())
+        {
+            const int times = slam.ekf().landmarkBlock(id).times_seen;
+            const auto [it, fresh] = seen.try_emplace(id, f.t, times);
+            if (fresh)
+            {
+                truth[id] = compose(compose(f.true_pose, sensor), tpl.frame_in_sensor);
+                continue;
+            }
+            if (!closed && times > it->second.second && f.t - it->second.first > closure_min_age_s)
+            {
+                closed = true;
+                run.closure_t = f.t;
+                run.closure_step = run.steps.size() - 1;
+                run.before_closure = before;
+            }
+            it->second.second = times;
+        }
+    }
+    run.duration_s = f.t;
+    run.after_closure = landmarkErrors(slam, truth);
+    if (!closed)
+    {
+        run.before_closure = run.after_closure;
+        run.closure_step = run.steps.size();
+    }
+    run.path_rmse_before_m = pathRmse(run.steps, 0, run.closure_step);
+    run.path_rmse_after_m = pathRmse(run.steps, run.closure_step, run.steps.size());
+    run.path_rmse_m = pathRmse(run.steps, 0, run.steps.size());
+    double dr = 0;
+    for (const auto& s : run.steps) dr += (s.dead_reckoning - s.truth).head<2>().squaredNorm();
+    run.dead_reckoning_rmse_m = std::sqrt(dr / static_cast<double>(std::max<size_t>(run.steps.size(), 1)));
+    scoreTemplates(slam, sim.world(), run);
+    run.stats = slam.stats();
+    run.counters = slam.scanSourceCounters();
+    return run;
+}
+
+}  // namespace hymm::app

@@ -1,0 +1,66 @@
+// hymm-slam's outputs of the Scan-SLAM landmarks (landmark_source = scan_landmarks):
+// the CSV of their frames, their part of the map figure, summary and metrics.
+#include <hymm/app/slam_outputs.h>
+
+#include <fstream>
+#include <iomanip>
+#include <stdexcept>
+
+namespace hymm::app
+{
+std::vector<ScanLandmarkEstimate> scanLandmarkEstimates(const DenseSlam& slam)
+{
+    std::vector<ScanLandmarkEstimate> out;
+    const auto* src = slam.scanLandmarks();
+    if (!src) return out;
+    for (const auto& [id, tpl] : src->map().templates())
+    {
+        if (!slam.ekf().hasLandmark(id)) continue;
+        ScanLandmarkEstimate e;
+        e.id = id;
+        e.pose = slam.ekf().landmarkBlockMean(id).head<3>();
+        e.cov = slam.ekf().landmarkBlockCov(id).topLeftCorner<3, 3>();
+        for (const auto& p : tpl.sog.points) e.points.push_back(scanslam::transformPoint(e.pose, p));
+        out.push_back(std::move(e));
+    }
+    return out;
+}
+
+void writeScanLandmarks(const DenseSlam& slam, const std::string& file)
+{
+    std::ofstream f(file);
+    if (!f) throw std::runtime_error("cannot write '" + file + "'");
+    f << "id,x,y,phi,cxx,cxy,cxphi,cyy,cyphi,cphiphi,points\n" << std::setprecision(10);
+    for (const auto& e : scanLandmarkEstimates(slam))
+    {
+        const auto& c = e.cov;
+        f << e.id << ',' << e.pose.x() << ',' << e.pose.y() << ',' << e.pose.z() << ',' << c(0, 0)
+          << ',' << c(0, 1) << ',' << c(0, 2) << ',' << c(1, 1) << ',' << c(1, 2) << ',' << c(2, 2)
+          << ',' << e.points.size() << '\n';
+    }
+    if (!f) throw std::runtime_error("error writing '" + file + "'");
+}
+
+void addScanLandmarksToPlot(const DenseSlam& slam, MapPlot& plot)
+{
+    for (auto& e : scanLandmarkEstimates(slam))
+        plot.pose_landmarks.push_back({e.pose, e.cov, std::move(e.points)});
+}
+
+void writeScanSourceMetrics(eval::MetricsJson& j, const DenseSlam& slam)
+{
+    if (slam.scanSources().empty()) return;
+    auto& o = j.object("scan_sources");
+    for (const auto& [k, n] : slam.scanSourceCounters()) o.set(k, static_cast<unsigned long>(n));
+    o.set("scan_landmarks.templates", static_cast<unsigned long>(scanLandmarkEstimates(slam).size()));
+}
+
+void writeScanSourceSummary(std::ostream& f, const DenseSlam& slam)
+{
+    if (slam.scanSources().empty()) return;
+    f << "scan sources        ";
+    for (const auto& [k, n] : slam.scanSourceCounters()) f << ' ' << k << '=' << n;
+    f << "\n";
+}
+
+}  // namespace hymm::app

@@ -1,0 +1,125 @@
+/**
+ * @file ScanLandmarkMap.h
+ * @brief The Scan-SLAM step of one scan (thesis 5.2, 5.5, 5.7) on an EKF with 3-DOF pose
+ *        landmarks: every template is predicted into the sensor frame, observed by scan
+ *        alignment when more than `in_view_fraction` of its points are in view, and fused
+ *        after an NN gate; the returns no template explains are segmented, and segments
+ *        that pass the acceptance self-test become new pose landmarks with their template.
+ *
+ * The templates live here, outside the state vector; the EKF holds only their frames'
+ * poses (ekf::EkfSlam::addPoseLandmark / updatePoseLandmark). Every skip and reject is
+ * counted by reason (Stats); nothing on bad data throws or puts a NaN in the state.
+ *
+ * Ini sections: [ScanLandmarks] (this class), [ScanSegmentation] (Segmenter),
+ * [ScanAcceptance] (SegmentAcceptance) and the section of the chosen matcher
+ * ([SogMatcher], [IcpMatcher] or [CorrelativeMatcher]). Key table in the module README.
+ */
+#pragma once
+
+#include <hymm/ekf/EkfSlam.h>
+#include <mrpt/config/CConfigFileBase.h>
+#include <mrpt/obs/CObservation2DRangeScan.h>
+
+#include <array>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "hymm/scanslam/ScanMatcher.h"
+#include "hymm/scanslam/ScanTemplate.h"
+#include "hymm/scanslam/SegmentAcceptance.h"
+#include "hymm/scanslam/Segmenter.h"
+
+namespace hymm::scanslam
+{
+class ScanLandmarkMap
+{
+public:
+    struct Options
+    {
+        std::string matcher = "sog";       //!< sog | icp | correlative
+        ScanNoise noise{};                 //!< laser noise of the template points (ini: std_range_m, std_bearing_deg)
+        double in_view_fraction = 0.9;     //!< thesis 5.7: > 90 % of the points in view
+        double gate_prob = 0.99;           //!< NN gate on the aligned observation (5.5)
+        /** [m] a return within this of a predicted (or aligned) template point is that
+         *  landmark's: it creates no new landmark. */
+        double explain_distance_m = 1.0;
+        double max_creation_range_m = 25;  //!< segments whose centroid is farther are not used [m]
+        /** Smallest/largest standard deviation of a segment's points: below this it is a
+         *  straight line whose orientation along itself is unobservable (collinear). */
+        double min_spread_ratio = 0.05;
+        uint32_t seed = 1;                 //!< of the acceptance self-test's perturbations
+
+        /** Reads [section]; unknown keys and bad values throw naming the key. */
+        void load(const mrpt::config::CConfigFileBase& cfg, const std::string& section);
+    };
+
+    /** Counters of a run, by reason. */
+    struct Stats
+    {
+        size_t scans = 0;
+        size_t scans_empty = 0;        //!< fewer than 3 valid returns: nothing done
+        size_t beams_invalid = 0;      //!< invalid, NaN/inf or out-of-range readings skipped
+        size_t predicted = 0;          //!< template predictions (landmark, scan)
+        size_t out_of_view = 0;        //!< in-view fraction below in_view_fraction
+        size_t aligned = 0;            //!< alignments that converged
+        std::map<std::string, size_t> align_failed;  //!< by the matcher's failure reason
+        size_t updated = 0;            //!< EKF updates applied
+        size_t gated = 0;              //!< aligned but outside the NN gate
+        size_t update_numeric = 0;     //!< innovation covariance not PD
+        size_t update_invalid = 0;     //!< z or R not finite / not PD
+        size_t returns_explained = 0;  //!< returns attributed to a template
+        size_t segments = 0;           //!< segments of the unexplained returns
+        size_t short_runs = 0;         //!< runs of neighbours below min_points
+        size_t segments_far = 0;       //!< centroid beyond max_creation_range_m
+        size_t segments_collinear = 0; //!< degenerate orientation (min_spread_ratio)
+        std::array<size_t, SegmentAcceptance::kOutcomes> acceptance{};  //!< by outcome
+        size_t creation_failed = 0;    //!< accepted, but its own alignment gave no covariance
+        size_t created = 0;            //!< new pose landmarks
+
+        /** (name, count) of every counter, failure reasons as align_failed.<reason>. */
+        std::vector<std::pair<std::string, size_t>> list() const;
+    };
+
+    /** Reads [ScanLandmarks], [ScanSegmentation], [ScanAcceptance] and the matcher's
+     *  section from `cfg` (defaults everywhere when `cfg` is null). */
+    static std::unique_ptr<ScanLandmarkMap> fromConfig(const mrpt::config::CConfigFileBase* cfg);
+
+    ScanLandmarkMap(const Options& options, const Segmenter::Options& segmentation,
+                    const SegmentAcceptance::Options& acceptance,
+                    std::unique_ptr<ScanMatcher> matcher);
+
+    /** One scan: observe the templates in view, then create landmarks from what is left.
+     *  The scan's sensorPose is the sensor's mounting on the vehicle. */
+    void processScan(ekf::EkfSlam& ekf, const mrpt::obs::CObservation2DRangeScan& scan);
+
+    /** Templates by landmark id (landmarks the filter removed are dropped on the next scan). */
+    const std::map<long, ScanTemplate>& templates() const { return templates_; }
+    const Stats& stats() const { return stats_; }
+    const Options& options() const { return options_; }
+    const ScanMatcher& matcher() const { return *matcher_; }
+
+private:
+    /** Observes landmark `id` in `pts`; marks the returns it explains. */
+    void observe(ekf::EkfSlam& ekf, long id, const ScanTemplate& tpl, const PointSet& pts,
+                 const Vec3& sensor, double max_range, double fov, std::vector<char>& explained);
+    /** Segments the unexplained returns and adds the accepted ones as landmarks. */
+    void createLandmarks(ekf::EkfSlam& ekf, const PointSet& pts, const Vec3& sensor,
+                         const std::vector<char>& explained);
+
+    Options options_;
+    Segmenter segmenter_;
+    std::unique_ptr<ScanMatcher> matcher_;
+    SegmentAcceptance acceptance_;
+    std::map<long, ScanTemplate> templates_;
+    Stats stats_;
+};
+
+/** Whether the points of `set` span two dimensions: the smaller standard deviation of
+ *  their scatter is at least `min_ratio` times the larger (false for < 3 points). */
+bool hasOrientation(const PointSet& set, double min_ratio);
+
+}  // namespace hymm::scanslam

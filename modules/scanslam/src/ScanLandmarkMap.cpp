@@ -1,0 +1,267 @@
+/**
+ * @file ScanLandmarkMap.cpp
+ * @brief Scan-SLAM per scan (thesis 5.2, 5.5, 5.7): observation of the templates in view
+ *        by alignment, NN gate and EKF update of their pose; new pose landmarks from the
+ *        segments of the unexplained returns that pass the acceptance test.
+ */
+#include "hymm/scanslam/ScanLandmarkMap.h"
+
+#include <hymm/core/config_utils.h>
+#include <hymm/ekf/pose_landmark_model.h>
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+
+namespace hymm::scanslam
+{
+namespace
+{
+double readFraction(const mrpt::config::CConfigFileBase& cfg, const std::string& s,
+                    const std::string& key, double def)
+{
+    const double v = hymm::core::readDouble(cfg, s, key, def);
+    if (!(v >= 0.0 && v <= 1.0)) hymm::core::throwConfigError(s, key, std::to_string(v), "must be in [0, 1]");
+    return v;
+}
+}  // namespace
+
+void ScanLandmarkMap::Options::load(const mrpt::config::CConfigFileBase& cfg,
+                                    const std::string& s)
+{
+    using namespace hymm::core;
+    checkKnownKeys(cfg, s,
+                   {"matcher", "std_range_m", "std_bearing_deg", "in_view_fraction", "gate_prob",
+                    "explain_distance_m", "max_creation_range_m", "min_spread_ratio", "seed"});
+    matcher = readString(cfg, s, "matcher", matcher);
+    if (matcher != "sog" && matcher != "icp" && matcher != "correlative")
+        throwConfigError(s, "matcher", matcher, "must be sog, icp or correlative");
+    noise.std_range_m = readDoubleMin(cfg, s, "std_range_m", noise.std_range_m, 0, true);
+    noise.std_bearing = M_PI / 180 *
+                        readDoubleMin(cfg, s, "std_bearing_deg", noise.std_bearing * 180 / M_PI, 0, true);
+    in_view_fraction = readFraction(cfg, s, "in_view_fraction", in_view_fraction);
+    gate_prob = readFraction(cfg, s, "gate_prob", gate_prob);
+    explain_distance_m = readDoubleMin(cfg, s, "explain_distance_m", explain_distance_m, 0, false);
+    max_creation_range_m =
+        readDoubleMin(cfg, s, "max_creation_range_m", max_creation_range_m, 0, true);
+    min_spread_ratio = readFraction(cfg, s, "min_spread_ratio", min_spread_ratio);
+    const long sd = readInt(cfg, s, "seed", static_cast<long>(seed));
+    if (sd < 0) throwConfigError(s, "seed", std::to_string(sd), "must be >= 0");
+    seed = static_cast<uint32_t>(sd);
+}
+
+std::vector<std::pair<std::string, size_t>> ScanLandmarkMap::Stats::list() const
+{
+    std::vector<std::pair<std::string, size_t>> out = {
+        {"scans", scans},
+        {"scans_empty", scans_empty},
+        {"beams_invalid", beams_invalid},
+        {"predicted", predicted},
+        {"out_of_view", out_of_view},
+        {"aligned", aligned}};
+    for (const auto& [reason, n] : align_failed) out.emplace_back("align_failed." + reason, n);
+    const std::pair<std::string, size_t> rest[] = {
+        {"updated", updated},
+        {"gated", gated},
+        {"update_numeric", update_numeric},
+        {"update_invalid", update_invalid},
+        {"returns_explained", returns_explained},
+        {"segments", segments},
+        {"short_runs", short_runs},
+        {"segments_far", segments_far},
+        {"segments_collinear", segments_collinear}};
+    out.insert(out.end(), std::begin(rest), std::end(rest));
+    for (size_t k = 0; k < SegmentAcceptance::kOutcomes; ++k)
+        out.emplace_back(std::string("acceptance.") +
+                             SegmentAcceptance::outcomeName(static_cast<SegmentAcceptance::Outcome>(k)),
+                         acceptance[k]);
+    out.emplace_back("creation_failed", creation_failed);
+    out.emplace_back("created", created);
+    return out;
+}
+
+std::unique_ptr<ScanLandmarkMap> ScanLandmarkMap::fromConfig(const mrpt::config::CConfigFileBase* cfg)
+{
+    Options o;
+    Segmenter::Options seg;
+    SegmentAcceptance::Options acc;
+    if (cfg)
+    {
+        o.load(*cfg, "ScanLandmarks");
+        seg.load(*cfg, "ScanSegmentation");
+        acc.load(*cfg, "ScanAcceptance");
+    }
+    const std::string section = o.matcher == "sog"   ? "SogMatcher"
+                                : o.matcher == "icp" ? "IcpMatcher"
+                                                     : "CorrelativeMatcher";
+    return std::make_unique<ScanLandmarkMap>(o, seg, acc, makeMatcher(o.matcher, cfg, section));
+}
+
+ScanLandmarkMap::ScanLandmarkMap(const Options& options, const Segmenter::Options& segmentation,
+                                 const SegmentAcceptance::Options& acceptance,
+                                 std::unique_ptr<ScanMatcher> matcher)
+    : options_(options),
+      segmenter_(segmentation),
+      matcher_(std::move(matcher)),
+      acceptance_(acceptance, *matcher_, options.seed)
+{
+}
+
+bool hasOrientation(const PointSet& set, double min_ratio)
+{
+    if (set.size() < 3) return false;
+    Vec2 c = Vec2::Zero();
+    for (const Vec2& p : set.points) c += p;
+    c /= static_cast<double>(set.size());
+    Mat2 s = Mat2::Zero();
+    for (const Vec2& p : set.points) s += (p - c) * (p - c).transpose();
+    const Eigen::SelfAdjointEigenSolver<Mat2> es(s);
+    const Vec2 ev = es.eigenvalues().cwiseMax(0.0);
+    return ev[1] > 0 && std::sqrt(ev[0] / ev[1]) >= min_ratio;
+}
+
+namespace
+{
+/** Largest distance of a template point from its frame's origin. */
+double radius(const ScanTemplate& tpl)
+{
+    double r = 0;
+    for (const Vec2& p : tpl.sog.points) r = std::max(r, p.norm());
+    return r;
+}
+
+/** Marks the returns within `d` of a template point placed at z (sensor frame). */
+size_t markExplained(const ScanTemplate& tpl, const Vec3& z, const PointSet& pts, double d,
+                     std::vector<char>& explained)
+{
+    std::vector<Vec2> placed;
+    placed.reserve(tpl.sog.size());
+    for (const Vec2& p : tpl.sog.points) placed.push_back(transformPoint(z, p));
+    const Vec2 origin = z.head<2>();
+    const double reach = radius(tpl) + d, d2 = d * d;
+    size_t n = 0;
+    for (size_t i = 0; i < pts.size(); ++i)
+    {
+        if (explained[i] || (pts.points[i] - origin).norm() > reach) continue;
+        for (const Vec2& q : placed)
+            if ((pts.points[i] - q).squaredNorm() <= d2)
+            {
+                explained[i] = 1;
+                ++n;
+                break;
+            }
+    }
+    return n;
+}
+}  // namespace
+
+void ScanLandmarkMap::processScan(ekf::EkfSlam& ekf, const mrpt::obs::CObservation2DRangeScan& scan)
+{
+    ++stats_.scans;
+    ScanReadStats rs;
+    const PointSet pts = fromScan(scan, options_.noise, &rs);
+    stats_.beams_invalid += rs.invalid + rs.non_finite + rs.out_of_range;
+    // Landmarks the filter dropped take their templates with them.
+    for (auto it = templates_.begin(); it != templates_.end();)
+        it = ekf.hasLandmark(it->first) ? std::next(it) : templates_.erase(it);
+    if (pts.size() < 3)
+    {
+        ++stats_.scans_empty;
+        return;
+    }
+    const auto& sp = scan.sensorPose;
+    const Vec3 sensor(sp.x(), sp.y(), sp.yaw());
+    const double max_range = static_cast<double>(scan.maxRange);
+    const double fov = static_cast<double>(scan.aperture);
+    std::vector<char> explained(pts.size(), 0);
+    for (const auto& [id, tpl] : templates_) observe(ekf, id, tpl, pts, sensor, max_range, fov, explained);
+    createLandmarks(ekf, pts, sensor, explained);
+}
+
+void ScanLandmarkMap::observe(ekf::EkfSlam& ekf, long id, const ScanTemplate& tpl,
+                              const PointSet& pts, const Vec3& sensor, double max_range,
+                              double fov, std::vector<char>& explained)
+{
+    // Predicted pose of the template frame in the sensor frame (Eq. 5.15) at the latest
+    // estimate: earlier updates of this scan are already in it.
+    const Vec3 z_hat = ekf::poseLandmarkObservation(ekf.vehiclePose(),
+                                                    ekf.landmarkBlockMean(id).head<3>(), sensor);
+    if (z_hat.head<2>().norm() > max_range + radius(tpl) + options_.explain_distance_m) return;
+    ++stats_.predicted;
+    Vec3 placed = z_hat;
+    if (fractionInView(tpl, z_hat, max_range, fov) <= options_.in_view_fraction)
+        ++stats_.out_of_view;
+    else if (const AlignResult res = matcher_->align(tpl.sog, pts, z_hat); !res.ok)
+        ++stats_.align_failed[res.failure];
+    else
+    {
+        ++stats_.aligned;
+        const auto rep = ekf.updatePoseLandmark(id, res.z, res.R, sensor, options_.gate_prob);
+        using O = ekf::PoseUpdateReport::Outcome;
+        switch (rep.outcome)
+        {
+            case O::updated:
+                ++stats_.updated;
+                placed = res.z;
+                break;
+            case O::gated: ++stats_.gated; break;
+            case O::numeric: ++stats_.update_numeric; break;
+            case O::invalid: ++stats_.update_invalid; break;
+        }
+    }
+    // Returns on a known landmark create nothing, whether it was observed or not (a
+    // partial view must not become a second landmark on the same object).
+    stats_.returns_explained += markExplained(tpl, placed, pts, options_.explain_distance_m, explained);
+}
+
+void ScanLandmarkMap::createLandmarks(ekf::EkfSlam& ekf, const PointSet& pts, const Vec3& sensor,
+                                      const std::vector<char>& explained)
+{
+    PointSet rest;
+    for (size_t i = 0; i < pts.size(); ++i)
+        if (!explained[i])
+        {
+            rest.add(pts.points[i], pts.covs[i]);
+            rest.range.push_back(pts.range[i]);
+            rest.bearing.push_back(pts.bearing[i]);
+        }
+    if (rest.size() < 3) return;
+    size_t short_runs = 0;
+    const auto segments = segmenter_.segment(rest, &short_runs);
+    stats_.short_runs += short_runs;
+    stats_.segments += segments.size();
+    for (const auto& seg : segments)
+    {
+        PointSet s;
+        for (size_t i : seg) s.add(rest.points[i], rest.covs[i]);
+        Vec2 c = Vec2::Zero();
+        for (const Vec2& p : s.points) c += p;
+        c /= static_cast<double>(s.size());
+        if (c.norm() > options_.max_creation_range_m)
+        {
+            ++stats_.segments_far;
+            continue;
+        }
+        if (!hasOrientation(s, options_.min_spread_ratio))
+        {
+            ++stats_.segments_collinear;
+            continue;
+        }
+        if (acceptance_.test(s) != SegmentAcceptance::Outcome::accepted) continue;
+        ScanTemplate tpl = ScanTemplate::fromPoints(s);
+        // The frame's observation covariance: the alignment of the template on the very
+        // returns it was made of (their noise is what separates template and object).
+        const AlignResult res = matcher_->align(tpl.sog, s, tpl.frame_in_sensor);
+        if (!res.ok)
+        {
+            ++stats_.creation_failed;
+            continue;
+        }
+        const long id = ekf.addPoseLandmark(tpl.frame_in_sensor, res.R, sensor);
+        templates_.emplace(id, std::move(tpl));
+        ++stats_.created;
+    }
+    stats_.acceptance = acceptance_.stats().count;
+}
+
+}  // namespace hymm::scanslam
