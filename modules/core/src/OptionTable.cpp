@@ -6,17 +6,12 @@
 #include <cstdlib>
 #include <sstream>
 
+#include "hymm/core/config_utils.h"
+
 namespace hymm::core
 {
 namespace
 {
-std::string trim(const std::string& s)
-{
-    const auto b = s.find_first_not_of(" \t\r\n");
-    if (b == std::string::npos) return {};
-    const auto e = s.find_last_not_of(" \t\r\n");
-    return s.substr(b, e - b + 1);
-}
 
 std::string num(double v)
 {

@@ -12,8 +12,6 @@
 
 namespace hymm::core
 {
-namespace
-{
 std::string trim(const std::string& s)
 {
     const auto b = s.find_first_not_of(" \t\r\n");
@@ -21,6 +19,9 @@ std::string trim(const std::string& s)
     const auto e = s.find_last_not_of(" \t\r\n");
     return s.substr(b, e - b + 1);
 }
+
+namespace
+{
 
 // MRPT returns the default when a key is absent; an empty marker tells us that.
 bool rawValue(

@@ -70,6 +70,9 @@ std::vector<double> readDoubleList(
     const mrpt::config::CConfigFileBase& cfg, const std::string& section, const std::string& key,
     const std::vector<double>& def, bool required = false);
 
+/** `s` without leading and trailing blanks (space, tab, CR, LF). */
+std::string trim(const std::string& s);
+
 /** Throws a ConfigError "[section] key=value: what". */
 [[noreturn]] void throwConfigError(
     const std::string& section, const std::string& key, const std::string& value,
