@@ -79,7 +79,12 @@ TEST(ScenarioTest, BadValuesNameSectionKeyAndValue)
 TEST(ScenarioTest, BadFileNamesTheFile)
 {
     const std::string path = mrpt::system::getTempFileName() + ".ini";
-    std::ofstream(path) << hymm::sim::testing::smallScenarioText() << "\n[Vehicle]\nwheels = 4\n";
+    // An unknown key in a known section (a repeated section is an error of its own).
+    std::string text = hymm::sim::testing::smallScenarioText();
+    const auto at = text.find("[Vehicle]\n");
+    ASSERT_NE(at, std::string::npos);
+    text.insert(at + 10, "wheels = 4\n");
+    std::ofstream(path) << text;
     try
     {
         hymm::sim::Scenario::fromFile(path);
