@@ -132,7 +132,10 @@ std::vector<mrpt::obs::CObservation::Ptr> CarParkImporter::readScans(
             if (has_intensity)
             {
                 const double in = intensity(i, static_cast<Eigen::Index>(j));
-                scan->setScanIntensity(j, std::isfinite(in) ? static_cast<int>(in) : 0);
+                // Intensities are small non-negative integers in the file; anything an int
+                // cannot hold is corrupt and stored as 0.
+                const bool in_ok = std::isfinite(in) && std::abs(in) < 2.0e9;
+                scan->setScanIntensity(j, in_ok ? static_cast<int>(in) : 0);
             }
             valid += ok ? 1 : 0;
         }

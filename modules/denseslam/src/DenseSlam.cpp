@@ -176,9 +176,13 @@ void DenseSlam::processEntry(const io::RawlogEntry& entry)
 
 void DenseSlam::processOdometry(const mrpt::poses::CPosePDFGaussian& increment)
 {
-    // A NaN / inf increment (or covariance) would poison the whole state: skipped.
+    // A NaN / inf increment (or covariance) would poison the whole state, and a finite but
+    // absurd one (a corrupt reading: no vehicle moves 1 km between two odometry readings)
+    // would put the pose where no grid index can represent it: both skipped.
+    constexpr double kMaxStep = 1000.0;  // [m]
     if (!std::isfinite(increment.mean.x()) || !std::isfinite(increment.mean.y()) ||
-        !std::isfinite(increment.mean.phi()) || !increment.cov.asEigen().allFinite())
+        !std::isfinite(increment.mean.phi()) || !increment.cov.asEigen().allFinite() ||
+        std::hypot(increment.mean.x(), increment.mean.y()) > kMaxStep)
     {
         ++stats_.odometry_invalid;
         return;

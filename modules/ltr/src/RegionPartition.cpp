@@ -120,10 +120,16 @@ void RegionPartition::cellRange(
         ly = std::min(ly, p.y());
         hy = std::max(hy, p.y());
     }
-    x0 = static_cast<long>(std::floor(lx / c));
-    x1 = static_cast<long>(std::floor(hx / c));
-    y0 = static_cast<long>(std::floor(ly / c));
-    y1 = static_cast<long>(std::floor(hy / c));
+    // Cell keys keep 32 bits per axis; clamping first keeps absurd (but finite) positions,
+    // e.g. from corrupt odometry, from overflowing the conversion.
+    constexpr double kMaxCell = double(1L << 30);
+    const auto cell = [&](double coord) {
+        return static_cast<long>(std::clamp(std::floor(coord / c), -kMaxCell, kMaxCell));
+    };
+    x0 = cell(lx);
+    x1 = cell(hx);
+    y0 = cell(ly);
+    y1 = cell(hy);
 }
 
 void RegionPartition::indexRegion(const Region& r)
@@ -283,9 +289,9 @@ std::vector<long> RegionPartition::regionsWithMissingLandmarksNear(
 std::vector<long> RegionPartition::findRegions(const Eigen::Vector2d& p) const
 {
     std::vector<long> out;
-    const double c = options_.grid_cell_size_m;
-    const auto it = grid_.find(cellKey(
-        static_cast<long>(std::floor(p.x() / c)), static_cast<long>(std::floor(p.y() / c))));
+    long ix, iy, unused_x, unused_y;
+    cellRange({p, p, p}, ix, iy, unused_x, unused_y);
+    const auto it = grid_.find(cellKey(ix, iy));
     if (it == grid_.end()) return out;
     for (const long id : it->second)
     {
@@ -309,12 +315,25 @@ std::vector<long> RegionPartition::regionsInBox(
     long x0, y0, x1, y1;
     cellRange({lo, hi, hi}, x0, y0, x1, y1);
     std::vector<long> out;
-    for (long ix = x0; ix <= x1; ++ix)
-        for (long iy = y0; iy <= y1; ++iy)
+    // A box of more cells than the grid holds walks the grid instead: the cost is bounded
+    // by the map, whatever the box.
+    const double box_cells = double(x1 - x0 + 1) * double(y1 - y0 + 1);
+    if (box_cells > double(grid_.size()))
+    {
+        for (const auto& [key, ids] : grid_)
         {
-            const auto it = grid_.find(cellKey(ix, iy));
-            if (it != grid_.end()) out.insert(out.end(), it->second.begin(), it->second.end());
+            const long ix = static_cast<std::int32_t>(static_cast<std::uint64_t>(key) >> 32);
+            const long iy = static_cast<std::int32_t>(static_cast<std::uint64_t>(key) & 0xffffffffu);
+            if (ix >= x0 && ix <= x1 && iy >= y0 && iy <= y1) out.insert(out.end(), ids.begin(), ids.end());
         }
+    }
+    else
+        for (long ix = x0; ix <= x1; ++ix)
+            for (long iy = y0; iy <= y1; ++iy)
+            {
+                const auto it = grid_.find(cellKey(ix, iy));
+                if (it != grid_.end()) out.insert(out.end(), it->second.begin(), it->second.end());
+            }
     std::sort(out.begin(), out.end());
     out.erase(std::unique(out.begin(), out.end()), out.end());
     return out;

@@ -247,7 +247,7 @@ public:
         size_t time_backwards = 0;  //!< frames stamped earlier than the previous stamped frame
         size_t time_repeated = 0;   //!< frames stamped the same as the previous stamped frame
         // Faults in well-formed rawlogs, each skipped or tolerated and counted.
-        size_t odometry_invalid = 0;  //!< NaN / inf odometry increments or readings, skipped
+        size_t odometry_invalid = 0;  //!< NaN / inf or over 1 km odometry increments, or NaN / inf readings, skipped
         /** Frames repeating the previous one (same stamp, same observation classes and
          *  stamps, no odometry in between): skipped, their information is not used twice. */
         size_t frames_duplicate = 0;
