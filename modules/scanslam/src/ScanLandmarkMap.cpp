@@ -4,6 +4,8 @@
  *        by alignment, NN gate and EKF update of their pose; new pose landmarks from the
  *        segments of the unexplained returns that pass the acceptance test.
  */
+#include <limits>
+#include <hymm/core/OptionTable.h>
 #include "hymm/scanslam/ScanLandmarkMap.h"
 
 #include <hymm/core/config_utils.h>
@@ -15,39 +17,31 @@
 
 namespace hymm::scanslam
 {
-namespace
-{
-double readFraction(const mrpt::config::CConfigFileBase& cfg, const std::string& s,
-                    const std::string& key, double def)
-{
-    const double v = hymm::core::readDouble(cfg, s, key, def);
-    if (!(v >= 0.0 && v <= 1.0)) hymm::core::throwConfigError(s, key, std::to_string(v), "must be in [0, 1]");
-    return v;
-}
-}  // namespace
-
 void ScanLandmarkMap::Options::load(const mrpt::config::CConfigFileBase& cfg,
                                     const std::string& s)
 {
     using namespace hymm::core;
-    checkKnownKeys(cfg, s,
-                   {"matcher", "std_range_m", "std_bearing_deg", "in_view_fraction", "gate_prob",
-                    "explain_distance_m", "max_creation_range_m", "min_spread_ratio", "seed"});
-    matcher = readString(cfg, s, "matcher", matcher);
-    if (matcher != "sog" && matcher != "icp" && matcher != "correlative")
-        throwConfigError(s, "matcher", matcher, "must be sog, icp or correlative");
-    noise.std_range_m = readDoubleMin(cfg, s, "std_range_m", noise.std_range_m, 0, true);
-    noise.std_bearing = M_PI / 180 *
-                        readDoubleMin(cfg, s, "std_bearing_deg", noise.std_bearing * 180 / M_PI, 0, true);
-    in_view_fraction = readFraction(cfg, s, "in_view_fraction", in_view_fraction);
-    gate_prob = readFraction(cfg, s, "gate_prob", gate_prob);
-    explain_distance_m = readDoubleMin(cfg, s, "explain_distance_m", explain_distance_m, 0, false);
-    max_creation_range_m =
-        readDoubleMin(cfg, s, "max_creation_range_m", max_creation_range_m, 0, true);
-    min_spread_ratio = readFraction(cfg, s, "min_spread_ratio", min_spread_ratio);
-    const long sd = readInt(cfg, s, "seed", static_cast<long>(seed));
-    if (sd < 0) throwConfigError(s, "seed", std::to_string(sd), "must be >= 0");
-    seed = static_cast<uint32_t>(sd);
+    // Declared once (core::OptionTable): the unknown-key check, ranges and errors come
+    // from the declaration.
+    OptionTable t;
+    t.choice("matcher", matcher,
+             {{"sog", std::string("sog")}, {"icp", std::string("icp")},
+              {"correlative", std::string("correlative")}},
+             "scan matcher that observes the templates");
+    t.real("std_range_m", noise.std_range_m, "m", above(0), "range noise of a return (templates)");
+    t.real("std_bearing_deg", noise.std_bearing, "deg", above(0), "bearing noise of a return",
+           M_PI / 180);
+    t.real("in_view_fraction", in_view_fraction, "", between(0, 1),
+           "share of a template's points in the sensor's view to attempt an alignment (5.3)");
+    t.real("gate_prob", gate_prob, "", between(0, 1), "NN gate after alignment (5.5)");
+    t.real("explain_distance_m", explain_distance_m, "m", atLeast(0),
+           "a return this close to an aligned template is explained");
+    t.real("max_creation_range_m", max_creation_range_m, "m", above(0),
+           "segments farther away create no landmark");
+    t.real("min_spread_ratio", min_spread_ratio, "", between(0, 1),
+           "collinearity test: minor/major spread of a segment");
+    t.integer("seed", seed, "", 0, std::numeric_limits<uint32_t>::max(), "acceptance test's random seed");
+    t.load(cfg, s);
 }
 
 std::vector<std::pair<std::string, size_t>> ScanLandmarkMap::Stats::list() const
