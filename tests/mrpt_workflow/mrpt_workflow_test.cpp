@@ -4,6 +4,8 @@
 //  - map.simplemap (CSimpleMap::loadFromFile): a keyframe per path sample, with the
 //    pose estimate, its covariance and the laser scan; an occupancy grid MRPT builds
 //    from it agrees with the HYMM occupancy layer cell by cell;
+//  - run.rawlog (CRawlog::loadFromRawLogFile): the input observations, each frame
+//    after a CObservationRobotPose with the pose estimate of that step;
 //  - map.hymm, created through CMultiMetricMap from an .ini section: MRPT's
 //    CMonteCarloLocalization2D localises simulated runs of the same world (other
 //    seeds than the mapping run) on it, scored against the simulator's true path, and
@@ -22,6 +24,9 @@
 #include <mrpt/obs/CActionCollection.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
+#include <mrpt/obs/CObservationBearingRange.h>
+#include <mrpt/obs/CObservationRobotPose.h>
+#include <mrpt/obs/CRawlog.h>
 #include <mrpt/opengl/COpenGLScene.h>
 #include <mrpt/opengl/CSetOfLines.h>
 #include <mrpt/opengl/CSetOfObjects.h>
@@ -127,6 +132,43 @@ int cellClass(float p_free)
     if (p_free < 0.4f) return 1;   // occupied
     if (p_free > 0.6f) return -1;  // free
     return 0;
+}
+
+TEST(MrptWorkflow, RunRawlogHoldsTheInputWithTheEstimatedPoses)
+{
+    const auto& r = run();
+    mrpt::obs::CRawlog log;
+    ASSERT_TRUE(log.loadFromRawLogFile(r.out + "/run.rawlog"));
+    const auto& path = r.app->slam().path();
+    ASSERT_EQ(path.size(), 469u);
+    // Observation format (MRPT 2's default): pose, laser scan, landmarks per frame.
+    ASSERT_EQ(log.size(), 3 * path.size());
+    size_t poses = 0, scans = 0, landmarks = 0;
+    for (size_t i = 0; i < log.size(); ++i)
+    {
+        ASSERT_EQ(log.getType(i), mrpt::obs::CRawlog::etObservation) << i;
+        const auto o = log.getAsObservation(i);
+        if (const auto p = std::dynamic_pointer_cast<mrpt::obs::CObservationRobotPose>(o))
+        {
+            ASSERT_EQ(i % 3, 0u);
+            EXPECT_EQ(p->sensorLabel, "HYMM_POSE");
+            const auto& s = path.at(poses);
+            EXPECT_EQ(p->pose.mean.x(), s.pose.x());
+            EXPECT_EQ(p->pose.mean.y(), s.pose.y());
+            EXPECT_NEAR(p->pose.mean.yaw(), s.pose.z(), 1e-12);
+            EXPECT_NEAR(p->pose.cov(0, 0), s.cov(0, 0), 1e-15);
+            EXPECT_NEAR(p->pose.cov(3, 3), s.cov(2, 2), 1e-15);
+            EXPECT_NEAR(mrpt::Clock::toDouble(p->timestamp), s.t, 1e-6);
+            ++poses;
+        }
+        else if (std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(o))
+            ++scans;
+        else if (std::dynamic_pointer_cast<mrpt::obs::CObservationBearingRange>(o))
+            ++landmarks;
+    }
+    EXPECT_EQ(poses, path.size());
+    EXPECT_EQ(scans, path.size());
+    EXPECT_EQ(landmarks, path.size());
 }
 
 TEST(MrptWorkflow, GridMrptBuildsFromTheSimplemapAgreesWithOurs)

@@ -1,7 +1,10 @@
-// hymm-slam's results in MRPT's formats: map.3Dscene, map.simplemap, map.hymm.
+// hymm-slam's results in MRPT's formats: map.3Dscene, map.simplemap, map.hymm, run.rawlog.
 #include <hymm/app/mrpt_outputs.h>
 
+#include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/obs/CObservationRobotPose.h>
 #include <mrpt/opengl/CSetOfLines.h>
+#include <mrpt/serialization/CArchive.h>
 #include <mrpt/opengl/CSetOfObjects.h>
 #include <mrpt/poses/CPosePDFGaussian.h>
 
@@ -58,6 +61,32 @@ mrpt::maps::CSimpleMap makeSimpleMap(const DenseSlam& slam, const KeyframeRecord
     return sm;
 }
 
+void writeRunRawlog(const DenseSlam& slam, const KeyframeRecorder& recorder, const std::string& path)
+{
+    mrpt::io::CFileGZOutputStream f;
+    if (!f.open(path, 1)) throw std::runtime_error("cannot write '" + path + "'");
+    auto ar = mrpt::serialization::archiveFrom(f);
+    for (const auto& [i, sf] : recorder.frames())
+    {
+        const auto& s = slam.path().at(i);
+        auto pose = mrpt::obs::CObservationRobotPose::Create();
+        pose->sensorLabel = "HYMM_POSE";
+        const Eigen::Matrix3d c = 0.5 * (s.cov + s.cov.transpose());
+        pose->pose = mrpt::poses::CPose3DPDFGaussian(mrpt::poses::CPosePDFGaussian(
+            mrpt::poses::CPose2D(s.pose.x(), s.pose.y(), s.pose.z()), mrpt::math::CMatrixDouble33(c)));
+        for (const auto& o : *sf)
+            if (o && o->timestamp != INVALID_TIMESTAMP)
+            {
+                pose->timestamp = o->timestamp;
+                break;
+            }
+        ar << *pose;
+        for (const auto& o : *sf)
+            if (o) ar << *o;
+    }
+    f.close();
+}
+
 namespace
 {
 mrpt::opengl::COpenGLScene sceneOf(const DenseSlam& slam, const dense::CHybridMetricMap* map)
@@ -103,6 +132,7 @@ void writeMrptOutputs(const DenseSlam& slam, const KeyframeRecorder& recorder, c
     if (!makeSimpleMap(slam, recorder).saveToFile(d + "map.simplemap"))
         throw std::runtime_error("cannot write '" + d + "map.simplemap'");
     if (map) map->saveToFile(d + "map.hymm");
+    writeRunRawlog(slam, recorder, d + "run.rawlog");
 }
 
 }  // namespace hymm::app

@@ -208,10 +208,9 @@ void DenseSlam::processOdometryObservation(const mrpt::obs::CObservation& obs)
     }
     if (last_odometry_)
     {
-        mrpt::poses::CPosePDFGaussian inc;
-        inc.mean = odo.odometry - *last_odometry_;
-        inc.cov.setZero();
-        processOdometry(inc);
+        // The reading carries no covariance: the increment gets the motion model's.
+        processOdometry(odometryIncrementPdf(odo.odometry - *last_odometry_,
+                                             options_.odometry_model, options_.thrun));
     }
     last_odometry_ = odo.odometry;
 }

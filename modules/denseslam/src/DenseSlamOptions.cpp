@@ -126,6 +126,22 @@ core::OptionTable DenseSlam::Options::table()
     t.real("odometry_std_xy", odometry_std_xy, "m", atLeast(0, 100), "added in quadrature to the odometry (per step)");
     t.real("odometry_std_phi_deg", odometry_std_phi, "deg", atLeast(0, 180),
            "added in quadrature to the odometry heading (per step)", kDeg);
+    t.choice("odometry_model", odometry_model,
+             {{"thrun", OdometryModel::Thrun}, {"gaussian", OdometryModel::Gaussian}, {"none", OdometryModel::None}},
+             "covariance of CObservationOdometry increments (observation-format rawlogs): MRPT's "
+             "CActionRobotMovement2D Thrun model (its particles' covariance), MRPT's Gaussian model, or zero (OdometryModel.h)");
+    t.real("odometry_thrun_alpha1_rot_rot", thrun.alpha1_rot_rot, "rad/rad", atLeast(0, 10),
+           "thrun: rotation noise per rotation (MRPT alfa1_rot_rot)");
+    t.real("odometry_thrun_alpha2_rot_trans_deg", thrun.alpha2_rot_trans, "deg/m", atLeast(0, 180),
+           "thrun: rotation noise per metre (MRPT alfa2_rot_trans)", kDeg);
+    t.real("odometry_thrun_alpha3_trans_trans", thrun.alpha3_trans_trans, "m/m", atLeast(0, 10),
+           "thrun: translation noise per metre (MRPT alfa3_trans_trans)");
+    t.real("odometry_thrun_alpha4_trans_rot", thrun.alpha4_trans_rot, "m/rad", atLeast(0, 10),
+           "thrun: translation noise per radian turned (MRPT alfa4_trans_rot)");
+    t.real("odometry_thrun_additional_std_xy", thrun.additional_std_xy, "m", atLeast(0, 10),
+           "thrun: added to x and y (MRPT additional_std_XY)");
+    t.real("odometry_thrun_additional_std_phi_deg", thrun.additional_std_phi, "deg", atLeast(0, 180),
+           "thrun: added to the heading (MRPT additional_std_phi)", kDeg);
     t.real("sensor_std_range", sensor_std_range, "m", atLeast(0, 100),
            "> 0 overrides the range noise of every landmark observation");
     t.real("sensor_std_bearing_deg", sensor_std_bearing, "deg", atLeast(0, 90),

@@ -13,7 +13,12 @@
  *                  observations2map, pf-localization and icp-slam;
  *  - map.hymm      with dense layers: the hybrid map (dense::CHybridMetricMap, at the
  *                  final landmark estimates), what CMultiMetricMap .ini sections load
- *                  with `map_file`.
+ *                  with `map_file`;
+ *  - run.rawlog    the run for RawLogViewer, in MRPT 2's observation format: for each
+ *                  keyframe a CObservationRobotPose (label HYMM_POSE, stamped like the
+ *                  frame) holding the pose estimate of that step with its covariance
+ *                  (the same filtered estimate as map.simplemap), then the frame's input
+ *                  observations as they were read.
  * Source: mrpt_outputs.cpp.
  */
 #pragma once
@@ -59,10 +64,13 @@ dense::CHybridMetricMap hybridMetricMap(const DenseSlam& slam);
 /** Keyframes of `recorder` at the path estimates (see the file comment). */
 mrpt::maps::CSimpleMap makeSimpleMap(const DenseSlam& slam, const KeyframeRecorder& recorder);
 
+/** Writes run.rawlog (see the file comment) to `path`, gzip-compressed; throws
+ *  std::runtime_error if it cannot be opened. */
+void writeRunRawlog(const DenseSlam& slam, const KeyframeRecorder& recorder, const std::string& path);
 /** The scene of map.3Dscene (see the file comment). */
 mrpt::opengl::COpenGLScene makeScene(const DenseSlam& slam);
 
-/** Writes map.3Dscene, map.simplemap and (with dense layers) map.hymm into `dir`.
+/** Writes map.3Dscene, map.simplemap, run.rawlog and (with dense layers) map.hymm into `dir`.
  *  Throws std::runtime_error if a file cannot be written. */
 void writeMrptOutputs(const DenseSlam& slam, const KeyframeRecorder& recorder, const std::string& dir);
 

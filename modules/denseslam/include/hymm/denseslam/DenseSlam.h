@@ -37,6 +37,7 @@
 #include <hymm/io/RawlogReader.h>
 #include <hymm/dynamic/SlamMotionHook.h>
 #include <hymm/denseslam/LandmarkSources.h>
+#include <hymm/denseslam/OdometryModel.h>
 #include <hymm/ekf/EkfSlam.h>
 #include <hymm/extract/ReflectorExtractor.h>
 #include <hymm/extract/TreeExtractor.h>
@@ -110,6 +111,10 @@ public:
         double odometry_cov_scale = 1.0;  //!< multiplies the odometry covariance of the rawlog
         double odometry_std_xy = 0.0;     //!< [m] added in quadrature to the odometry (per step)
         double odometry_std_phi = 0.0;    //!< [rad] likewise (ini: odometry_std_phi_deg)
+        /** Covariance of the increments between CObservationOdometry readings
+         *  (observation-format rawlogs carry none; OdometryModel.h). */
+        OdometryModel odometry_model = OdometryModel::Thrun;
+        ThrunOdometryParams thrun;  //!< odometry_model = thrun (ini: odometry_thrun_*)
         double sensor_std_range = 0.0;    //!< [m] > 0 overrides the rawlog's sensor noise
         double sensor_std_bearing = 0.0;  //!< [rad] > 0 overrides (ini: sensor_std_bearing_deg)
         double min_range = 0.0;           //!< [m] observations closer than this are skipped
