@@ -7,8 +7,8 @@
 # metrics.json. Needs python3 for the table.
 #   benchmarks/dense_accuracy/run.sh [OUT_DIR] [BUILD_DIR]
 #       the scenarios' own seed, before / after the closure / end of run: OUT_DIR/summary.md
-#   benchmarks/dense_accuracy/run.sh --seeds N [--duration S] [--configs DIR] [OUT_DIR] [BUILD_DIR]
-#       noise seeds 1..N of both scenarios (same world), cut at S seconds (default 110:
+#   benchmarks/dense_accuracy/run.sh --seeds N [--first K] [--duration S] [--configs DIR] [OUT_DIR] [BUILD_DIR]
+#       noise seeds K..K+N-1 (default K = 1) of both scenarios (same world), cut at S seconds (default 110:
 #       after the closure; 0 = the whole run), with DIR/ch3_slam.ini and DIR/ch4_slam.ini
 #       (default configs/): per-seed rows, medians and how many seeds meet the targets,
 #       OUT_DIR/seeds.md; and the coverage of every HYMM layer relative to the classic
@@ -17,11 +17,13 @@ set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 root="$(cd "$here/../.." && pwd)"
 seeds=0
+first=1
 duration=110
 configs="$root/configs"
-while [ "${1:-}" = "--seeds" ] || [ "${1:-}" = "--duration" ] || [ "${1:-}" = "--configs" ]; do
+while [ "${1:-}" = "--seeds" ] || [ "${1:-}" = "--first" ] || [ "${1:-}" = "--duration" ] || [ "${1:-}" = "--configs" ]; do
     case "$1" in
         --seeds) seeds="$2" ;;
+        --first) first="$2" ;;
         --duration) duration="$2" ;;
         --configs) configs="$(cd "$2" && pwd)" ;;
     esac
@@ -47,15 +49,15 @@ run() {  # name scenario.ini slam.ini duration_s(0 = whole run) [noise seed]
 
 if [ "$seeds" -gt 0 ]; then
     for ch in ch3 ch4; do
-        for s in $(seq 1 "$seeds"); do
+        for s in $(seq "$first" $((first + seeds - 1))); do
             run "${ch}_after_s$s" "$root/configs/sim/${ch}_objects.ini" "$configs/${ch}_slam.ini" "$duration" "$s" &
-            if (( s % 2 == 0 )); then wait; fi
+            if (( (s - first) % 2 == 1 )); then wait; fi
         done
         wait
     done
-    python3 - "$out" "$seeds" <<'PY'
+    python3 - "$out" "$seeds" "$first" <<'PY'
 import json, sys, os, math, statistics as st
-out, n = sys.argv[1], int(sys.argv[2])
+out, n, first = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
 
 def outlines(path):  # closed polygons of the simulator's ground truth
     polys = []
@@ -94,7 +96,7 @@ summary = ["| run | seeds | HYMM occupancy median [m] | < 0.3 m | ratio median (
            "|---|---|---|---|---|---|---|---|---|---|"]
 for ch in ["ch3", "ch4"]:
     occ, ratio, aratio, z2, bound = [], [], [], [], []
-    for s in range(1, n + 1):
+    for s in range(first, first + n):
         m = json.load(open(os.path.join(out, "%s_after_s%d" % (ch, s), "metrics.json")))
         d = m["dense"]; al = d["landmark_alignment"]; o = d["occupancy"]; c = d["classic_grid"]
         r = c["mean_distance_m"] / o["mean_distance_m"]
@@ -114,9 +116,9 @@ text = "\n".join(summary) + "\n\n" + "\n".join(rows) + "\n"
 open(os.path.join(out, "seeds.md"), "w").write(text)
 print(text)
 PY
-    python3 - "$out" "$seeds" <<'PY'
+    python3 - "$out" "$seeds" "$first" <<'PY'
 import json, sys, os, statistics as st
-out, n = sys.argv[1], int(sys.argv[2])
+out, n, first = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
 layers = ["occupancy", "points", "particles", "sog"]
 rows = ["| run | seed | layer | coverage | / classic | mean [m] | aligned [m] | classic coverage | classic mean [m] | classic aligned [m] | fallback mean [m] |",
         "|---|---|---|---|---|---|---|---|---|---|---|"]
@@ -127,7 +129,7 @@ summary = ["| run | layer | seeds | coverage / classic, median (min) | >= 0.95 |
 for ch in ["ch3", "ch4"]:
     per = {l: [] for l in layers}
     reached = []
-    for s in range(1, n + 1):
+    for s in range(first, first + n):
         m = json.load(open(os.path.join(out, "%s_after_s%d" % (ch, s), "metrics.json")))
         d = m["dense"]; c = d["classic_grid"]; fb = d.get("fallback", {})
         for l in layers:

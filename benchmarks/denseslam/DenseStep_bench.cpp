@@ -258,12 +258,16 @@ double median(std::vector<double> v)
     return v.size() % 2 ? v[h] : 0.5 * (v[h - 1] + v[h]);
 }
 
-/** Args: landmarks, regions, observations per step, local (0/1). */
+/** Args: landmarks, regions, observations per step, refresh (0 full, 1 local, 2 local
+ *  with the dense fallback at 25 m and a 20 m room: more than half of every scan goes to
+ *  fallback tiles, as BM_DenseStep mode 2). */
 void BM_EkfVsDense(benchmark::State& state)
 {
-    World w(static_cast<size_t>(state.range(0)), static_cast<size_t>(state.range(1)), state.range(3) != 0);
+    const bool fallback = state.range(3) == 2;
+    World w(static_cast<size_t>(state.range(0)), static_cast<size_t>(state.range(1)), state.range(3) != 0,
+            fallback);
     const int m = static_cast<int>(state.range(2));
-    const ScanPoints scan = roomScan();
+    const ScanPoints scan = roomScan(fallback ? 10.0 : 7.0);
     std::mt19937 rng(42);
     // Observations: m landmarks at random, predicted from the current estimate plus noise;
     // the prediction is a standing vehicle with odometry noise.
@@ -316,6 +320,11 @@ void BM_EkfVsDense(benchmark::State& state)
         state.SetIterationTime(std::chrono::duration<double>(t2 - t0).count());
     }
     if (!checkStep(state, st)) return;
+    if (fallback && st.returns_fallback == 0)
+    {
+        state.SkipWithError("fallback mode: no return went to the fallback");
+        return;
+    }
     if (associated != static_cast<size_t>(m) * ekf_us.size())
     {
         state.SkipWithError("EKF did not use every observation");
@@ -328,12 +337,16 @@ void BM_EkfVsDense(benchmark::State& state)
     state.counters["landmarks"] = static_cast<double>(w.landmarks);
     state.counters["regions"] = static_cast<double>(w.partition->size());
     state.counters["m"] = m;
+    state.counters["returns_fallback"] = static_cast<double>(st.returns_fallback);
 }
 BENCHMARK(BM_EkfVsDense)
     ->Args({1000, 1000, 15, 0})
     ->Args({1000, 1000, 15, 1})
     ->Args({1000, 1000, 10, 1})
     ->Args({1000, 1000, 20, 1})
+    ->Args({1000, 1000, 10, 2})
+    ->Args({1000, 1000, 15, 2})
+    ->Args({1000, 1000, 20, 2})
     ->Iterations(60)
     ->UseManualTime()
     ->Unit(benchmark::kMillisecond);

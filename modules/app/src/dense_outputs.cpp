@@ -134,6 +134,7 @@ void writeRegionCounters(eval::MetricsJson& dj, const DenseSlam& slam)
         auto& sj = dj.object("delayed_store");
         sj.set("stored", static_cast<unsigned long>(st.delayed_stored));
         sj.set("fused", static_cast<unsigned long>(st.delayed_fused));
+        sj.set("fused_fallback", static_cast<unsigned long>(st.delayed_fused_fallback));
         sj.set("waiting", static_cast<unsigned long>(slam.delayedStore()->numStoredPoints()));
         sj.set("outside_potential", static_cast<unsigned long>(st.delayed_outside_potential));
         sj.set("thinned", static_cast<unsigned long>(st.delayed_thinned));

@@ -48,11 +48,12 @@ void writeReturnBooks(eval::MetricsJson& dj, const DenseSlam& slam)
     rj.set("kept_by_fallback", ul(st.returns_fallback));
     rj.set("delayed_stored", ul(st.delayed_stored));
     rj.set("delayed_fused", ul(st.delayed_fused));
+    rj.set("delayed_fused_fallback", ul(st.delayed_fused_fallback));
     rj.set("dropped_outside", ul(st.returns_dropped));
     // Returns within the dense range that are in a dense layer: in a region, kept by the
-    // fallback, or fused later from the delayed store.
-    const size_t reached =
-        st.returns_stored + st.returns_fallback + st.returns_withheld_fallback + st.delayed_fused;
+    // fallback, or fused later from the delayed store (into a region or the fallback).
+    const size_t reached = st.returns_stored + st.returns_fallback + st.returns_withheld_fallback +
+                           st.delayed_fused + st.delayed_fused_fallback;
     rj.set("reached_dense_map", ul(reached));
     rj.set("reached_fraction", total ? static_cast<double>(reached) / static_cast<double>(total) : 0.0);
     const auto causes = outsideCauses(slam);

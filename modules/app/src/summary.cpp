@@ -52,7 +52,7 @@ void writeRegionSummary(std::ostream& f, const DenseSlam& slam)
           << s.virtual_landmarks << ", apexes rejected " << s.virtual_rejected << ")\n";
     if (const auto* store = slam.delayedStore())
         f << "delayed store        stored " << s.delayed_stored << ", fused " << s.delayed_fused
-          << ", waiting " << store->numStoredPoints() << "; not stored: outside potential regions "
+          << ", kept later by the fallback " << s.delayed_fused_fallback << ", waiting " << store->numStoredPoints() << "; not stored: outside potential regions "
           << s.delayed_outside_potential << ", over budget " << s.delayed_thinned
           << "; evicted " << s.delayed_evicted << ", lost " << s.delayed_lost << "\n";
     if (slam.hybridMap()) writeLayerSummary(f, slam);

@@ -122,11 +122,12 @@ LocalDenseMap& HybridMetricMap::localMapFor(long region_id, const Vertices& refe
         slot = std::make_unique<LocalDenseMap>(region_id, reference);
         for (const std::string& kind : enabledKinds())
             if (auto layer = makeLayer(kind, reference)) slot->addLayer(std::move(layer));
-        // With the fallback, a region's unobserved cells must not hide what a fallback
-        // tile under it saw.
+        // With the fallback, a region must not hide what a fallback tile under it saw:
+        // the tile holds the returns from before the region formed (and, as every tile,
+        // all later ones), so the most occupied value wins there too.
         if (auto* occ = dynamic_cast<OccupancyLayer*>(slot->layer(OccupancyLayer::kKind));
             occ && options_.fallback_max_distance_m > 0)
-            occ->setRenderMode(OccupancyLayer::RenderMode::ObservedOnly);
+            occ->setRenderMode(OccupancyLayer::RenderMode::MaxObserved);
     }
     return *slot;
 }
@@ -354,13 +355,13 @@ HybridMetricMap::InsertStats HybridMetricMap::insertScan(
                 RegionScan rs;
                 if (const auto h = fb_hits.find(key); h != fb_hits.end()) rs = std::move(h->second);
                 clipBeams(w, c, rs, shadow_margin);
-                // Only the returns the fallback assigned here are this tile's hits: a ray
-                // ending in the tile at a return some region owns marks free space only.
-                for (FreeRay& ray : rs.rays)
-                    if (ray.ends_at_hit &&
-                        std::none_of(rs.hits.begin(), rs.hits.end(),
-                                     [&](const Eigen::Vector2d& h) { return (h - ray.to).squaredNorm() < 1e-12; }))
-                        ray.ends_at_hit = false;
+                // A ray ending in the tile at a return that a region or another tile owns
+                // stays a hit here: the tile's cells then see every return as they see
+                // every beam's free space (the returns' points, particles and Gaussians
+                // stay with their owner alone). Marking that cell free instead wore down
+                // the walls of overlapping tiles whose returns went elsewhere (ch4: the
+                // cells of most outline the classic grid covers and HYMM's points hold
+                // stayed at P <= 0.8).
                 if (rs.empty()) continue;
                 rs.range_std_m = scan.range_std_m;
                 rs.bearing_std_rad = scan.bearing_std_rad;
@@ -414,6 +415,41 @@ void HybridMetricMap::insertRegionScan(
 {
     if (scan.empty()) return;
     localMapFor(region_id, partition.region(region_id).reference).insert(scan);
+}
+
+bool HybridMetricMap::insertFallbackReturn(
+    const Eigen::Vector2d& sensor, const Eigen::Vector2d& ret, double range_std_m, double bearing_std_rad,
+    const RegionPartition& partition)
+{
+    const double fb_dist = options_.fallback_max_distance_m;
+    if (!(fb_dist > 0) || !ret.allFinite() || !sensor.allFinite()) return false;
+    std::unordered_map<long, std::optional<AffineRegionMap>> maps;
+    const auto frameOf = [&](long id) -> const std::optional<AffineRegionMap>& {
+        const auto [it, fresh] = maps.try_emplace(id);
+        if (fresh) try
+            {
+                it->second = partition.referenceToCurrent(id);
+            }
+            catch (const std::invalid_argument&)
+            {
+            }
+        return it->second;
+    };
+    const auto anchor = nearestRegion(partition, ret, fb_dist, [&](long id) { return frameOf(id).has_value(); });
+    if (!anchor) return false;
+    const AffineRegionMap& to_current = *frameOf(*anchor);
+    const Eigen::Vector2d p_ref = to_current.inverseMapPoint(ret);
+    RegionScan rs;
+    rs.sensor = to_current.inverseMapPoint(sensor);
+    rs.hits.push_back(p_ref);
+    // A ray of zero length at the return: the occupancy layer marks its cell occupied and
+    // nothing free.
+    rs.rays.push_back(FreeRay{p_ref, p_ref, true});
+    rs.range_std_m = range_std_m;
+    rs.bearing_std_rad = bearing_std_rad;
+    rs.to_reference_linear = to_current.inverse().linear();
+    fallbackMapFor(fallbackTileOf(*anchor, p_ref, options_.fallback_tile_m)).insert(rs);
+    return true;
 }
 
 std::vector<long> HybridMetricMap::removeStaleRegions(const RegionPartition& partition)

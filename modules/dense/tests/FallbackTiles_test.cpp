@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <set>
 
 namespace
 {
@@ -147,6 +148,63 @@ TEST(FallbackTilesTest, ReturnsInNoRegionAreKeptOnTheWallAndFollowTheAnchor)
     ASSERT_EQ(fb2_points.size(), fb_points.size());
     // (CSimplePointsMap holds floats: ~1e-6 m at these coordinates.)
     for (size_t i = 0; i < fb_points.size(); ++i) EXPECT_LT((fb2_points[i] - (Rm * fb_points[i] + t)).norm(), 1e-5);
+}
+
+// Tiles of different anchors overlap: a return kept in one tile must stay a hit in the
+// occupancy of every other tile holding that point (as a beam's free space reaches them
+// all), not wear that tile's wall down.
+TEST(FallbackTilesTest, AReturnKeptElsewhereIsAHitInOverlappingTiles)
+{
+    WallWorld w;
+    const ScanPoints scan = wallScan(kVehicle, kMount, kWallX, kBeams, kHalfFov);
+    // A: the regions nearest to the wall above the lattice (y in (15, 19]).
+    std::set<long> a;
+    for (double y = 15.05; y <= 19.0; y += 0.05)
+        if (const auto r = nearestRegion(w.partition, V2(kWallX, y), 5.0)) a.insert(*r);
+    ASSERT_FALSE(a.empty());
+    HybridMetricMap map(fallbackOptions(5.0));
+    // 1. A refused: that wall goes to tiles of other anchors (B).
+    for (int rep = 0; rep < 3; ++rep)
+        map.insertScan(scan, kVehicle, w.partition, [&](long id) { return a.count(id) == 0; });
+    // 2. A accepted: the same wall goes to A's tiles, B's tiles see the same beams.
+    HybridMetricMap::InsertStats st;
+    for (int rep = 0; rep < 10; ++rep) st = map.insertScan(scan, kVehicle, w.partition);
+    ASSERT_GT(st.returns_fallback, 0u);
+    // 3. Without A (its tiles go with it), B's tiles alone still show the wall.
+    for (long id : a) w.partition.removeRegion(id);
+    map.removeStaleRegions(w.partition);
+    mrpt::maps::COccupancyGridMap2D grid;
+    map.renderOccupancy(w.partition, 0.1, grid, HybridMetricMap::Content::Fallback);
+    size_t wall = 0;
+    for (const V2& c : occupiedCellCentres(grid, 0.8))
+        if (std::abs(c.x() - kWallX) < 0.15 && c.y() > 15.5 && c.y() < 18.5) ++wall;
+    // 16 cells here; marking the return's cell free in B's tiles (the old rule) gave them
+    // 3 hits against 10 misses: free.
+    EXPECT_GE(wall, 10u);
+}
+
+TEST(FallbackTilesTest, AStoredReturnIsKeptInTheNearestRegionsTile)
+{
+    WallWorld w;
+    const V2 sensor(kVehicle.x + kMount.x, kVehicle.y);
+    HybridMetricMap on(fallbackOptions(5.0)), off(fallbackOptions(0.0));
+    EXPECT_TRUE(on.insertFallbackReturn(sensor, V2(kWallX, 17.0), 0.01, 0.001, w.partition));
+    EXPECT_FALSE(on.insertFallbackReturn(sensor, V2(kWallX, 40.0), 0.01, 0.001, w.partition));  // none in 5 m
+    EXPECT_FALSE(off.insertFallbackReturn(sensor, V2(kWallX, 17.0), 0.01, 0.001, w.partition));
+    EXPECT_FALSE(on.insertFallbackReturn(sensor, V2(std::nan(""), 17.0), 0.01, 0.001, w.partition));
+    EXPECT_EQ(off.fallbackTiles(), 0u);
+    mrpt::maps::CSimplePointsMap fb;
+    on.renderPoints(w.partition, fb, HybridMetricMap::Content::Fallback);
+    const auto pts = pointsOf(fb);
+    ASSERT_EQ(pts.size(), 1u);
+    EXPECT_LT((pts[0] - V2(kWallX, 17.0)).norm(), 1e-5);
+    // Its cell is occupied, nothing is marked free.
+    mrpt::maps::COccupancyGridMap2D grid;
+    on.renderOccupancy(w.partition, 0.1, grid, HybridMetricMap::Content::Fallback);
+    const auto hit = occupiedCellCentres(grid, 0.55);
+    ASSERT_FALSE(hit.empty());
+    for (const V2& c : hit) EXPECT_LT((c - V2(kWallX, 17.0)).norm(), 0.2);
+    EXPECT_NEAR(grid.getPos(kWallX - 1.0, 17.0), 0.5f, 1e-3);
 }
 
 TEST(FallbackTilesTest, TilesGoWithTheirAnchor)

@@ -373,10 +373,20 @@ void DenseSlam::fuseDelayed()
 {
     // Step 5a (Sec. 3.7.3): returns kept while no region covered them go into the
     // regions that exist now, at their corrected local coordinates.
-    const auto rep = store_->fuse(ekf_, *partition_, [&](long rid, const dense::RegionScan& rs) {
-        hybrid_->insertRegionScan(rid, rs, *partition_);
-    });
+    // A stored return that still lies in no region goes to the dense fallback once a
+    // region has formed within its reach (it waited because none was near when seen).
+    uif::DelayedDenseStore::OutsideSink outside;
+    if (hybrid_->options().fallback_max_distance_m > 0)
+        outside = [&](const Eigen::Vector2d& sensor, const Eigen::Vector2d& ret) {
+            return hybrid_->insertFallbackReturn(sensor, ret, options_.laser_std_range, options_.laser_std_bearing,
+                                                 *partition_);
+        };
+    const auto rep = store_->fuse(
+        ekf_, *partition_,
+        [&](long rid, const dense::RegionScan& rs) { hybrid_->insertRegionScan(rid, rs, *partition_); }, nullptr,
+        outside);
     stats_.delayed_fused += rep.fused;
+    stats_.delayed_fused_fallback += rep.fused_outside;
     stats_.delayed_lost += rep.lost_points;
 }
 

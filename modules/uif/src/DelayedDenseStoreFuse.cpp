@@ -48,7 +48,7 @@ std::optional<hymm::dense::FreeRay> referenceRay(
 
 DelayedDenseStore::FuseReport DelayedDenseStore::fuse(
     hymm::ekf::EkfSlam& ekf, const hymm::ltr::RegionPartition& partition, const RegionSink& sink,
-    std::vector<FusedPoint>* fused)
+    std::vector<FusedPoint>* fused, const OutsideSink& outside)
 {
     FuseReport rep;
     if (!options_.enabled || scans_.empty()) return rep;
@@ -93,6 +93,11 @@ DelayedDenseStore::FuseReport DelayedDenseStore::fuse(
             const auto rid = partition.findRegion(g);
             if (!rid)
             {
+                if (outside && outside(sensor, g))
+                {
+                    ++rep.fused_outside;
+                    continue;
+                }
                 keep.push_back(p);
                 continue;
             }

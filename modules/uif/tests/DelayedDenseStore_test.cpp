@@ -265,6 +265,43 @@ TEST(DelayedDenseStoreTest, ReturnsAlreadyInARegionOrOutsidePotentialRegionsCanW
     for (const auto& p : all.scans().front().points) EXPECT_EQ(p.potential_region, -1);
 }
 
+TEST(DelayedDenseStoreTest, ReturnsInNoRegionGoToTheOutsideSinkWhenItTakesThem)
+{
+    // No region when seen: both wait. Once a region exists, (12, 0) is fused into it and
+    // (-40, 0), in no region, is offered to the outside sink at its current estimate
+    // with the sensor's position; taken, it leaves the store and the scan its block.
+    auto o = enabled();
+    o.require_potential_region = false;
+    DelayedDenseStore store(o);
+    Fixture f;
+    const std::vector<Eigen::Vector2d> pts{{12, 0}, {-40, 0}};
+    ASSERT_EQ(store.addGlobalPoints(f.ekf, *f.partition, pts, kR, kSensor, 1.0).stored, 2u);
+    const auto noop = [](long, const hymm::dense::RegionScan&) {};
+    // A sink that refuses leaves it waiting.
+    size_t offered = 0;
+    auto rep = store.fuse(f.ekf, *f.partition, noop, nullptr,
+                          [&](const Eigen::Vector2d&, const Eigen::Vector2d&) { return ++offered, false; });
+    EXPECT_EQ(offered, 2u);
+    EXPECT_EQ(rep.fused_outside, 0u);
+    EXPECT_EQ(store.numStoredPoints(), 2u);
+
+    ASSERT_TRUE(f.partition->tryAddRegion({10, 11, 12}, f.view(), 2.0).accepted());
+    std::vector<Eigen::Vector2d> taken, sensors;
+    rep = store.fuse(f.ekf, *f.partition, noop, nullptr, [&](const Eigen::Vector2d& s, const Eigen::Vector2d& r) {
+        sensors.push_back(s);
+        taken.push_back(r);
+        return true;
+    });
+    EXPECT_EQ(rep.fused, 1u);
+    EXPECT_EQ(rep.fused_outside, 1u);
+    ASSERT_EQ(taken.size(), 1u);
+    EXPECT_LT((taken[0] - Eigen::Vector2d(-40, 0)).norm(), 1e-9);  // no update since: as seen
+    EXPECT_LT((sensors[0] - Eigen::Vector2d(5.3, 0)).norm(), 1e-9);
+    EXPECT_EQ(store.numStoredPoints(), 0u);
+    EXPECT_EQ(rep.scans_released, 1u);
+    EXPECT_EQ(f.ekf.passive().numBlocks(), 0u);
+}
+
 TEST(DelayedDenseStoreTest, BudgetDropsOldestScansFirstAndThinsOversizedScans)
 {
     Fixture f;

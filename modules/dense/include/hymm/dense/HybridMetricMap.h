@@ -194,6 +194,16 @@ public:
      *  insertScan() did not update (Sec. 4.1.3 background function). */
     CoarsenReport coarsenIdleRegions();
 
+    /** Keeps one return `ret` (global, current estimate) seen from `sensor` in a fallback
+     *  tile of the nearest region within fallback_max_distance_m whose current triangle
+     *  is a frame (as insertScan's fallback does, without its free space: the beam is an
+     *  old one, e.g. a return that waited in the delayed store while no region was near).
+     *  `range_std_m` / `bearing_std_rad` model it in the SOG and particle layers. Returns
+     *  false (nothing changes) with the fallback off or no such region. */
+    bool insertFallbackReturn(
+        const Eigen::Vector2d& sensor, const Eigen::Vector2d& ret, double range_std_m,
+        double bearing_std_rad, const hymm::ltr::RegionPartition& partition);
+
     /** Fuses a scan piece already in the reference frame of `region_id` (e.g. returns
      *  kept by the delayed-initialisation store until the region existed) into every
      *  layer of that region. Throws std::out_of_range if the partition lacks the region. */

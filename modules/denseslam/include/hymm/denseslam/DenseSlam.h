@@ -233,10 +233,14 @@ public:
         size_t virtual_rejected = 0;    //!< virtual apexes whose region failed a condition
         size_t delayed_stored = 0;      //!< returns kept by the delayed-initialisation store
         size_t delayed_fused = 0;       //!< stored returns later fused into a region
+        /** Stored returns later kept by the dense fallback (in no region, a region within
+         *  fallback_max_distance_m). */
+        size_t delayed_fused_fallback = 0;
         /** Returns the store turned away or lost (uif::DelayedDenseStore::AddReport):
          *  in no potential region (require_potential_region), over the budget as a single
          *  scan, evicted (oldest first, budget or max_age_s), or whose passive block was
-         *  gone. delayed_stored - delayed_fused - evicted - lost are still waiting. */
+         *  gone. delayed_stored - delayed_fused - delayed_fused_fallback - evicted - lost are
+         *  still waiting. */
         size_t delayed_outside_potential = 0;
         size_t delayed_thinned = 0;
         size_t delayed_evicted = 0;

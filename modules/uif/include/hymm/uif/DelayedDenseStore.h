@@ -182,12 +182,19 @@ public:
         size_t scans_released = 0; //!< scans emptied (passive blocks removed)
         size_t lost_points = 0;    //!< their passive block vanished (EKF reset)
         size_t degenerate = 0;     //!< in a region whose current triangle is no frame: kept
+        /** In no region, taken by the OutsideSink (e.g. the dense fallback): they leave the
+         *  store like fused ones. Not included in `fused`. */
+        size_t fused_outside = 0;
         std::vector<long> regions; //!< regions that received returns, sorted
     };
 
     /** Receives content for region `region_id` in its reference frame (one call per
      *  region and stored scan with fused returns). */
     using RegionSink = std::function<void(long region_id, const hymm::dense::RegionScan& scan)>;
+    /** Offered a stored return that lies in no region, at its CURRENT global estimate with
+     *  the sensor's current global position; returns true if it kept the return (which
+     *  then leaves the store), false to leave it waiting. */
+    using OutsideSink = std::function<bool(const Eigen::Vector2d& sensor, const Eigen::Vector2d& ret)>;
 
     /** Throws std::invalid_argument on invalid options. */
     explicit DelayedDenseStore(const Options& options);
@@ -231,11 +238,14 @@ public:
      * SOG and particle layers model a delayed return like a direct one. Fused returns
      * leave the store; scans left empty release their passive block. If `fused` is
      * given, each fused return's local coordinates and full covariance (including the
-     * vertices) are appended.
+     * vertices) are appended. With `outside`, a return in no region is offered to it
+     * (counted in FuseReport::fused_outside when taken): the fusion rule that lets the
+     * returns of scans seen before any region was near reach the dense fallback once a
+     * region forms within its reach.
      */
     FuseReport fuse(
         hymm::ekf::EkfSlam& ekf, const hymm::ltr::RegionPartition& partition, const RegionSink& sink,
-        std::vector<FusedPoint>* fused = nullptr);
+        std::vector<FusedPoint>* fused = nullptr, const OutsideSink& outside = {});
 
     /** Drops everything and removes the store's passive blocks from `ekf`. */
     void clear(hymm::ekf::EkfSlam& ekf);
