@@ -22,7 +22,12 @@ namespace
 // Times are printed with 2-3 decimals (50 Hz); equal prints are one observation.
 constexpr double kSameTimeTolS = 1e-6;
 
-bool isInteger(double v) { return std::isfinite(v) && v == std::floor(v); }
+// An integer an int can hold (subject and barcode numbers are cast to int).
+bool isInteger(double v)
+{
+    return std::isfinite(v) && v == std::floor(v) &&
+           std::abs(v) <= static_cast<double>(std::numeric_limits<int>::max());
+}
 
 /** Largest rounding error of a time printed with 5 significant digits [s]. */
 double printedTimeResolution(double t)
@@ -159,19 +164,29 @@ std::map<int, int> MrclamImporter::barcodeMap(const std::string& path,
 std::vector<OdometryIntegrator::ControlSample> MrclamImporter::readOdometry(
     const std::string& path, ImportSummary& summary) const
 {
-    auto rows = readNumericTable(path, 3, &summary, "odometry_malformed_line");
+    auto table = readNumericTableLines(path, 3, &summary, "odometry_malformed_line");
+    if (table.rows.empty())
+        throw std::runtime_error("'" + path + "' holds no odometry line (time v omega)");
+    checkTimeColumn(table, path, "odometry");
+    auto& rows = table.rows;
     restoreUniformTimes(rows, options_.sample_period_s, summary, "odometry");
     std::vector<OdometryIntegrator::ControlSample> raw;
     raw.reserve(rows.size());
     for (const auto& r : rows) raw.push_back({r[0], r[1], r[2]});
-    return OdometryIntegrator::sanitize(raw, OdometryIntegrator::Model::Unicycle,
-                                        hymm::core::UteParams{}, summary);
+    auto out = OdometryIntegrator::sanitize(raw, OdometryIntegrator::Model::Unicycle,
+                                            hymm::core::UteParams{}, summary);
+    if (out.empty())
+        throw std::runtime_error("'" + path + "': none of its " + std::to_string(rows.size()) +
+                                 " odometry lines is usable (non-finite values)");
+    return out;
 }
 
 std::vector<hymm::io::StampedPose2D> MrclamImporter::readGroundTruth(
     const std::string& path, ImportSummary& summary) const
 {
-    auto rows = readNumericTable(path, 4, &summary, "groundtruth_malformed_line");
+    auto table = readNumericTableLines(path, 4, &summary, "groundtruth_malformed_line");
+    checkTimeColumn(table, path, "ground-truth");
+    auto& rows = table.rows;
     restoreUniformTimes(rows, options_.sample_period_s, summary, "groundtruth");
     std::vector<hymm::io::StampedPose2D> gt;
     gt.reserve(rows.size());
@@ -191,9 +206,24 @@ std::vector<hymm::io::StampedPose2D> MrclamImporter::readGroundTruth(
 std::vector<hymm::io::LandmarkRecord> MrclamImporter::readLandmarks(const std::string& path,
                                                                       ImportSummary& summary)
 {
+    // Surveyed positions are the ground truth every evaluation trusts: a value that is not
+    // a finite number is an error, not a row to drop.
     std::vector<hymm::io::LandmarkRecord> lms;
-    for (const auto& r : readNumericTable(path, 5, &summary, "landmark_malformed_line"))
+    const auto table = readNumericTableLines(path, 5, &summary, "landmark_malformed_line");
+    for (size_t i = 0; i < table.rows.size(); ++i)
+    {
+        const auto& r = table.rows[i];
+        const std::string at = "'" + path + "' line " + std::to_string(table.lines[i]) + ": ";
+        if (!isInteger(r[0]))
+            throw std::runtime_error(at + "landmark subject number " + std::to_string(r[0]) +
+                                     " is not an integer");
+        for (size_t c = 1; c < 5; ++c)
+            if (!std::isfinite(r[c]))
+                throw std::runtime_error(at + "landmark " + std::to_string(static_cast<long>(r[0])) +
+                                         " has a non-finite " +
+                                         (c == 1 ? "x" : c == 2 ? "y" : "standard deviation"));
         lms.push_back({static_cast<long>(r[0]), r[1], r[2], {r[3], r[4]}});
+    }
     return lms;
 }
 
@@ -208,7 +238,9 @@ std::vector<mrpt::obs::CObservation::Ptr> MrclamImporter::readMeasurements(
         if (obs && !obs->sensedData.empty()) out.push_back(obs);
         obs.reset();
     };
-    for (const auto& r : readNumericTable(path, 4, &summary, "measurement_malformed_line"))
+    const auto table = readNumericTableLines(path, 4, &summary, "measurement_malformed_line");
+    checkTimeColumn(table, path, "measurement");
+    for (const auto& r : table.rows)
     {
         const double t = r[0], range = r[2], bearing = r[3];
         if (!std::isfinite(t) || !isInteger(r[1]) || !std::isfinite(range) ||

@@ -116,7 +116,9 @@ std::vector<mrpt::obs::CObservation::Ptr> VictoriaParkImporter::readDetections(
     const std::string& path, ImportSummary& summary,
     std::vector<std::vector<double>>& diameters) const
 {
-    const auto rows = readNumericTable(path, 4, &summary, "detection_malformed_line");
+    const auto table = readNumericTableLines(path, 4, &summary, "detection_malformed_line");
+    checkTimeColumn(table, path, "detection");
+    const auto& rows = table.rows;
     std::vector<mrpt::obs::CObservation::Ptr> out;
     diameters.clear();
     mrpt::obs::CObservationBearingRange::Ptr scan;
