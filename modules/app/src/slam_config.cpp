@@ -1,5 +1,15 @@
 #include "hymm/app/slam_config.h"
 
+#include <hymm/datasets/CarParkImporter.h>
+#include <hymm/datasets/MrclamImporter.h>
+#include <hymm/datasets/NoiseCalibration.h>
+#include <hymm/datasets/VictoriaParkImporter.h>
+#include <hymm/eval/LandmarkEvaluator.h>
+#include <hymm/eval/TrajectoryEvaluator.h>
+#include <hymm/scanslam/CorrelativeMatcher.h>
+#include <hymm/scanslam/IcpMatcher.h>
+#include <hymm/scanslam/SogMatcher.h>
+
 #include <fstream>
 #include <memory>
 #include <sstream>
@@ -62,6 +72,15 @@ const std::vector<OptionSection>& optionSections()
         declared<dense::ClassicOccupancyGrid::Options>("dense", "ClassicOccupancyGrid"),
         declared<dynamic::SlamMotionHook::Options>("dynamic", "DynamicSlam"),
         declared<dynamic::MotionDetector::Options>("dynamic", "MotionDetector"),
+        declared<scanslam::SogMatcher::Options>("scanslam", "SogMatcher"),
+        declared<scanslam::IcpMatcher::Options>("scanslam", "IcpMatcher"),
+        declared<scanslam::CorrelativeMatcher::Options>("scanslam", "CorrelativeMatcher"),
+        declared<eval::TrajectoryEvaluator::Options>("eval", "TrajectoryEvaluator"),
+        declared<eval::LandmarkEvaluator::Options>("eval", "LandmarkEvaluator"),
+        declared<datasets::VictoriaParkImporter::Options>("datasets", "VictoriaParkImporter"),
+        declared<datasets::CarParkImporter::Options>("datasets", "CarParkImporter"),
+        declared<datasets::MrclamImporter::Options>("datasets", "MrclamImporter"),
+        declared<datasets::NoiseCalibrationOptions>("datasets", "NoiseCalibration"),
     };
     return all;
 }

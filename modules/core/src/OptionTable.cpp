@@ -135,6 +135,45 @@ void OptionTable::addInteger(const std::string& name, const std::string& unit, l
     add(std::move(k));
 }
 
+OptionTable& OptionTable::reals(const std::string& name, std::vector<double>& member,
+                                const std::string& unit, Range range, size_t min_count,
+                                const std::string& doc)
+{
+    OptionKey k;
+    k.name = name;
+    k.unit = unit;
+    k.range = (min_count > 1 ? std::to_string(min_count) + "+" : std::string(min_count ? "1+" : "0+")) +
+              " numbers, each " + range.text();
+    k.doc = doc;
+    k.parse = [&member, range, name, min_count](const std::string& s, const std::string& raw) {
+        std::string text = raw;
+        std::replace(text.begin(), text.end(), ',', ' ');
+        std::istringstream is(text);
+        std::vector<double> out;
+        for (std::string tok; is >> tok;)
+        {
+            char* end = nullptr;
+            errno = 0;
+            const double d = std::strtod(tok.c_str(), &end);
+            if (end == tok.c_str() || *end != '\0' || errno == ERANGE)
+                throwConfigError(s, name, raw, "'" + tok + "' is not a number");
+            if (!std::isfinite(d)) throwConfigError(s, name, raw, "'" + tok + "' is not finite");
+            if (!range.contains(d))
+                throwConfigError(s, name, raw, "'" + tok + "' out of range, must be " + range.text());
+            out.push_back(d);
+        }
+        if (out.size() < min_count)
+            throwConfigError(s, name, raw, "needs at least " + std::to_string(min_count) + " numbers");
+        member = out;
+    };
+    k.format = [&member]() {
+        std::string out;
+        for (double v : member) out += (out.empty() ? "" : " ") + formatReal(v);
+        return out;
+    };
+    return add(std::move(k));
+}
+
 OptionTable& OptionTable::flag(const std::string& name, bool& member, const std::string& doc)
 {
     OptionKey k;

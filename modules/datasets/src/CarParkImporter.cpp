@@ -31,39 +31,37 @@ void requireRows(const MatFile& f, const std::string& what, size_t n, size_t exp
 }
 }  // namespace
 
+hymm::core::OptionTable CarParkImporter::Options::table()
+{
+    using namespace hymm::core;
+    OptionTable t;
+    t.text("name", name, "prefix of the output files");
+    t.include(detail::vehicleTable(vehicle));
+    t.flag("track_laser", track_laser, "the robot frame is the laser (true) or the rear axle");
+    t.real("no_return_range_m", no_return_range_m, "m", above(0, 10000),
+           "ranges at or beyond this are no-returns (> min_range_m)");
+    t.real("min_range_m", min_range_m, "m", atLeast(0, 10000), "nearer returns are invalid");
+    t.real("range_std_m", range_std_m, "m", above(0, 100), "range noise written to the rawlog");
+    t.real("aperture_deg", aperture_deg, "deg", above(0, 360), "field of view of the scans");
+    t.include(detail::gpsTable(gps));
+    t.include(odometry.table());
+    return t;
+}
+
 void CarParkImporter::Options::loadFromConfigFile(
     const mrpt::config::CConfigFileBase& cfg, const std::string& section)
 {
-    using namespace hymm::core;
-    checkKnownKeys(cfg, section,
-                   detail::joinKeys({{"name", "track_laser", "no_return_range_m", "min_range_m",
-                                      "range_std_m", "aperture_deg"},
-                                     detail::vehicleKeys(), detail::gpsKeys(),
-                                     OdometryIntegrator::Options::keys()}));
-    name = readString(cfg, section, "name", name);
-    detail::loadVehicle(cfg, section, vehicle);
-    track_laser = readBool(cfg, section, "track_laser", track_laser);
-    min_range_m = readDoubleMin(cfg, section, "min_range_m", min_range_m, 0, false);
-    no_return_range_m =
-        readDoubleMin(cfg, section, "no_return_range_m", no_return_range_m, min_range_m, true);
-    range_std_m = readDoubleMin(cfg, section, "range_std_m", range_std_m, 0, true);
-    aperture_deg = readDoubleMin(cfg, section, "aperture_deg", aperture_deg, 0, true);
-    detail::loadGps(cfg, section, gps);
-    odometry.loadFromConfigFile(cfg, section);
+    table().load(cfg, section);
+    if (!(no_return_range_m > min_range_m))
+        hymm::core::throwConfigError(section, "no_return_range_m", std::to_string(no_return_range_m),
+                                     "must be > min_range_m");
 }
 
 void CarParkImporter::Options::saveToConfigFile(
     mrpt::config::CConfigFileBase& cfg, const std::string& section) const
 {
-    cfg.write(section, "name", name);
-    detail::saveVehicle(cfg, section, vehicle);
-    cfg.write(section, "track_laser", track_laser);
-    cfg.write(section, "no_return_range_m", no_return_range_m);
-    cfg.write(section, "min_range_m", min_range_m);
-    cfg.write(section, "range_std_m", range_std_m);
-    cfg.write(section, "aperture_deg", aperture_deg);
-    detail::saveGps(cfg, section, gps);
-    odometry.saveToConfigFile(cfg, section);
+    auto copy = *this;
+    copy.table().save(cfg, section);
 }
 
 CarParkImporter::Inputs CarParkImporter::findInputs(const std::vector<std::string>& paths)

@@ -22,7 +22,12 @@ namespace
 // Times are printed with 2-3 decimals (50 Hz); equal prints are one observation.
 constexpr double kSameTimeTolS = 1e-6;
 
-bool isInteger(double v) { return std::isfinite(v) && v == std::floor(v); }
+// An integer an int can hold (subject and barcode numbers are cast to int).
+bool isInteger(double v)
+{
+    return std::isfinite(v) && v == std::floor(v) &&
+           std::abs(v) <= static_cast<double>(std::numeric_limits<int>::max());
+}
 
 /** Largest rounding error of a time printed with 5 significant digits [s]. */
 double printedTimeResolution(double t)
@@ -54,61 +59,63 @@ void restoreUniformTimes(std::vector<std::vector<double>>& rows, double period,
 }
 }  // namespace
 
+hymm::core::OptionTable MrclamImporter::Options::table()
+{
+    using namespace hymm::core;
+    OptionTable t;
+    t.text("name", name, "base name of the output files (empty: mrclam_robot<N>)");
+    t.integer("robot", robot, "", 1, 1000, "robot converted (<= num_robots)");
+    t.integer("num_robots", num_robots, "", 1, 1000, "robots in the dataset: their barcodes are not landmarks");
+    t.real("max_range_m", max_range_m, "m", above(0, 10000), "farther measurements are skipped");
+    t.real("std_range_m", std_range_m, "m", above(0, 100), "range noise written to the rawlog");
+    t.real("std_bearing_deg", std_bearing_deg, "deg", above(0, 180), "bearing noise written to the rawlog");
+    t.real("sample_period_s", sample_period_s, "s", atLeast(0, 3600),
+           "odometry and ground-truth period, to rebuild times printed with 5 digits (0: keep them)");
+    OptionKey fixes;
+    fixes.name = "barcode_fixes";
+    fixes.range = "list of `barcode:listed:actual`";
+    fixes.doc = "subjects to correct in Barcodes.dat";
+    fixes.parse = [this](const std::string& section, const std::string& raw) {
+        barcode_fixes.clear();
+        std::istringstream in(raw);
+        for (std::string tok; in >> tok;)
+        {
+            BarcodeFix f;
+            char c1 = 0, c2 = 0;
+            std::istringstream ts(tok);
+            if (!(ts >> f.barcode >> c1 >> f.listed >> c2 >> f.actual) || c1 != ':' || c2 != ':' ||
+                ts.peek() != std::char_traits<char>::eof())
+                throwConfigError(section, "barcode_fixes", raw,
+                                 "'" + tok + "' is not barcode:listed_subject:actual_subject");
+            barcode_fixes.push_back(f);
+        }
+    };
+    fixes.format = [this]() {
+        std::string out;
+        for (const auto& f : barcode_fixes)
+            out += (out.empty() ? "" : " ") + std::to_string(f.barcode) + ":" +
+                   std::to_string(f.listed) + ":" + std::to_string(f.actual);
+        return out;
+    };
+    t.custom(std::move(fixes));
+    t.include(odometry.table());
+    return t;
+}
+
 void MrclamImporter::Options::loadFromConfigFile(
     const mrpt::config::CConfigFileBase& cfg, const std::string& section)
 {
-    using namespace hymm::core;
-    std::vector<std::string> keys = {"name",        "robot",           "num_robots",
-                                     "max_range_m", "std_range_m",     "std_bearing_deg",
-                                     "sample_period_s", "barcode_fixes"};
-    keys.insert(keys.end(), OdometryIntegrator::Options::keys().begin(),
-                OdometryIntegrator::Options::keys().end());
-    checkKnownKeys(cfg, section, keys);
-    name = readString(cfg, section, "name", name);
-    num_robots = static_cast<int>(readInt(cfg, section, "num_robots", num_robots));
-    if (num_robots < 1)
-        throwConfigError(section, "num_robots", std::to_string(num_robots), "must be >= 1");
-    robot = static_cast<int>(readInt(cfg, section, "robot", robot));
-    if (robot < 1 || robot > num_robots)
-        throwConfigError(section, "robot", std::to_string(robot),
-                         "must be in 1.." + std::to_string(num_robots));
-    sample_period_s = readDoubleMin(cfg, section, "sample_period_s", sample_period_s, 0, false);
-    max_range_m = readDoubleMin(cfg, section, "max_range_m", max_range_m, 0, true);
-    std_range_m = readDoubleMin(cfg, section, "std_range_m", std_range_m, 0, true);
-    std_bearing_deg = readDoubleMin(cfg, section, "std_bearing_deg", std_bearing_deg, 0, true);
-    const std::string fixes = readString(cfg, section, "barcode_fixes", "");
-    barcode_fixes.clear();
-    std::istringstream in(fixes);
-    for (std::string tok; in >> tok;)
-    {
-        BarcodeFix f;
-        char c1 = 0, c2 = 0;
-        std::istringstream t(tok);
-        if (!(t >> f.barcode >> c1 >> f.listed >> c2 >> f.actual) || c1 != ':' || c2 != ':' ||
-            t.peek() != std::char_traits<char>::eof())
-            throwConfigError(section, "barcode_fixes", fixes,
-                             "'" + tok + "' is not barcode:listed_subject:actual_subject");
-        barcode_fixes.push_back(f);
-    }
-    odometry.loadFromConfigFile(cfg, section);
+    table().load(cfg, section);
+    if (robot > num_robots)
+        hymm::core::throwConfigError(section, "robot", std::to_string(robot),
+                                     "must be in 1.." + std::to_string(num_robots));
 }
 
 void MrclamImporter::Options::saveToConfigFile(
     mrpt::config::CConfigFileBase& cfg, const std::string& section) const
 {
-    cfg.write(section, "name", name);
-    cfg.write(section, "robot", robot);
-    cfg.write(section, "num_robots", num_robots);
-    cfg.write(section, "sample_period_s", sample_period_s);
-    cfg.write(section, "max_range_m", max_range_m);
-    cfg.write(section, "std_range_m", std_range_m);
-    cfg.write(section, "std_bearing_deg", std_bearing_deg);
-    std::string fixes;
-    for (const auto& f : barcode_fixes)
-        fixes += (fixes.empty() ? "" : " ") + std::to_string(f.barcode) + ":" +
-                 std::to_string(f.listed) + ":" + std::to_string(f.actual);
-    cfg.write(section, "barcode_fixes", fixes);
-    odometry.saveToConfigFile(cfg, section);
+    auto copy = *this;
+    copy.table().save(cfg, section);
 }
 
 MrclamImporter::MrclamImporter(const Options& options) : options_(options) {}
@@ -159,19 +166,29 @@ std::map<int, int> MrclamImporter::barcodeMap(const std::string& path,
 std::vector<OdometryIntegrator::ControlSample> MrclamImporter::readOdometry(
     const std::string& path, ImportSummary& summary) const
 {
-    auto rows = readNumericTable(path, 3, &summary, "odometry_malformed_line");
+    auto table = readNumericTableLines(path, 3, &summary, "odometry_malformed_line");
+    if (table.rows.empty())
+        throw std::runtime_error("'" + path + "' holds no odometry line (time v omega)");
+    checkTimeColumn(table, path, "odometry");
+    auto& rows = table.rows;
     restoreUniformTimes(rows, options_.sample_period_s, summary, "odometry");
     std::vector<OdometryIntegrator::ControlSample> raw;
     raw.reserve(rows.size());
     for (const auto& r : rows) raw.push_back({r[0], r[1], r[2]});
-    return OdometryIntegrator::sanitize(raw, OdometryIntegrator::Model::Unicycle,
-                                        hymm::core::UteParams{}, summary);
+    auto out = OdometryIntegrator::sanitize(raw, OdometryIntegrator::Model::Unicycle,
+                                            hymm::core::UteParams{}, summary);
+    if (out.empty())
+        throw std::runtime_error("'" + path + "': none of its " + std::to_string(rows.size()) +
+                                 " odometry lines is usable (non-finite values)");
+    return out;
 }
 
 std::vector<hymm::io::StampedPose2D> MrclamImporter::readGroundTruth(
     const std::string& path, ImportSummary& summary) const
 {
-    auto rows = readNumericTable(path, 4, &summary, "groundtruth_malformed_line");
+    auto table = readNumericTableLines(path, 4, &summary, "groundtruth_malformed_line");
+    checkTimeColumn(table, path, "ground-truth");
+    auto& rows = table.rows;
     restoreUniformTimes(rows, options_.sample_period_s, summary, "groundtruth");
     std::vector<hymm::io::StampedPose2D> gt;
     gt.reserve(rows.size());
@@ -191,9 +208,24 @@ std::vector<hymm::io::StampedPose2D> MrclamImporter::readGroundTruth(
 std::vector<hymm::io::LandmarkRecord> MrclamImporter::readLandmarks(const std::string& path,
                                                                       ImportSummary& summary)
 {
+    // Surveyed positions are the ground truth every evaluation trusts: a value that is not
+    // a finite number is an error, not a row to drop.
     std::vector<hymm::io::LandmarkRecord> lms;
-    for (const auto& r : readNumericTable(path, 5, &summary, "landmark_malformed_line"))
+    const auto table = readNumericTableLines(path, 5, &summary, "landmark_malformed_line");
+    for (size_t i = 0; i < table.rows.size(); ++i)
+    {
+        const auto& r = table.rows[i];
+        const std::string at = "'" + path + "' line " + std::to_string(table.lines[i]) + ": ";
+        if (!isInteger(r[0]))
+            throw std::runtime_error(at + "landmark subject number " + std::to_string(r[0]) +
+                                     " is not an integer");
+        for (size_t c = 1; c < 5; ++c)
+            if (!std::isfinite(r[c]))
+                throw std::runtime_error(at + "landmark " + std::to_string(static_cast<long>(r[0])) +
+                                         " has a non-finite " +
+                                         (c == 1 ? "x" : c == 2 ? "y" : "standard deviation"));
         lms.push_back({static_cast<long>(r[0]), r[1], r[2], {r[3], r[4]}});
+    }
     return lms;
 }
 
@@ -208,7 +240,9 @@ std::vector<mrpt::obs::CObservation::Ptr> MrclamImporter::readMeasurements(
         if (obs && !obs->sensedData.empty()) out.push_back(obs);
         obs.reset();
     };
-    for (const auto& r : readNumericTable(path, 4, &summary, "measurement_malformed_line"))
+    const auto table = readNumericTableLines(path, 4, &summary, "measurement_malformed_line");
+    checkTimeColumn(table, path, "measurement");
+    for (const auto& r : table.rows)
     {
         const double t = r[0], range = r[2], bearing = r[3];
         if (!std::isfinite(t) || !isInteger(r[1]) || !std::isfinite(range) ||

@@ -359,54 +359,45 @@ ResidualStats robustStats(const std::vector<double>& e, double threshold)
     return s;
 }
 
-void checkPositive(const std::string& section, const std::string& key, double v)
-{
-    if (!(v > 0) || !std::isfinite(v))
-        hymm::core::throwConfigError(section, key, std::to_string(v), "must be > 0");
-}
 }  // namespace
+
+hymm::core::OptionTable NoiseCalibrationOptions::table()
+{
+    using namespace hymm::core;
+    OptionTable t;
+    t.reals("windows_s", windows_s, "s", above(0, 1e6), 1,
+            "window lengths of the odometry fit (rounded to whole ground-truth periods)");
+    t.real("fit_min_window_s", fit_min_window_s, "s", atLeast(0, 1e6),
+           "the joint fit uses the windows from this length on (<= the longest window)");
+    t.real("bias_window_s", bias_window_s, "s", above(0, 1e6),
+           "window length of the command scale/offset fit");
+    t.real("max_gap_s", max_gap_s, "s", above(0, 1e6), "longer ground-truth steps are gaps");
+    t.real("max_speed_mps", max_speed_mps, "m/s", above(0, 1000), "faster ground-truth steps are jumps");
+    t.real("max_turn_rate_deg_s", max_turn_rate_deg_s, "deg/s", above(0, 1e5), "faster turns are jumps");
+    t.real("outlier_threshold", outlier_threshold, "", above(0, 1e6),
+           "gross outlier: |e - median| > this x robust std");
+    t.real("max_lag_s", max_lag_s, "s", atLeast(0, 1e6), "command-to-motion delays searched");
+    t.real("truth_std_xy_m", truth_std_xy_m, "m", atLeast(-1, 100),
+           "ground-truth position noise; negative: estimated from the track");
+    t.real("truth_std_phi_deg", truth_std_phi_deg, "deg", atLeast(-1, 180),
+           "ground-truth heading noise; negative: estimated from the track");
+    return t;
+}
 
 void NoiseCalibrationOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
                                                  const std::string& section)
 {
-    using namespace hymm::core;
-    checkKnownKeys(cfg, section,
-                   {"windows_s", "fit_min_window_s", "bias_window_s", "max_gap_s", "max_speed_mps",
-                    "max_turn_rate_deg_s", "outlier_threshold", "max_lag_s", "truth_std_xy_m",
-                    "truth_std_phi_deg"});
-    windows_s = readDoubleList(cfg, section, "windows_s", windows_s);
-    if (windows_s.empty()) throwConfigError(section, "windows_s", "", "needs at least one length");
-    for (double w : windows_s) checkPositive(section, "windows_s", w);
-    fit_min_window_s = readDoubleMin(cfg, section, "fit_min_window_s", fit_min_window_s, 0, false);
+    table().load(cfg, section);
     if (fit_min_window_s > *std::max_element(windows_s.begin(), windows_s.end()))
-        throwConfigError(section, "fit_min_window_s", std::to_string(fit_min_window_s),
-                         "must not exceed the longest of windows_s");
-    bias_window_s = readDoubleMin(cfg, section, "bias_window_s", bias_window_s, 0, true);
-    max_gap_s = readDoubleMin(cfg, section, "max_gap_s", max_gap_s, 0, true);
-    max_speed_mps = readDoubleMin(cfg, section, "max_speed_mps", max_speed_mps, 0, true);
-    max_turn_rate_deg_s =
-        readDoubleMin(cfg, section, "max_turn_rate_deg_s", max_turn_rate_deg_s, 0, true);
-    outlier_threshold = readDoubleMin(cfg, section, "outlier_threshold", outlier_threshold, 0, true);
-    max_lag_s = readDoubleMin(cfg, section, "max_lag_s", max_lag_s, 0, false);
-    truth_std_xy_m = readDouble(cfg, section, "truth_std_xy_m", truth_std_xy_m);
-    truth_std_phi_deg = readDouble(cfg, section, "truth_std_phi_deg", truth_std_phi_deg);
+        hymm::core::throwConfigError(section, "fit_min_window_s", std::to_string(fit_min_window_s),
+                                     "must not exceed the longest of windows_s");
 }
 
 void NoiseCalibrationOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
                                                const std::string& section) const
 {
-    std::ostringstream w;
-    for (size_t i = 0; i < windows_s.size(); ++i) w << (i ? " " : "") << windows_s[i];
-    cfg.write(section, "windows_s", w.str());
-    cfg.write(section, "fit_min_window_s", fit_min_window_s);
-    cfg.write(section, "bias_window_s", bias_window_s);
-    cfg.write(section, "max_gap_s", max_gap_s);
-    cfg.write(section, "max_speed_mps", max_speed_mps);
-    cfg.write(section, "max_turn_rate_deg_s", max_turn_rate_deg_s);
-    cfg.write(section, "outlier_threshold", outlier_threshold);
-    cfg.write(section, "max_lag_s", max_lag_s);
-    cfg.write(section, "truth_std_xy_m", truth_std_xy_m);
-    cfg.write(section, "truth_std_phi_deg", truth_std_phi_deg);
+    auto copy = *this;
+    copy.table().save(cfg, section);
 }
 
 OdometryCalibration calibrateOdometryNoise(

@@ -20,37 +20,39 @@ namespace
 constexpr double kMaxSteeringRatio = 0.99;
 }  // namespace
 
+hymm::core::OptionTable OdometryIntegrator::Options::table()
+{
+    using namespace hymm::core;
+    OptionTable t;
+    t.real("std_speed_mps", std_speed_mps, "m/s", atLeast(0, 100), "std of one speed sample");
+    t.real("std_steering_deg", std_steering_deg, "deg", atLeast(0, 90),
+           "std of one steering sample (UTE model)");
+    t.real("std_turn_rate_deg_s", std_turn_rate_deg_s, "deg/s", atLeast(0, 3600),
+           "std of one turn-rate sample (unicycle)");
+    t.real("max_hold_s", max_hold_s, "s", above(0, 3600), "longest time a sample is held");
+    t.real("min_std_xy_m", min_std_xy_m, "m", above(0, 100), "floor added to each increment, x and y");
+    t.real("min_std_phi_deg", min_std_phi_deg, "deg", above(0, 180),
+           "floor added to each increment, heading");
+    return t;
+}
+
 const std::vector<std::string>& OdometryIntegrator::Options::keys()
 {
-    static const std::vector<std::string> k = {"std_speed_mps",       "std_steering_deg",
-                                               "std_turn_rate_deg_s", "max_hold_s",
-                                               "min_std_xy_m",        "min_std_phi_deg"};
+    static const std::vector<std::string> k = Options().table().names();
     return k;
 }
 
 void OdometryIntegrator::Options::loadFromConfigFile(
     const mrpt::config::CConfigFileBase& cfg, const std::string& section)
 {
-    using hymm::core::readDoubleMin;
-    std_speed_mps = readDoubleMin(cfg, section, "std_speed_mps", std_speed_mps, 0, false);
-    std_steering_deg =
-        readDoubleMin(cfg, section, "std_steering_deg", std_steering_deg, 0, false);
-    std_turn_rate_deg_s =
-        readDoubleMin(cfg, section, "std_turn_rate_deg_s", std_turn_rate_deg_s, 0, false);
-    max_hold_s = readDoubleMin(cfg, section, "max_hold_s", max_hold_s, 0, true);
-    min_std_xy_m = readDoubleMin(cfg, section, "min_std_xy_m", min_std_xy_m, 0, true);
-    min_std_phi_deg = readDoubleMin(cfg, section, "min_std_phi_deg", min_std_phi_deg, 0, true);
+    table().load(cfg, section);
 }
 
 void OdometryIntegrator::Options::saveToConfigFile(
     mrpt::config::CConfigFileBase& cfg, const std::string& section) const
 {
-    cfg.write(section, "std_speed_mps", std_speed_mps);
-    cfg.write(section, "std_steering_deg", std_steering_deg);
-    cfg.write(section, "std_turn_rate_deg_s", std_turn_rate_deg_s);
-    cfg.write(section, "max_hold_s", max_hold_s);
-    cfg.write(section, "min_std_xy_m", min_std_xy_m);
-    cfg.write(section, "min_std_phi_deg", min_std_phi_deg);
+    auto copy = *this;
+    copy.table().save(cfg, section);
 }
 
 OdometryIntegrator::OdometryIntegrator(Model model, const hymm::core::UteParams& ute,

@@ -41,42 +41,39 @@ void requireSameLength(const MatFile& f, size_t n, size_t m, const std::string& 
 }
 }  // namespace
 
+hymm::core::OptionTable VictoriaParkImporter::Options::table()
+{
+    using namespace hymm::core;
+    OptionTable t;
+    t.text("name", name, "prefix of the output files");
+    t.include(detail::vehicleTable(vehicle));
+    t.flag("track_laser", track_laser, "the robot frame is the laser (true) or the rear axle");
+    t.real("detections_time_offset_s", detections_time_offset_s, "s", between(-1e6, 1e6),
+           "added to every detection time");
+    t.real("min_range_m", min_range_m, "m", atLeast(0, 10000), "nearer detections are skipped");
+    t.real("max_range_m", max_range_m, "m", above(0, 10000),
+           "farther detections are skipped (> min_range_m)");
+    t.real("std_range_m", std_range_m, "m", above(0, 100), "range noise written to the rawlog");
+    t.real("std_bearing_deg", std_bearing_deg, "deg", above(0, 180), "bearing noise written to the rawlog");
+    t.include(detail::gpsTable(gps));
+    t.include(odometry.table());
+    return t;
+}
+
 void VictoriaParkImporter::Options::loadFromConfigFile(
     const mrpt::config::CConfigFileBase& cfg, const std::string& section)
 {
-    using namespace hymm::core;
-    checkKnownKeys(cfg, section,
-                   detail::joinKeys({{"name", "track_laser", "detections_time_offset_s",
-                                      "min_range_m", "max_range_m", "std_range_m",
-                                      "std_bearing_deg"},
-                                     detail::vehicleKeys(), detail::gpsKeys(),
-                                     OdometryIntegrator::Options::keys()}));
-    name = readString(cfg, section, "name", name);
-    detail::loadVehicle(cfg, section, vehicle);
-    track_laser = readBool(cfg, section, "track_laser", track_laser);
-    detections_time_offset_s =
-        readDouble(cfg, section, "detections_time_offset_s", detections_time_offset_s);
-    min_range_m = readDoubleMin(cfg, section, "min_range_m", min_range_m, 0, false);
-    max_range_m = readDoubleMin(cfg, section, "max_range_m", max_range_m, min_range_m, true);
-    std_range_m = readDoubleMin(cfg, section, "std_range_m", std_range_m, 0, true);
-    std_bearing_deg = readDoubleMin(cfg, section, "std_bearing_deg", std_bearing_deg, 0, true);
-    detail::loadGps(cfg, section, gps);
-    odometry.loadFromConfigFile(cfg, section);
+    table().load(cfg, section);
+    if (!(max_range_m > min_range_m))
+        hymm::core::throwConfigError(section, "max_range_m", std::to_string(max_range_m),
+                                     "must be > min_range_m");
 }
 
 void VictoriaParkImporter::Options::saveToConfigFile(
     mrpt::config::CConfigFileBase& cfg, const std::string& section) const
 {
-    cfg.write(section, "name", name);
-    detail::saveVehicle(cfg, section, vehicle);
-    cfg.write(section, "track_laser", track_laser);
-    cfg.write(section, "detections_time_offset_s", detections_time_offset_s);
-    cfg.write(section, "min_range_m", min_range_m);
-    cfg.write(section, "max_range_m", max_range_m);
-    cfg.write(section, "std_range_m", std_range_m);
-    cfg.write(section, "std_bearing_deg", std_bearing_deg);
-    detail::saveGps(cfg, section, gps);
-    odometry.saveToConfigFile(cfg, section);
+    auto copy = *this;
+    copy.table().save(cfg, section);
 }
 
 VictoriaParkImporter::Inputs VictoriaParkImporter::findInputs(
@@ -116,7 +113,9 @@ std::vector<mrpt::obs::CObservation::Ptr> VictoriaParkImporter::readDetections(
     const std::string& path, ImportSummary& summary,
     std::vector<std::vector<double>>& diameters) const
 {
-    const auto rows = readNumericTable(path, 4, &summary, "detection_malformed_line");
+    const auto table = readNumericTableLines(path, 4, &summary, "detection_malformed_line");
+    checkTimeColumn(table, path, "detection");
+    const auto& rows = table.rows;
     std::vector<mrpt::obs::CObservation::Ptr> out;
     diameters.clear();
     mrpt::obs::CObservationBearingRange::Ptr scan;

@@ -4,6 +4,7 @@
  */
 #pragma once
 
+#include <hymm/core/OptionTable.h>
 #include <hymm/core/UteVehicleModel.h>
 #include <hymm/core/config_utils.h>
 
@@ -14,54 +15,28 @@
 
 namespace hymm::datasets::detail
 {
-inline const std::vector<std::string>& vehicleKeys()
+/** Vehicle geometry keys (UTE model, appendix A). */
+inline hymm::core::OptionTable vehicleTable(hymm::core::UteParams& p)
 {
-    static const std::vector<std::string> k = {"L_m", "H_m", "a_m", "b_m"};
-    return k;
+    using namespace hymm::core;
+    OptionTable t;
+    t.real("L_m", p.L, "m", above(0, 100), "wheelbase");
+    t.real("H_m", p.H, "m", between(-100, 100), "lateral offset of the encoder from the centre line");
+    t.real("a_m", p.a, "m", between(-100, 100), "laser ahead of the rear axle");
+    t.real("b_m", p.b, "m", between(-100, 100), "laser left of the centre line");
+    return t;
 }
 
-inline void loadVehicle(const mrpt::config::CConfigFileBase& cfg, const std::string& section,
-                        hymm::core::UteParams& p)
+/** GPS jump filter keys. */
+inline hymm::core::OptionTable gpsTable(GpsFilterOptions& g)
 {
-    p.L = hymm::core::readDoubleMin(cfg, section, "L_m", p.L, 0, true);
-    p.H = hymm::core::readDouble(cfg, section, "H_m", p.H);
-    p.a = hymm::core::readDouble(cfg, section, "a_m", p.a);
-    p.b = hymm::core::readDouble(cfg, section, "b_m", p.b);
-}
-
-inline void saveVehicle(mrpt::config::CConfigFileBase& cfg, const std::string& section,
-                        const hymm::core::UteParams& p)
-{
-    cfg.write(section, "L_m", p.L);
-    cfg.write(section, "H_m", p.H);
-    cfg.write(section, "a_m", p.a);
-    cfg.write(section, "b_m", p.b);
-}
-
-inline const std::vector<std::string>& gpsKeys()
-{
-    static const std::vector<std::string> k = {"gps_max_speed_mps", "gps_reset_after"};
-    return k;
-}
-
-inline void loadGps(const mrpt::config::CConfigFileBase& cfg, const std::string& section,
-                    GpsFilterOptions& g)
-{
-    g.max_speed_mps =
-        hymm::core::readDoubleMin(cfg, section, "gps_max_speed_mps", g.max_speed_mps, 0, true);
-    const long n = hymm::core::readInt(cfg, section, "gps_reset_after",
-                                       static_cast<long>(g.reset_after));
-    if (n < 0)
-        hymm::core::throwConfigError(section, "gps_reset_after", std::to_string(n),
-                                     "must be >= 0");
-    g.reset_after = static_cast<size_t>(n);
-}
-
-inline void saveGps(mrpt::config::CConfigFileBase& cfg, const std::string& section,
-                    const GpsFilterOptions& g)
-{
-    cfg.write(section, "gps_max_speed_mps", g.max_speed_mps);
-    cfg.write(section, "gps_reset_after", static_cast<int>(g.reset_after));
+    using namespace hymm::core;
+    OptionTable t;
+    t.real("gps_max_speed_mps", g.max_speed_mps, "m/s", above(0, 1000),
+           "a fix implying a faster move from the last accepted one is a jump");
+    t.integer("gps_reset_after", g.reset_after, "", 0, 1000000000,
+              "consecutive rejected fixes after which the next is accepted anyway");
+    return t;
 }
 
 /** Concatenation of key lists, for checkKnownKeys. */

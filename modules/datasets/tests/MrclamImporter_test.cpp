@@ -7,6 +7,7 @@
 #include <mrpt/obs/CObservationBearingRange.h>
 
 #include <cmath>
+#include <filesystem>
 #include <iomanip>
 #include <sstream>
 
@@ -179,5 +180,59 @@ TEST(MrclamImporterTest, BarcodeFixesApplyOnlyToTheListedPairs)
                      std::invalid_argument)
             << bad;
     }
+}
+// Text-input faults: each is an error naming the file and the line, and leaves no output.
+void expectImportError(const TempDir& dir, const std::string& file, const std::vector<std::string>& parts)
+{
+    try
+    {
+        hymm::datasets::importDataset("mrclam", {dir.path()}, dir.file("out"));
+        FAIL() << "imported without an error";
+    }
+    catch (const std::runtime_error& e)
+    {
+        const std::string m = e.what();
+        EXPECT_NE(m.find(dir.file(file)), std::string::npos) << m;
+        for (const auto& p : parts) EXPECT_NE(m.find(p), std::string::npos) << m;
+    }
+    EXPECT_TRUE(!std::filesystem::exists(dir.file("out")) || std::filesystem::is_empty(dir.file("out")));
+}
+
+TEST(MrclamImporterTest, EmptyOdometryFileIsAnError)
+{
+    TempDir dir;
+    writeDataset(dir);
+    writeText(dir.file("Robot1_Odometry.dat"), "# Time [s]    v [m/s]    w [rad/s]\n");
+    expectImportError(dir, "Robot1_Odometry.dat", {"no odometry line"});
+}
+
+TEST(MrclamImporterTest, OneMalformedTimeIsAnErrorNamingItsLine)
+{
+    // Line 51's time lost its decimal point: every later sample would have been dropped
+    // as non-monotonic.
+    TempDir dir;
+    writeDataset(dir);
+    std::ostringstream odo;
+    for (int i = 0; i <= 200; ++i) odo << (i == 50 ? std::string("100") : std::to_string(i * 0.02)) << " 1 0.1\n";
+    writeText(dir.file("Robot1_Odometry.dat"), odo.str());
+    expectImportError(dir, "Robot1_Odometry.dat", {"line 51:", "odometry time 100"});
+}
+
+TEST(MrclamImporterTest, NegativeTimeIsAnErrorNamingItsLine)
+{
+    TempDir dir;
+    writeDataset(dir);
+    writeText(dir.file("Robot1_Measurement.dat"), "1.00 72 2.0 0.5\n-3.5 27 3.0 -0.5\n");
+    expectImportError(dir, "Robot1_Measurement.dat", {"line 2:", "time -3.5 is negative"});
+}
+
+TEST(MrclamImporterTest, NonFiniteLandmarkIsAnErrorNamingItsLine)
+{
+    TempDir dir;
+    writeDataset(dir);
+    writeText(dir.file("Landmark_Groundtruth.dat"),
+              "# Subject #    x [m]    y [m]    x std-dev [m]    y std-dev [m]\n"
+              "  6 \t nan \t 2.5 \t 0.001 \t 0.002 \n  7 \t -1.0 \t 0.5 \t 0.001 \t 0.001 \n");
+    expectImportError(dir, "Landmark_Groundtruth.dat", {"line 2:", "landmark 6 has a non-finite x"});
 }
 }  // namespace

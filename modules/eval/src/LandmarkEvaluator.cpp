@@ -115,29 +115,29 @@ LandmarkEvaluator::Association LandmarkEvaluator::parseAssociation(const std::st
                                 "' must be one of auto, id, nearest");
 }
 
+hymm::core::OptionTable LandmarkEvaluator::Options::table()
+{
+    using namespace hymm::core;
+    OptionTable t;
+    t.choice("association", association,
+             {{"auto", Association::Auto}, {"id", Association::Id}, {"nearest", Association::Nearest}},
+             "match estimated to true landmarks by ID, by nearest neighbour, or auto (ID when both carry them)");
+    t.real("gate", gate, "m", above(0, 1e6), "largest distance of a nearest-neighbour match");
+    return t;
+}
+
 void LandmarkEvaluator::Options::loadFromConfigFile(
     const mrpt::config::CConfigFileBase& cfg, const std::string& s)
 {
-    using namespace hymm::core;
-    checkKnownKeys(cfg, s, {"association", "gate"});
-    const std::string a = readString(cfg, s, "association", associationName(association));
-    try
-    {
-        association = parseAssociation(a);
-    }
-    catch (const std::invalid_argument&)
-    {
-        throwConfigError(s, "association", a, "must be one of auto, id, nearest");
-    }
-    gate = readDouble(cfg, s, "gate", gate);
+    table().load(cfg, s);
     validate(s);
 }
 
 void LandmarkEvaluator::Options::saveToConfigFile(
     mrpt::config::CConfigFileBase& cfg, const std::string& s) const
 {
-    cfg.write(s, "association", associationName(association));
-    cfg.write(s, "gate", gate);
+    auto copy = *this;
+    copy.table().save(cfg, s);
 }
 
 void LandmarkEvaluator::Options::validate(const std::string& s) const

@@ -97,33 +97,35 @@ TrajectoryEvaluator::Association TrajectoryEvaluator::parseAssociation(const std
                                 "' must be one of nearest, interpolate, index");
 }
 
+hymm::core::OptionTable TrajectoryEvaluator::Options::table()
+{
+    using namespace hymm::core;
+    OptionTable t;
+    t.choice("association", association,
+             {{"nearest", Association::Nearest},
+              {"interpolate", Association::Interpolate},
+              {"index", Association::Index}},
+             "pair estimate and ground truth by nearest time, by interpolating the truth, or by index");
+    t.real("time_tolerance", time_tolerance, "s", above(0, 1e6),
+           "largest time difference of a nearest/interpolated match");
+    t.flag("align", align, "fit an SE(2) transform before computing errors");
+    t.real("align_fit_distance", align_fit_distance, "m", atLeast(0, 1e9),
+           "with align: 0 fits on every matched pose; > 0 only on the poses within this many metres travelled");
+    return t;
+}
+
 void TrajectoryEvaluator::Options::loadFromConfigFile(
     const mrpt::config::CConfigFileBase& cfg, const std::string& s)
 {
-    using namespace hymm::core;
-    checkKnownKeys(cfg, s, {"association", "time_tolerance", "align", "align_fit_distance"});
-    const std::string a = readString(cfg, s, "association", associationName(association));
-    try
-    {
-        association = parseAssociation(a);
-    }
-    catch (const std::invalid_argument&)
-    {
-        throwConfigError(s, "association", a, "must be one of nearest, interpolate, index");
-    }
-    time_tolerance = readDouble(cfg, s, "time_tolerance", time_tolerance);
-    align = readBool(cfg, s, "align", align);
-    align_fit_distance = readDouble(cfg, s, "align_fit_distance", align_fit_distance);
+    table().load(cfg, s);
     validate(s);
 }
 
 void TrajectoryEvaluator::Options::saveToConfigFile(
     mrpt::config::CConfigFileBase& cfg, const std::string& s) const
 {
-    cfg.write(s, "association", associationName(association));
-    cfg.write(s, "time_tolerance", time_tolerance);
-    cfg.write(s, "align", align);
-    cfg.write(s, "align_fit_distance", align_fit_distance);
+    auto copy = *this;
+    copy.table().save(cfg, s);
 }
 
 void TrajectoryEvaluator::Options::validate(const std::string& s) const

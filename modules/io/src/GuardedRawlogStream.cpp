@@ -17,6 +17,18 @@ constexpr uint8_t kEndFlag = 0x88;
 constexpr uint64_t kMinObjectBytes = 9;
 // The most bytes the stream reads ahead to find where an object's counts lie.
 constexpr uint64_t kMaxPeek = 4096;
+// CActionRobotMovement2D's Thrun motion model draws this many samples at most (MRPT's
+// default is 300); each costs about 64 bytes, so the cap bounds that draw to 64 MiB.
+constexpr uint32_t kMaxMotionModelParticles = 1000000;
+
+// Bytes per element of MRPT's dynamic matrix classes (version 0: rows, columns, data);
+// 0 for any other class. "CMatrix" is the float matrix of older rawlogs.
+uint64_t matrixElementBytes(const std::string& name)
+{
+    if (name == "CMatrixF" || name == "CMatrix") return 4;
+    if (name == "CMatrixD") return 8;
+    return 0;
+}
 
 gzFile asGz(void* p) { return static_cast<gzFile>(p); }
 
@@ -100,52 +112,132 @@ bool GuardedRawlogStream::peek(uint64_t offset, void* out, size_t n)
     return true;
 }
 
-uint64_t GuardedRawlogStream::skipPose3D(uint64_t at)
+bool GuardedRawlogStream::peekHeader(uint64_t at, ObjectHeader& h)
 {
-    // MRPT 2 writes "mrpt::poses::CPose3D", older versions "CPose3D".
+    // MRPT >= 0.5.5: 0x80 | name length, the name, a version byte ... end flag.
+    // Older: the name length (< 0x80), three zero bytes, the name, an int32 version, and
+    // no end flag.
     uint8_t len = 0;
-    if (!peek(at, &len, 1) || !(len & 0x80)) return 0;
+    if (!peek(at, &len, 1)) return false;
+    h.old_format = !(len & 0x80);
     len &= 0x7F;
-    std::array<char, 32> name{};
-    if (len > name.size() || !peek(at + 1, name.data(), len)) return 0;
-    if (unqualified(std::string(name.data(), len)) != "CPose3D") return 0;
-    uint8_t version = 0;
-    if (!peek(at + 1 + len, &version, 1)) return 0;
-    // v2: x y z and a quaternion (7 doubles); v3: x y z and the rotation matrix (12).
-    const uint64_t body = version == 2 ? 7 * 8 : version == 3 ? 12 * 8 : 0;
-    if (body == 0) return 0;
-    const uint64_t end = at + 1 + len + 1 + body;
+    uint64_t name_at = at + 1;
+    if (h.old_format)
+    {
+        std::array<uint8_t, 3> zeros{};
+        if (!peek(at + 1, zeros.data(), 3) || zeros[0] || zeros[1] || zeros[2]) return false;
+        name_at += 3;
+    }
+    std::array<char, 128> name{};
+    if (len == 0 || len > 120 || !peek(name_at, name.data(), len)) return false;
+    h.name = unqualified(std::string(name.data(), len));
+    if (h.old_format)
+    {
+        int32_t v = 0;
+        if (!peek(name_at + len, &v, 4) || v < 0 || v > 255) return false;
+        h.version = v;
+        h.data = name_at + len + 4;
+    }
+    else
+    {
+        uint8_t v = 0;
+        if (!peek(name_at + len, &v, 1)) return false;
+        h.version = v;
+        h.data = name_at + len + 1;
+    }
+    return true;
+}
+
+uint64_t GuardedRawlogStream::skipObject(uint64_t at)
+{
+    ObjectHeader h;
+    if (!peekHeader(at, h)) return 0;
+    uint64_t end = 0;
+    if (h.name == "CPose3D")
+    {
+        // v0: a float 4x4 matrix object; v1: a double one; v2: x y z and a quaternion
+        // (7 doubles); v3: x y z and the rotation matrix (12 doubles).
+        if (h.version <= 1) end = skipObject(h.data);
+        else if (h.version == 2) end = h.data + 7 * 8;
+        else if (h.version == 3) end = h.data + 12 * 8;
+    }
+    else if (h.name == "CPose2D")
+        end = h.version == 0 ? h.data + 3 * 4 : h.version == 1 ? h.data + 3 * 8 : 0;
+    else if (h.version == 0 && matrixElementBytes(h.name) != 0)
+    {
+        std::array<uint32_t, 2> rc{};
+        if (!peek(h.data, rc.data(), 8)) return 0;
+        end = h.data + 8 + uint64_t{rc[0]} * rc[1] * matrixElementBytes(h.name);
+    }
+    if (end == 0) return 0;
+    if (h.old_format) return end;
     uint8_t flag = 0;
     if (!peek(end, &flag, 1) || flag != kEndFlag) return 0;
     return end + 1;
 }
 
-void GuardedRawlogStream::armFor(const std::string& qualified)
+void GuardedRawlogStream::armFor(const std::string& qualified, bool old_format)
 {
-    const std::string name = unqualified(qualified);
-    // pos_ is just past the class name: the version byte comes next.
-    uint8_t v = 0;
-    if (!peek(pos_, &v, 1)) return;
-    const uint64_t data = pos_ + 1;
+    // pos_ is just past the class name: the version comes next. Offsets below follow
+    // MRPT 2.5's serializeFrom() of each class, for every version it still reads.
+    ObjectHeader h;
+    h.name = unqualified(qualified);
+    h.old_format = old_format;
+    if (old_format)
+    {
+        int32_t v = 0;
+        if (!peek(pos_, &v, 4) || v < 0 || v > 255) return;
+        h.version = v;
+        h.data = pos_ + 4;
+    }
+    else
+    {
+        uint8_t v = 0;
+        if (!peek(pos_, &v, 1)) return;
+        h.version = v;
+        h.data = pos_ + 1;
+    }
+    const int v = h.version;
+    const uint64_t data = h.data;
+    const uint64_t end_flag = old_format ? 0 : 1;
+    const auto count = [&](uint64_t at, uint64_t element, uint64_t tail, const char* what)
+    {
+        Checkpoint c;
+        c.offset = at;
+        c.element_bytes = element;
+        c.tail_bytes = tail + end_flag;
+        c.what = what;
+        return c;
+    };
+    const std::string& name = h.name;
     if (name == "CSensoryFrame" && v <= 2)
     {
         // v0: ID (uint32) and a timestamp (uint64) before the count; v1: the ID.
         const uint64_t at = data + (v == 0 ? 12 : v == 1 ? 4 : 0);
-        checkpoints_.push_back({at, kMinObjectBytes, 1, "observations"});
+        checkpoints_.push_back(count(at, kMinObjectBytes, 0, "observations"));
     }
     else if (name == "CActionCollection" && v == 0)
-        checkpoints_.push_back({data, kMinObjectBytes, 1, "actions"});
-    else if (name == "CObservation2DRangeScan" && (v == 6 || v == 7))
+        checkpoints_.push_back(count(data, kMinObjectBytes, 0, "actions"));
+    else if (name == "CObservation2DRangeScan" && v <= 7)
     {
-        // aperture (float), rightToLeft (bool), maxRange (float), sensorPose (CPose3D).
-        const uint64_t at = skipPose3D(data + 9);
+        // aperture (float), rightToLeft (bool), maxRange (float), sensorPose (CPose3D),
+        // before v6 a covariance matrix object, then the beam count.
+        uint64_t at = skipObject(data + 9);
+        if (at != 0 && v < 6) at = skipObject(at);
         if (at == 0) return;
-        // Per beam a float range and a validity byte; then stdError (float), timestamp
-        // (uint64), beamAperture (float), the label's length, deltaPitch (float),
-        // hasIntensity (v7) and the end flag. MRPT allocates 9 bytes per beam.
-        Checkpoint c{at, 5, 4 + 8 + 4 + 4 + 4 + (v >= 7 ? 1u : 0u) + 1, "beams"};
-        c.scan_beams = true;
-        c.scan_version = v;
+        // Per beam a float range and (from v1) a validity byte: MRPT allocates 9 bytes
+        // per beam (range, validity, intensity). After the beams: stdError (v2+),
+        // timestamp (v3+), beamAperture (v4+), the label's length and deltaPitch (v5+),
+        // hasIntensity (v7).
+        const uint64_t tail = (v >= 2 ? 4 : 0) + (v >= 3 ? 8 : 0) + (v >= 4 ? 4 : 0) +
+                              (v >= 5 ? 8 : 0) + (v >= 7 ? 1 : 0);
+        Checkpoint c = count(at, v == 0 ? 4 : 5, tail, "beams");
+        if (v >= 5)
+        {
+            c.then_what = "bytes of sensor label";
+            c.then_gap = 4 + 8 + 4;
+            c.then_tail = 4 + (v >= 7 ? 1u : 0u) + end_flag;
+        }
         checkpoints_.push_back(c);
     }
     else if (name == "CObservationBearingRange" && v <= 3)
@@ -153,39 +245,130 @@ void GuardedRawlogStream::armFor(const std::string& qualified)
         // min/max distance (floats), field of view (2 floats from v3, 1 before),
         // sensorLocationOnRobot (CPose3D), timestamp (v2+), validCovariances (v3+, then
         // three floats when false), then the count; each measurement range, yaw, pitch
-        // (floats) and the landmark ID (int32), then the label (v1+) and the end flag.
-        uint64_t at = skipPose3D(data + 8 + (v >= 3 ? 8 : 4));
+        // (floats) and the landmark ID (int32), with valid covariances a 3x3 matrix
+        // object, then the label (v1+).
+        uint64_t at = skipObject(data + 8 + (v >= 3 ? 8 : 4));
         if (at == 0) return;
         if (v >= 2) at += 8;
+        uint8_t valid_cov = 0;
         if (v >= 3)
         {
-            uint8_t valid_cov = 0;
             if (!peek(at, &valid_cov, 1)) return;
             at += 1 + (valid_cov ? 0 : 12);
         }
-        checkpoints_.push_back({at, 16, (v >= 1 ? 4u : 0u) + 1, "measurements"});
+        uint64_t element = 16;
+        if (valid_cov)
+        {
+            // Every matrix MRPT writes here is 3x3: the first one gives the stride.
+            uint32_t n = 0;
+            if (!peek(at, &n, 4)) return;
+            if (n > 0)
+            {
+                const uint64_t m = skipObject(at + 4 + 16);
+                if (m == 0) return;
+                element += m - (at + 4 + 16);
+            }
+        }
+        Checkpoint c = count(at, element, v >= 1 ? 4 : 0, "measurements");
+        if (v >= 1)
+        {
+            c.then_what = "bytes of sensor label";
+            c.then_gap = 0;
+            c.then_tail = end_flag;
+        }
+        checkpoints_.push_back(c);
     }
+    else if (name == "CObservationOdometry" && v <= 2)
+    {
+        // odometry (CPose2D object), then the label, timestamp, and from v1 more fields.
+        const uint64_t at = skipObject(data);
+        if (at == 0) return;
+        checkpoints_.push_back(count(at, 1, 8, "bytes of sensor label"));
+    }
+    else if (name == "CActionRobotMovement2D" && v >= 3 && v <= 7)
+    {
+        // emOdometry (0) stores the raw increment and the motion model; MRPT rebuilds the
+        // PDF from them, drawing nParticlesCount samples for the Thrun model (1): that
+        // count is not backed by bytes in the file, so it gets a fixed cap.
+        int32_t method = -1;
+        if (!peek(data, &method, 4) || method != 0) return;
+        const uint64_t at = skipObject(data + 4);
+        int32_t model = 0;
+        if (at == 0 || !peek(at, &model, 4) || model == 0) return;
+        Checkpoint c;
+        c.kind = Checkpoint::Cap;
+        c.offset = at + 4 + (v >= 4 ? 6 : 5) * 4;
+        c.cap = kMaxMotionModelParticles;
+        c.what = "motion-model particles";
+        checkpoints_.push_back(c);
+    }
+    else if (name == "CPosePDFParticles" && v <= 1)
+        // v1: log weight and a TPose2D (x, y, phi): 4 doubles per particle, as MRPT stores
+        // them;
+        // v0: log weight and a CPose2D object of at least 22 bytes.
+        checkpoints_.push_back(count(data, v == 1 ? 32 : 8 + 22, 0, "particles"));
+    else if (name == "CPosePDFSOG" && v <= 2)
+        // Per mode: log weight, mean (CPose2D object), the covariance's upper triangle
+        // (6 floats in v1, doubles otherwise).
+        checkpoints_.push_back(count(data, 8 + 22 + (v == 1 ? 24 : 48), 0, "modes"));
+    else if (name == "CPosePDFGrid" && v == 0)
+        // 8 doubles of limits and resolutions, 7 int32 sizes and indices, then the
+        // cells as a vector of doubles.
+        checkpoints_.push_back(count(data + 64 + 28, 8, 0, "grid cells"));
+    else if (v == 0 && matrixElementBytes(name) != 0)
+    {
+        Checkpoint c = count(data, matrixElementBytes(name), 0, "matrix elements");
+        c.kind = Checkpoint::Matrix;
+        checkpoints_.push_back(c);
+    }
+}
+
+void GuardedRawlogStream::refuse(uint64_t n, uint64_t need, const Checkpoint& c, uint64_t left)
+{
+    size_error_ = "declares " + std::to_string(n) + " " + c.what + " (at least " +
+                  std::to_string(need) + " bytes) at byte " + std::to_string(c.offset) +
+                  " but only " + std::to_string(left) + " bytes follow in the file";
+    throw RawlogSizeError(size_error_);
 }
 
 void GuardedRawlogStream::checkCount(const Checkpoint& c)
 {
     uint32_t n = 0;
     if (!peek(c.offset, &n, sizeof(n))) return;  // a short read: MRPT reports it
+    if (c.kind == Checkpoint::Cap)
+    {
+        if (n > c.cap)
+        {
+            size_error_ = "declares " + std::to_string(n) + " " + c.what + " at byte " +
+                          std::to_string(c.offset) + ", more than the " +
+                          std::to_string(c.cap) + " a rawlog may ask for";
+            throw RawlogSizeError(size_error_);
+        }
+        return;
+    }
+    if (c.kind == Checkpoint::Matrix)
+    {
+        // Rows then columns, each read on its own; MRPT sizes the matrix after both.
+        uint32_t cols = 0;
+        if (!peek(c.offset + 4, &cols, sizeof(cols))) return;
+        const uint64_t left = total_ - std::min(total_, c.offset + 8);
+        const uint64_t elements = uint64_t{n} * cols;
+        const uint64_t need = elements * c.element_bytes + c.tail_bytes;
+        if (need > left) refuse(elements, need, c, left);
+        return;
+    }
     const uint64_t left = total_ - (c.offset + sizeof(n));
     const uint64_t need = static_cast<uint64_t>(n) * c.element_bytes + c.tail_bytes;
-    if (need > left)
+    if (need > left) refuse(n, need, c, left);
+    if (c.then_what)
     {
-        size_error_ = "declares " + std::to_string(n) + " " + c.what + " (at least " +
-                      std::to_string(need) + " bytes) at byte " + std::to_string(c.offset) +
-                      " but only " + std::to_string(left) + " bytes follow in the file";
-        throw RawlogSizeError(size_error_);
-    }
-    if (c.scan_beams)
-    {
-        // The sensor label's length follows the beams, stdError, timestamp, beamAperture.
-        const uint64_t label = c.offset + sizeof(n) + 5ull * n + 16;
-        checkpoints_.push_back({label, 1, 4 + (c.scan_version >= 7 ? 1u : 0u) + 1,
-                                "bytes of sensor label"});
+        // A string whose length follows the elements (and then_gap bytes more).
+        Checkpoint s;
+        s.offset = c.offset + sizeof(n) + uint64_t{n} * c.element_bytes + c.then_gap;
+        s.element_bytes = 1;
+        s.tail_bytes = c.then_tail;
+        s.what = c.then_what;
+        checkpoints_.push_back(s);
     }
 }
 
@@ -210,19 +393,23 @@ size_t GuardedRawlogStream::Read(void* buffer, size_t count)
     }
     const size_t n = rawRead(buffer, count);
     const auto* bytes = static_cast<const uint8_t*>(buffer);
-    if (n == 1)
+    const int prev = last_read_byte_;
+    const int old_len = old_header_len_;
+    last_read_byte_ = n == 1 ? bytes[0] : -1;
+    old_header_len_ = -1;
+    if (n == 1) return n;
+    // Old-format header (before MRPT 0.5.5): a length byte below 0x80, three zero bytes.
+    if (n == 3 && count == 3 && prev >= 1 && prev <= 120 && !bytes[0] && !bytes[1] && !bytes[2])
     {
-        last_read_byte_ = bytes[0];
+        old_header_len_ = prev;
         return n;
     }
-    // A class name: read right after its length byte (0x80 | length).
-    if (last_read_byte_ >= 0 && n == count && (last_read_byte_ & 0x80) &&
-        static_cast<size_t>(last_read_byte_ & 0x7F) == n)
-    {
-        const std::string name(reinterpret_cast<const char*>(bytes), n);
-        armFor(name);
-    }
-    last_read_byte_ = -1;
+    // A class name: read right after its length byte (0x80 | length), or after the old
+    // header's zeros.
+    const bool new_name = prev >= 0 && (prev & 0x80) && static_cast<size_t>(prev & 0x7F) == n;
+    const bool old_name = old_len > 0 && static_cast<size_t>(old_len) == n;
+    if (n == count && (new_name || old_name))
+        armFor(std::string(reinterpret_cast<const char*>(bytes), n), old_name);
     return n;
 }
 

@@ -16,11 +16,14 @@
  * not fit throws RawlogSizeError before MRPT sees it. The serialised element size is
  * chosen so that what MRPT then allocates stays below twice the remaining bytes.
  *
- * Guarded (MRPT 2.5 layouts): CSensoryFrame (v0-2) and CActionCollection (v0) element
- * counts; CObservation2DRangeScan v6-7 beam count and sensor label; CObservationBearingRange
- * v1-3 measurement count. Not guarded: older versions of these classes, and counts inside
- * any other class (e.g. a CObservation3DRangeScan or CPosePDFParticles planted in a
- * frame): MRPT's deserialiser allocates what those declare.
+ * Guarded (MRPT 2.5 layouts, every version MRPT 2.5 still reads, old and current object
+ * headers): the classes RawlogReader's users consume and the objects inside them --
+ * CSensoryFrame and CActionCollection element counts; CObservation2DRangeScan beams and
+ * label; CObservationBearingRange measurements and label; CObservationOdometry label;
+ * CActionRobotMovement2D's motion-model sample count (a fixed cap); CPosePDFParticles,
+ * CPosePDFSOG and CPosePDFGrid element counts; CMatrixF/CMatrixD sizes (covariances,
+ * old poses). Not guarded: counts inside any other class (e.g. a CObservation3DRangeScan
+ * planted in a frame): MRPT's deserialiser allocates what those declare.
  *
  * The file is decompressed once when opened to count its bytes (and to find corrupt gzip
  * data, so that it is reported as corrupt rather than as an early end).
@@ -68,25 +71,47 @@ public:
 
 private:
     /** At uncompressed offset `offset` MRPT reads a uint32 count of elements of at least
-     *  `element_bytes` serialised bytes each, followed by at least `tail_bytes` more. */
+     *  `element_bytes` serialised bytes each, followed by at least `tail_bytes` more
+     *  (Count); or rows and columns of a matrix (Matrix); or a count not backed by bytes
+     *  in the file, which may not exceed `cap` (Cap). */
     struct Checkpoint
     {
+        enum Kind
+        {
+            Count,
+            Matrix,
+            Cap
+        };
+        Kind kind = Count;
         uint64_t offset = 0;
         uint64_t element_bytes = 0;
         uint64_t tail_bytes = 0;
+        uint64_t cap = 0;
         const char* what = "";
-        // 2D scans: after the beams, the sensor label's length is checked too.
-        bool scan_beams = false;
-        uint8_t scan_version = 0;
+        // A string whose length lies `then_gap` bytes after the counted elements (the
+        // sensor labels of 2D scans and bearing-range observations).
+        const char* then_what = nullptr;
+        uint64_t then_gap = 0;
+        uint64_t then_tail = 0;
+    };
+    /** A serialised object's header as MRPT writes it (current or pre-0.5.5 format). */
+    struct ObjectHeader
+    {
+        std::string name;  // without namespace
+        int version = 0;
+        bool old_format = false;  // no end flag after the data
+        uint64_t data = 0;        // offset of the first data byte
     };
 
     size_t rawRead(void* buffer, size_t count);
     bool peek(uint64_t offset, void* out, size_t n);
-    void armFor(const std::string& class_name);
+    void armFor(const std::string& class_name, bool old_format);
     void checkCount(const Checkpoint& c);
-    /** Offset just past a serialised CPose3D object starting at `at` (v2/v3 layouts),
-     *  0 if the bytes there are not one. */
-    uint64_t skipPose3D(uint64_t at);
+    [[noreturn]] void refuse(uint64_t n, uint64_t need, const Checkpoint& c, uint64_t left);
+    bool peekHeader(uint64_t at, ObjectHeader& h);
+    /** Offset just past a serialised CPose3D (v0-3), CPose2D (v0-1) or CMatrixF/CMatrixD
+     *  object starting at `at`, 0 if the bytes there are not one. */
+    uint64_t skipObject(uint64_t at);
 
     std::string path_;
     void* gz_ = nullptr;  // gzFile
@@ -97,6 +122,7 @@ private:
     std::vector<uint8_t> ahead_;  // bytes read from zlib but not yet consumed, from pos_
     std::vector<Checkpoint> checkpoints_;
     int last_read_byte_ = -1;  // value of the previous read when it was one byte
+    int old_header_len_ = -1;  // name length of an old-format header whose zeros were just read
 };
 
 }  // namespace hymm::io::detail

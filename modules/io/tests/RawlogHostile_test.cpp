@@ -2,6 +2,14 @@
 // file must end in a clear error naming the file and entry, within bounded memory.
 #include <gtest/gtest.h>
 #include <hymm/io/RawlogReader.h>
+#include <mrpt/io/CMemoryStream.h>
+#include <mrpt/obs/CActionCollection.h>
+#include <mrpt/obs/CActionRobotMovement2D.h>
+#include <mrpt/obs/CObservationBearingRange.h>
+#include <mrpt/obs/CObservationOdometry.h>
+#include <mrpt/obs/CSensoryFrame.h>
+#include <mrpt/poses/CPosePDFParticles.h>
+#include <mrpt/serialization/CArchive.h>
 #include <mrpt/system/filesystem.h>
 
 #include <sys/resource.h>
@@ -9,6 +17,7 @@
 #include <unistd.h>
 #include <zlib.h>
 
+#include <algorithm>
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -305,6 +314,171 @@ TEST(RawlogHostileTest, GzipCutShortIsReportedAsTruncated)
         EXPECT_NE(std::string(ex.what()).find("truncated"), std::string::npos) << ex.what();
         EXPECT_GT(r.entriesRead(), 100u);
     }
+}
+
+// A small rawlog of hand-made objects holding the other counts and strings the guard
+// checks: an odometry observation, bearing-range observations with and without
+// per-measurement covariance matrices, a Thrun motion model and a particle PDF.
+std::vector<uint8_t> handMadeRawlog()
+{
+    using namespace mrpt::obs;
+    std::vector<mrpt::serialization::CSerializable::Ptr> objs;
+    {
+        auto sf = CSensoryFrame::Create();
+        auto odo = CObservationOdometry::Create();
+        odo->sensorLabel = "ODOLABEL";
+        odo->odometry = mrpt::poses::CPose2D(1, 2, 0.3);
+        sf->insert(odo);
+        auto br = CObservationBearingRange::Create();
+        br->sensorLabel = "BRLABEL1";
+        br->validCovariances = false;
+        br->sensedData.resize(3);
+        for (int i = 0; i < 3; ++i) br->sensedData[i].landmarkID = i;
+        sf->insert(br);
+        objs.push_back(sf);
+    }
+    {
+        auto br = CObservationBearingRange::Create();
+        br->sensorLabel = "BRLABEL2";
+        br->validCovariances = true;
+        br->sensedData.resize(4);
+        for (int i = 0; i < 4; ++i)
+        {
+            br->sensedData[i].landmarkID = 10 + i;
+            br->sensedData[i].covariance.setIdentity();
+        }
+        objs.push_back(br);
+    }
+    {
+        auto acts = CActionCollection::Create();
+        CActionRobotMovement2D thrun;
+        CActionRobotMovement2D::TMotionModelOptions opts;
+        opts.modelSelection = CActionRobotMovement2D::mmThrun;
+        opts.thrunModel.nParticlesCount = 4321;
+        thrun.computeFromOdometry(mrpt::poses::CPose2D(0.5, 0, 0.1), opts);
+        acts->insert(thrun);
+        CActionRobotMovement2D particles;
+        particles.estimationMethod = CActionRobotMovement2D::emScan2DMatching;
+        particles.poseChange = mrpt::poses::CPosePDFParticles::Create(5);
+        acts->insert(particles);
+        objs.push_back(acts);
+    }
+    mrpt::io::CMemoryStream mem;
+    auto arch = mrpt::serialization::archiveFrom(mem);
+    for (const auto& o : objs) arch << *o;
+    const auto* p = static_cast<const uint8_t*>(mem.getRawBufferData());
+    return {p, p + mem.getTotalBytesCount()};
+}
+
+size_t find(const std::vector<uint8_t>& d, const std::vector<uint8_t>& pat, size_t from = 0)
+{
+    const auto it = std::search(d.begin() + static_cast<std::ptrdiff_t>(from), d.end(), pat.begin(), pat.end());
+    if (it == d.end()) throw std::runtime_error("pattern not found");
+    return static_cast<size_t>(it - d.begin());
+}
+
+// Offset of the length of a serialised string `s` (uint32 length, then the bytes).
+size_t stringLengthAt(const std::vector<uint8_t>& d, const std::string& s)
+{
+    std::vector<uint8_t> pat(4);
+    const auto n = static_cast<uint32_t>(s.size());
+    std::memcpy(pat.data(), &n, 4);
+    pat.insert(pat.end(), s.begin(), s.end());
+    return find(d, pat);
+}
+
+size_t afterName(const std::vector<uint8_t>& d, const std::string& qualified, size_t from = 0)
+{
+    std::vector<uint8_t> pat{static_cast<uint8_t>(0x80 | qualified.size())};
+    pat.insert(pat.end(), qualified.begin(), qualified.end());
+    return find(d, pat, from) + pat.size();
+}
+
+void expectHandMadeRefused(std::vector<uint8_t> data, size_t at, uint32_t value,
+                           const std::string& what)
+{
+    putU32(data, at, value);
+    const auto path = writeGz(data);
+    expectCleanError(path, data, "entry ", what);
+}
+
+TEST(RawlogHostileTest, HandMadeRawlogReadsCleanlyThroughTheGuard)
+{
+    const auto data = handMadeRawlog();
+    const auto path = writeGz(data);
+    hymm::io::RawlogReader r(path);
+    hymm::io::RawlogEntry e;
+    ASSERT_TRUE(r.next(e));
+    ASSERT_TRUE(e.frame);
+    EXPECT_EQ(e.frame->size(), 2u);
+    ASSERT_TRUE(r.next(e));
+    auto br = std::dynamic_pointer_cast<mrpt::obs::CObservationBearingRange>(e.observation);
+    ASSERT_TRUE(br);
+    EXPECT_EQ(br->sensorLabel, "BRLABEL2");
+    EXPECT_EQ(br->sensedData.size(), 4u);
+    ASSERT_TRUE(r.next(e));
+    ASSERT_TRUE(e.actions);
+    EXPECT_EQ(e.actions->size(), 2u);
+    EXPECT_FALSE(r.next(e));
+}
+
+TEST(RawlogHostileTest, HugeBearingRangeLabelIsRefused)
+{
+    // The fuzz finding: a label declaring 2.6 GB.
+    const auto data = handMadeRawlog();
+    expectHandMadeRefused(data, stringLengthAt(data, "BRLABEL1"), 0x9C000000u,
+                          "bytes of sensor label");
+}
+
+TEST(RawlogHostileTest, HugeLabelAfterCovarianceMatricesIsRefused)
+{
+    const auto data = handMadeRawlog();
+    expectHandMadeRefused(data, stringLengthAt(data, "BRLABEL2"), 0x7FFFFFFFu,
+                          "bytes of sensor label");
+}
+
+TEST(RawlogHostileTest, HugeMeasurementCountWithCovariancesIsRefused)
+{
+    auto data = handMadeRawlog();
+    // The count sits right before the first measurement's range, yaw, pitch and ID 10.
+    const size_t first_cov = afterName(data, "mrpt::math::CMatrixD");
+    const size_t cnt = first_cov - 21 - 16 - 4;
+    ASSERT_EQ(getU32(data, cnt), 4u);
+    expectHandMadeRefused(data, cnt, 0x10000000u, "measurements");
+}
+
+TEST(RawlogHostileTest, HugeCovarianceMatrixIsRefused)
+{
+    const auto data = handMadeRawlog();
+    const size_t rows = afterName(data, "mrpt::math::CMatrixD") + 1;
+    ASSERT_EQ(getU32(data, rows), 3u);
+    expectHandMadeRefused(data, rows, 0x40000000u, "matrix elements");
+}
+
+TEST(RawlogHostileTest, HugeOdometryLabelIsRefused)
+{
+    const auto data = handMadeRawlog();
+    expectHandMadeRefused(data, stringLengthAt(data, "ODOLABEL"), 0xF0000000u,
+                          "bytes of sensor label");
+}
+
+TEST(RawlogHostileTest, HugeMotionModelSampleCountIsRefused)
+{
+    const auto data = handMadeRawlog();
+    const size_t from = afterName(data, "mrpt::obs::CActionRobotMovement2D");
+    std::vector<uint8_t> pat(4);
+    const uint32_t n = 4321;
+    std::memcpy(pat.data(), &n, 4);
+    expectHandMadeRefused(data, find(data, pat, from), 0xFFFFFFF0u, "motion-model particles");
+}
+
+TEST(RawlogHostileTest, HugeParticleCountIsRefused)
+{
+    const auto data = handMadeRawlog();
+    const size_t at = afterName(data, "mrpt::poses::CPosePDFParticles");
+    ASSERT_EQ(data[at], 1) << "CPosePDFParticles version";
+    ASSERT_EQ(getU32(data, at + 1), 5u);
+    expectHandMadeRefused(data, at + 1, 0x7FFFFFFFu, "particles");
 }
 
 }  // namespace

@@ -16,24 +16,29 @@ namespace hymm::scanslam
 {
 CorrelativeMatcher::CorrelativeMatcher() : options_() {}
 
+hymm::core::OptionTable CorrelativeMatcher::Options::table()
+{
+    using namespace hymm::core;
+    OptionTable t;
+    t.real("sigma_m", sigma_m, "m", above(0, 100), "point likelihood std");
+    t.real("gate_sigma", gate_sigma, "sigma", above(0, 1000), "log-likelihood floor at this distance");
+    // A lower bound on cells and steps: a typo (1e-6) would ask for a grid of terabytes.
+    t.real("grid_resolution_m", grid_resolution_m, "m", atLeast(0.001, 10), "likelihood grid cell");
+    t.real("search_xy_m", search_xy_m, "m", atLeast(0, 100), "half search window in x and y");
+    t.real("search_phi_deg", search_phi, "deg", atLeast(0, 180), "half search window in angle",
+           M_PI / 180);
+    t.real("coarse_step_m", coarse_step_m, "m", atLeast(0.001, 10), "coarse translation step (angle step: this / template radius)");
+    t.real("fine_step_m", fine_step_m, "m", atLeast(0.001, 10), "fine translation step, searched +-one coarse step around the coarse best");
+    t.real("min_matched_fraction", min_matched_fraction, "", between(0, 1),
+           "template points above the floor at the best pose");
+    t.real("cov_inflation", cov_inflation, "", above(0, 1000), "covariance multiplier (measured, see above)");
+    return t;
+}
+
 void CorrelativeMatcher::Options::load(const mrpt::config::CConfigFileBase& cfg,
                                        const std::string& section)
 {
-    using namespace hymm::core;
-    checkKnownKeys(cfg, section,
-                   {"sigma_m", "gate_sigma", "grid_resolution_m", "search_xy_m", "search_phi_deg",
-                    "coarse_step_m", "fine_step_m", "min_matched_fraction", "cov_inflation"});
-    sigma_m = readDoubleMin(cfg, section, "sigma_m", sigma_m, 0, true);
-    gate_sigma = readDoubleMin(cfg, section, "gate_sigma", gate_sigma, 0, true);
-    grid_resolution_m = readDoubleMin(cfg, section, "grid_resolution_m", grid_resolution_m, 0, true);
-    search_xy_m = readDoubleMin(cfg, section, "search_xy_m", search_xy_m, 0, false);
-    search_phi = M_PI / 180 *
-                 readDoubleMin(cfg, section, "search_phi_deg", search_phi * 180 / M_PI, 0, false);
-    coarse_step_m = readDoubleMin(cfg, section, "coarse_step_m", coarse_step_m, 0, true);
-    fine_step_m = readDoubleMin(cfg, section, "fine_step_m", fine_step_m, 0, true);
-    min_matched_fraction =
-        readDoubleMin(cfg, section, "min_matched_fraction", min_matched_fraction, 0, false);
-    cov_inflation = readDoubleMin(cfg, section, "cov_inflation", cov_inflation, 0, true);
+    table().load(cfg, section);
 }
 
 namespace

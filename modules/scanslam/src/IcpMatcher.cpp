@@ -13,26 +13,29 @@ namespace hymm::scanslam
 {
 IcpMatcher::IcpMatcher() : options_() {}
 
-void IcpMatcher::Options::load(const mrpt::config::CConfigFileBase& cfg, const std::string& section)
+hymm::core::OptionTable IcpMatcher::Options::table()
 {
     using namespace hymm::core;
-    checkKnownKeys(cfg, section,
-                   {"threshold_dist_m", "threshold_ang_deg", "alfa", "smallest_threshold_dist_m",
-                    "max_iterations", "covariance_std_points_m", "min_goodness",
-                    "cov_inflation"});
-    threshold_dist_m = readDoubleMin(cfg, section, "threshold_dist_m", threshold_dist_m, 0, true);
-    threshold_ang = M_PI / 180 * readDoubleMin(cfg, section, "threshold_ang_deg",
-                                               threshold_ang * 180 / M_PI, 0, false);
-    alfa = readDoubleMin(cfg, section, "alfa", alfa, 0, true);
-    smallest_threshold_dist_m = readDoubleMin(cfg, section, "smallest_threshold_dist_m",
-                                              smallest_threshold_dist_m, 0, true);
-    max_iterations = static_cast<int>(readInt(cfg, section, "max_iterations", max_iterations));
-    if (max_iterations < 1)
-        throwConfigError(section, "max_iterations", std::to_string(max_iterations), "must be >= 1");
-    covariance_std_points_m =
-        readDoubleMin(cfg, section, "covariance_std_points_m", covariance_std_points_m, 0, true);
-    min_goodness = readDoubleMin(cfg, section, "min_goodness", min_goodness, 0, false);
-    cov_inflation = readDoubleMin(cfg, section, "cov_inflation", cov_inflation, 0, true);
+    OptionTable t;
+    t.real("threshold_dist_m", threshold_dist_m, "m", above(0, 100),
+           "initial correspondence distance (CICP thresholdDist)");
+    t.real("threshold_ang_deg", threshold_ang, "deg", atLeast(0, 90),
+           "its growth with range (CICP thresholdAng)", M_PI / 180);
+    t.real("alfa", alfa, "", above(0, 1), "threshold shrink factor per convergence (CICP ALFA)");
+    t.real("smallest_threshold_dist_m", smallest_threshold_dist_m, "m", above(0, 100),
+           "stop shrinking here");
+    t.integer("max_iterations", max_iterations, "", 1, 100000, "CICP maxIterations");
+    t.real("covariance_std_points_m", covariance_std_points_m, "m", above(0, 100),
+           "CICP covariance_varPoints = this squared");
+    t.real("min_goodness", min_goodness, "", between(0, 1),
+           "CICP goodness below this: `too_few_matches`");
+    t.real("cov_inflation", cov_inflation, "", above(0, 1000), "covariance multiplier (measured, see above)");
+    return t;
+}
+
+void IcpMatcher::Options::load(const mrpt::config::CConfigFileBase& cfg, const std::string& section)
+{
+    table().load(cfg, section);
 }
 
 AlignResult IcpMatcher::align(const PointSet& tpl, const PointSet& scan, const Vec3& z0) const

@@ -17,35 +17,28 @@ namespace hymm::scanslam
 {
 SogMatcher::SogMatcher() : options_() {}
 
-void SogMatcher::Options::load(const mrpt::config::CConfigFileBase& cfg, const std::string& section)
+hymm::core::OptionTable SogMatcher::Options::table()
 {
     using namespace hymm::core;
-    checkKnownKeys(cfg, section,
-                   {"objective", "scales_m", "max_iterations", "gate_sigma",
-                    "min_matched_fraction", "max_correction_m", "max_correction_deg",
-                    "cov_inflation"});
-    max_correction_m = readDoubleMin(cfg, section, "max_correction_m", max_correction_m, 0, true);
-    max_correction = M_PI / 180 * readDoubleMin(cfg, section, "max_correction_deg",
-                                                max_correction * 180 / M_PI, 0, true);
-    const std::string obj = readString(cfg, section, "objective",
-                                       objective == Objective::product ? "product" : "sum");
-    if (obj == "product")
-        objective = Objective::product;
-    else if (obj == "sum")
-        objective = Objective::sum;
-    else
-        throwConfigError(section, "objective", obj, "expected product or sum");
-    scales_m = readDoubleList(cfg, section, "scales_m", scales_m);
-    if (scales_m.empty()) throwConfigError(section, "scales_m", "", "needs at least one level");
-    for (double s : scales_m)
-        if (!(s >= 0)) throwConfigError(section, "scales_m", std::to_string(s), "must be >= 0");
-    max_iterations = static_cast<int>(readInt(cfg, section, "max_iterations", max_iterations));
-    if (max_iterations < 1)
-        throwConfigError(section, "max_iterations", std::to_string(max_iterations), "must be >= 1");
-    gate_sigma = readDoubleMin(cfg, section, "gate_sigma", gate_sigma, 0, true);
-    min_matched_fraction =
-        readDoubleMin(cfg, section, "min_matched_fraction", min_matched_fraction, 0, false);
-    cov_inflation = readDoubleMin(cfg, section, "cov_inflation", cov_inflation, 0, true);
+    OptionTable t;
+    t.choice("objective", objective, {{"product", Objective::product}, {"sum", Objective::sum}},
+             "`product` (per-point mixtures) or `sum` (Eq. 5.13 literally)");
+    t.reals("scales_m", scales_m, "m", atLeast(0, 100), 1, "smoothing std added per level, coarse to fine; the last level gives the covariance");
+    t.integer("max_iterations", max_iterations, "", 1, 100000, "Newton steps per level");
+    t.real("gate_sigma", gate_sigma, "sigma", above(0, 1000), "pairs beyond this Mahalanobis distance are left out");
+    t.real("min_matched_fraction", min_matched_fraction, "", between(0, 1),
+           "template points with a scan point within 3 sigma, else `too_few_matches`");
+    t.real("max_correction_m", max_correction_m, "m", above(0, 10000),
+           "a result further than this from the initial guess is `diverged`");
+    t.real("max_correction_deg", max_correction, "deg", above(0, 360), "same for the angle",
+           M_PI / 180);
+    t.real("cov_inflation", cov_inflation, "", above(0, 1000), "covariance multiplier (measured, see above)");
+    return t;
+}
+
+void SogMatcher::Options::load(const mrpt::config::CConfigFileBase& cfg, const std::string& section)
+{
+    table().load(cfg, section);
 }
 
 SogMatcher::Evaluation SogMatcher::evaluate(const PointSet& tpl, const PointSet& scan,

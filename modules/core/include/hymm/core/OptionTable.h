@@ -99,6 +99,10 @@ public:
             [&member]() { return static_cast<long long>(member); });
         return *this;
     }
+    /** A list of real numbers separated by spaces or commas, each finite and in `range`,
+     *  at least `min_count` of them. */
+    OptionTable& reals(const std::string& name, std::vector<double>& member, const std::string& unit,
+                       Range range, size_t min_count, const std::string& doc);
     OptionTable& flag(const std::string& name, bool& member, const std::string& doc);
     OptionTable& text(const std::string& name, std::string& member, const std::string& doc,
                       const std::string& range = "text");

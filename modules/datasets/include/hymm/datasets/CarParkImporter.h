@@ -22,6 +22,8 @@
  */
 #pragma once
 
+#include <hymm/core/OptionTable.h>
+
 #include <hymm/core/UteVehicleModel.h>
 #include <mrpt/config/CLoadableOptions.h>
 #include <mrpt/obs/CObservation.h>
@@ -53,6 +55,8 @@ class CarParkImporter
         OdometryIntegrator::Options odometry;
         GpsFilterOptions gps;
 
+        /** Every ini key, declared once: loader, saver and README table come from it. */
+        hymm::core::OptionTable table();
         void loadFromConfigFile(
             const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
         void saveToConfigFile(

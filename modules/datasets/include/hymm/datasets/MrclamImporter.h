@@ -25,6 +25,8 @@
  */
 #pragma once
 
+#include <hymm/core/OptionTable.h>
+
 #include <hymm/io/trajectory_io.h>
 #include <mrpt/config/CLoadableOptions.h>
 #include <mrpt/obs/CObservation.h>
@@ -66,6 +68,8 @@ class MrclamImporter
         std::vector<BarcodeFix> barcode_fixes;
         OdometryIntegrator::Options odometry;
 
+        /** Every ini key, declared once: loader, saver and README table come from it. */
+        hymm::core::OptionTable table();
         void loadFromConfigFile(
             const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
         void saveToConfigFile(

@@ -44,6 +44,8 @@
  */
 #pragma once
 
+#include <hymm/core/OptionTable.h>
+
 #include <hymm/io/trajectory_io.h>
 #include <mrpt/config/CLoadableOptions.h>
 
@@ -78,6 +80,8 @@ struct NoiseCalibrationOptions : public mrpt::config::CLoadableOptions
     double truth_std_xy_m = -1;
     double truth_std_phi_deg = -1;
 
+    /** Every ini key, declared once: loader, saver and README table come from it. */
+    hymm::core::OptionTable table();
     /** Reads [section] (all keys optional; unknown keys are errors). */
     void loadFromConfigFile(
         const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;

@@ -18,6 +18,8 @@
  */
 #pragma once
 
+#include <hymm/core/OptionTable.h>
+
 #include <hymm/core/UteVehicleModel.h>
 #include <mrpt/config/CLoadableOptions.h>
 #include <mrpt/poses/CPose2D.h>
@@ -47,8 +49,9 @@ class OdometryIntegrator
         double min_std_xy_m = 1e-3;        //!< floor added to each increment, x and y [m]
         double min_std_phi_deg = 0.01;     //!< floor added to each increment, heading [deg]
 
-        /** Reads the keys above from `section`; validates ranges (does not reject
-         *  other keys: the importers that embed these options check the whole section). */
+        /** Every ini key, declared once; the importers include it in their own table. */
+        hymm::core::OptionTable table();
+        /** Reads a section holding only the keys above (unknown keys are errors). */
         void loadFromConfigFile(
             const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
         void saveToConfigFile(

@@ -31,6 +31,8 @@
  */
 #pragma once
 
+#include <hymm/core/OptionTable.h>
+
 #include <hymm/core/UteVehicleModel.h>
 #include <mrpt/config/CLoadableOptions.h>
 #include <mrpt/obs/CObservation.h>
@@ -63,6 +65,8 @@ class VictoriaParkImporter
         OdometryIntegrator::Options odometry;
         GpsFilterOptions gps;
 
+        /** Every ini key, declared once: loader, saver and README table come from it. */
+        hymm::core::OptionTable table();
         /** Loads the section; unknown keys and out-of-range values throw. */
         void loadFromConfigFile(
             const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;

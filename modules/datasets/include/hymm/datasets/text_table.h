@@ -23,4 +23,25 @@ std::vector<std::vector<double>> readNumericTable(
     const std::string& path, size_t min_cols, ImportSummary* summary = nullptr,
     const std::string& skip_reason = "malformed_line");
 
+/** The rows readNumericTable keeps, with the 1-based line number of each. */
+struct NumericTable
+{
+    std::vector<std::vector<double>> rows;
+    std::vector<size_t> lines;
+};
+
+/** readNumericTable, keeping the line number of every row (for errors naming it). */
+NumericTable readNumericTableLines(const std::string& path, size_t min_cols,
+                                   ImportSummary* summary = nullptr,
+                                   const std::string& skip_reason = "malformed_line");
+
+/**
+ * Checks the times in column 0 of `t` (rows of `what`, e.g. "odometry"). Throws
+ * std::runtime_error naming `path` and the line when a time is negative (a rawlog
+ * timestamp cannot hold it), or when one row's time jumps ahead of the rows on both sides
+ * (a malformed time would otherwise make every later row "non-monotonic"). A row whose
+ * own time goes back, and a non-finite time, are left for the importer to skip and count.
+ */
+void checkTimeColumn(const NumericTable& t, const std::string& path, const std::string& what);
+
 }  // namespace hymm::datasets

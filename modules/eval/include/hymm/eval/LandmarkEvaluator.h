@@ -15,6 +15,8 @@
  */
 #pragma once
 
+#include <hymm/core/OptionTable.h>
+
 #include <hymm/io/trajectory_io.h>
 #include <hymm/eval/nees.h>
 #include <hymm/eval/se2_alignment.h>
@@ -59,6 +61,8 @@ public:
         Association association = Association::Auto;  //!< ini: auto|id|nearest
         double gate = 2.0;  //!< [m] largest distance of a nearest-neighbour match (> 0)
 
+        /** Every ini key, declared once: loader, saver and README table come from it. */
+        hymm::core::OptionTable table();
         void loadFromConfigFile(
             const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
         void saveToConfigFile(

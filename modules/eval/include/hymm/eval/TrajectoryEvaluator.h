@@ -20,6 +20,8 @@
  */
 #pragma once
 
+#include <hymm/core/OptionTable.h>
+
 #include <hymm/io/trajectory_io.h>
 #include <hymm/eval/se2_alignment.h>
 #include <mrpt/config/CLoadableOptions.h>
@@ -51,6 +53,8 @@ public:
          *  travelled, so the start frame is tied to the truth and later drift shows. */
         double align_fit_distance = 0.0;
 
+        /** Every ini key, declared once: loader, saver and README table come from it. */
+        hymm::core::OptionTable table();
         void loadFromConfigFile(
             const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
         void saveToConfigFile(

@@ -11,6 +11,8 @@
  */
 #pragma once
 
+#include <hymm/core/OptionTable.h>
+
 #include "hymm/scanslam/ScanMatcher.h"
 
 namespace hymm::scanslam
@@ -30,6 +32,8 @@ public:
         double min_matched_fraction = 0.5;  //!< template points within gate of the scan
         double cov_inflation = 3.0;         //!< covariance multiplier (README: measured)
 
+        /** Every ini key, declared once: loader and README table come from it. */
+        hymm::core::OptionTable table();
         void load(const mrpt::config::CConfigFileBase& cfg, const std::string& section);
     };
 

@@ -7,6 +7,8 @@
  */
 #pragma once
 
+#include <hymm/core/OptionTable.h>
+
 #include <mrpt/slam/CICP.h>
 
 #include "hymm/scanslam/ScanMatcher.h"
@@ -27,6 +29,8 @@ public:
         double min_goodness = 0.5;  //!< fraction of template points with a correspondence
         double cov_inflation = 2.7;  //!< covariance multiplier (README: measured)
 
+        /** Every ini key, declared once: loader and README table come from it. */
+        hymm::core::OptionTable table();
         void load(const mrpt::config::CConfigFileBase& cfg, const std::string& section);
     };
 

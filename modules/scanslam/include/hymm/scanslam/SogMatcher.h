@@ -12,6 +12,8 @@
  */
 #pragma once
 
+#include <hymm/core/OptionTable.h>
+
 #include <limits>
 #include <vector>
 
@@ -44,6 +46,8 @@ public:
         double max_correction = 15 * M_PI / 180;  //!< same for the angle [rad] (ini: _deg)
         double cov_inflation = 1.0;      //!< covariance multiplier (README: measured)
 
+        /** Every ini key, declared once: loader and README table come from it. */
+        hymm::core::OptionTable table();
         void load(const mrpt::config::CConfigFileBase& cfg, const std::string& section);
     };
 
