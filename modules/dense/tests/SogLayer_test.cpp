@@ -153,6 +153,46 @@ TEST(SogLayerTest, RepeatedScansFuseInsteadOfGrowing)
     EXPECT_EQ(layer.size(), 2 * n);
 }
 
+TEST(SogLayerTest, RevisitsAreAbsorbedWithinDMin)
+{
+    // Returns 0.5 deg apart (0.04 m at 5 m), each revisit with its beams shifted along
+    // the wall: several returns per map Gaussian. The thesis step fuses one per map
+    // Gaussian and adds the others, on every revisit; absorbing them (the default) adds
+    // nothing once the wall is mapped.
+    auto o = opts();
+    const auto dense_wall = [](int rep) {
+        RegionScan s;
+        s.sensor = V2(0, 0);
+        for (int k = -40; k <= 40; ++k)
+        {
+            const double th = (k * 0.5 + 0.037 * rep) * M_PI / 180;
+            const double r = 5.0 / std::cos(th) + (rep % 2 ? 0.02 : -0.02);
+            s.hits.emplace_back(r * std::cos(th), r * std::sin(th));
+        }
+        return s;
+    };
+    o.absorb_within_d_min = true;
+    SogLayer absorb(o);
+    o.absorb_within_d_min = false;
+    SogLayer thesis(o);
+    std::vector<size_t> n_absorb, n_thesis;
+    for (int rep = 0; rep < 20; ++rep)
+    {
+        absorb.insert(dense_wall(rep));
+        thesis.insert(dense_wall(rep));
+        n_absorb.push_back(absorb.size());
+        n_thesis.push_back(thesis.size());
+    }
+    EXPECT_EQ(n_absorb.front(), 81u);  // an empty map absorbs nothing
+    EXPECT_EQ(n_absorb.back(), n_absorb.front());
+    EXPECT_GT(n_thesis.back(), n_thesis.front() + 20);
+    for (const G& g : absorb.gaussians())
+    {
+        EXPECT_NEAR(g.mean.x(), 5.0, 0.05);
+        expectCovariance(g.cov);
+    }
+}
+
 TEST(SogLayerTest, SurfaceEllipsesAndRendering)
 {
     SogLayer layer(opts());
