@@ -5,13 +5,35 @@
 
 #include <cmath>
 #include <cstring>
+#include <random>
 #include <istream>
 #include <limits>
 #include <ostream>
 #include <stdexcept>
+#include <vector>
 
 namespace hymm::dense
 {
+namespace
+{
+/** splitmix64 (Steele, Lea, Flood 2014) over an external 8-byte state: a uniform random
+ *  bit generator small enough to keep one per region. */
+struct SplitMix64
+{
+    using result_type = std::uint64_t;
+    std::uint64_t& state;
+    static constexpr result_type min() { return 0; }
+    static constexpr result_type max() { return ~result_type{0}; }
+    result_type operator()()
+    {
+        std::uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
+        z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+        z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+        return z ^ (z >> 31);
+    }
+};
+}  // namespace
+
 hymm::core::OptionTable PointsLayer::Options::table()
 {
     using namespace hymm::core;
@@ -67,7 +89,9 @@ PointsLayer::PointsLayer(const Options& options, const hymm::ltr::TriangleFrame:
             seed.push_back(static_cast<std::uint32_t>(bits >> 32));
         }
     std::seed_seq seq(seed.begin(), seed.end());
-    rng_.seed(seq);
+    std::uint32_t words[2];
+    seq.generate(words, words + 2);
+    rng_ = (static_cast<std::uint64_t>(words[0]) << 32) | words[1];
 }
 
 bool PointsLayer::acceptVoxel(const Eigen::Vector2d& p)
@@ -93,7 +117,8 @@ void PointsLayer::insertPoints(const std::vector<Eigen::Vector2d>& points_ref)
         }
         // Algorithm R: the offered_-th return takes slot j if j < cap, j uniform in
         // [0, offered_): every return seen so far is kept with probability cap / offered_.
-        const size_t j = std::uniform_int_distribution<size_t>(0, offered_ - 1)(rng_);
+        SplitMix64 gen{rng_};
+        const size_t j = std::uniform_int_distribution<size_t>(0, offered_ - 1)(gen);
         if (j < cap) points_.setPoint(j, static_cast<float>(p.x()), static_cast<float>(p.y()), 0.0f);
     }
 }
