@@ -162,9 +162,11 @@ TEST(ParticlesLayerTest, CellCapLevelsOffOnRevisitsAndKeepsTheWall)
     // At most 4 per d_min cell, and the wall is still where the heavy particles are.
     std::map<std::pair<long, long>, int> per_cell;
     for (const auto& p : capped.particles())
-        EXPECT_LE(++per_cell[{std::lround(std::floor(p.position.x() / o.d_min_m)),
-                              std::lround(std::floor(p.position.y() / o.d_min_m))}],
-                  4);
+    {
+        const std::pair<long, long> cell(std::lround(std::floor(p.position.x() / o.d_min_m)),
+                                         std::lround(std::floor(p.position.y() / o.d_min_m)));
+        EXPECT_LE(++per_cell[cell], 4);
+    }
     const auto on_wall = near(capped, 10.0, 0.1, 2.0);
     ASSERT_GT(on_wall.size(), 50u);
     for (const auto& p : on_wall) EXPECT_GT(p.weight, 0.5);
