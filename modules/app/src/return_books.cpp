@@ -20,11 +20,12 @@ OutsideCauses outsideCauses(const DenseSlam& slam)
 {
     OutsideCauses c;
     const denseslam::VirtualLandmarkView view(slam.ekf(), slam.virtualLandmarkIds());
-    for (const auto& r : slam.outsideReturns())
+    // Per cell of the tally, at the mean position of its returns (DenseSlam.h).
+    for (const auto& r : slam.outsideReturnCells())
     {
         const auto cause = ltr::classifyOutsideReturn(*slam.partition(), view, r.p);
-        ++c.all[cause];
-        if (!r.kept) ++c.dropped[cause];
+        c.all[cause] += r.returns;
+        c.dropped[cause] += r.returns - r.kept;
     }
     return c;
 }

@@ -91,7 +91,7 @@ std::unique_ptr<DenseLayer> HybridMetricMap::makeLayer(
     const std::string& kind, const Vertices& reference) const
 {
     if (kind == PointsLayer::kKind && options_.enable_points)
-        return std::make_unique<PointsLayer>(options_.points);
+        return std::make_unique<PointsLayer>(options_.points, reference);
     if (kind == OccupancyLayer::kKind && options_.enable_occupancy)
         return std::make_unique<OccupancyLayer>(options_.occupancy, reference);
     if (kind == ParticlesLayer::kKind && options_.enable_particles)
@@ -469,6 +469,23 @@ std::vector<long> HybridMetricMap::removeStaleRegions(const RegionPartition& par
     // Fallback content hangs off its anchor's frame: it goes with the anchor.
     for (auto it = fallback_.begin(); it != fallback_.end();)
         it = partition.has(it->first.anchor) ? std::next(it) : fallback_.erase(it);
+    return removed;
+}
+
+std::vector<long> HybridMetricMap::removeRegions(const std::vector<long>& region_ids)
+{
+    std::vector<long> removed;
+    for (const long id : region_ids)
+    {
+        if (maps_.erase(id)) removed.push_back(id);
+        last_scan_regions_.erase(id);
+        // Fallback content hangs off its anchor's frame: it goes with the anchor (the
+        // tiles are ordered by anchor, so they are one range).
+        const auto first = fallback_.lower_bound(FallbackTileKey{id, std::numeric_limits<int>::min(), 0, 0});
+        auto last = first;
+        while (last != fallback_.end() && last->first.anchor == id) ++last;
+        fallback_.erase(first, last);
+    }
     return removed;
 }
 

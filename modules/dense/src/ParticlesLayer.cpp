@@ -91,6 +91,9 @@ hymm::core::OptionTable ParticlesLayer::Options::table()
     t.real("min_weight", min_weight, "", halfOpen(0, 0.5), "particles below are removed");
     t.real("max_weight", max_weight, "", halfOpen(0.5, 1), "upper clamp so particles stay revisable (>= prob_max)");
     t.integer("max_particles", max_particles, "", 0, 100000000, "per region; 0 = unbounded (thesis: no subsampling)");
+    t.integer("max_per_cell", max_per_cell, "", 0, 100000000,
+              "particles kept per square cell of side `d_min_m`, the heaviest; bounds a region revisited many times "
+              "(0 = unbounded, thesis)");
     t.integer("random_seed", random_seed, "", std::numeric_limits<int>::min(), std::numeric_limits<int>::max(),
               "mixed with the region's vertices: reproducible maps");
     t.real("render_min_weight", render_min_weight, "", between(0, 1), "renderInto draws particles with w >= this");
@@ -132,6 +135,7 @@ void ParticlesLayer::Options::validate(const std::string& s) const
     if (!(max_weight >= prob_max && max_weight < 1))
         throwConfigError(s, "max_weight", str(max_weight), "must be in [prob_max, 1)");
     if (max_particles < 0) throwConfigError(s, "max_particles", str(max_particles), "must be >= 0");
+    if (max_per_cell < 0) throwConfigError(s, "max_per_cell", str(max_per_cell), "must be >= 0");
     if (!(render_min_weight >= 0 && render_min_weight <= 1))
         throwConfigError(s, "render_min_weight", str(render_min_weight), "must be in [0, 1]");
 }
@@ -359,6 +363,39 @@ void ParticlesLayer::prune()
             particles_.begin(), particles_.end(),
             [this](const Particle& p) { return p.weight < options_.min_weight; }),
         particles_.end());
+    if (options_.max_per_cell > 0)
+    {
+        // Heaviest max_per_cell per d_min cell (see the header: revisits).
+        const auto per_cell = static_cast<size_t>(options_.max_per_cell);
+        const double cell = options_.d_min_m;
+        std::unordered_map<std::int64_t, std::vector<size_t>> cells;
+        cells.reserve(particles_.size() / per_cell + 1);
+        for (size_t i = 0; i < particles_.size(); ++i)
+            cells[packCellKey(static_cast<std::int64_t>(std::floor(particles_[i].position.x() / cell)),
+                              static_cast<std::int64_t>(std::floor(particles_[i].position.y() / cell)))]
+                .push_back(i);
+        std::vector<char> drop(particles_.size(), 0);
+        bool any = false;
+        for (auto& [key, idx] : cells)
+        {
+            if (idx.size() <= per_cell) continue;
+            // Ties by index: the same map on the same data.
+            std::nth_element(idx.begin(), idx.begin() + static_cast<std::ptrdiff_t>(per_cell), idx.end(),
+                             [this](size_t a, size_t b) {
+                                 return particles_[a].weight > particles_[b].weight ||
+                                        (particles_[a].weight == particles_[b].weight && a < b);
+                             });
+            for (size_t k = per_cell; k < idx.size(); ++k) drop[idx[k]] = 1;
+            any = true;
+        }
+        if (any)
+        {
+            size_t out = 0;
+            for (size_t i = 0; i < particles_.size(); ++i)
+                if (!drop[i]) particles_[out++] = particles_[i];
+            particles_.resize(out);
+        }
+    }
     const auto cap = static_cast<size_t>(options_.max_particles);
     if (cap > 0 && particles_.size() > cap)
     {

@@ -4,18 +4,45 @@
 #include <hymm/dense/geometry.h>
 
 #include <cmath>
+#include <cstring>
+#include <random>
 #include <istream>
 #include <limits>
 #include <ostream>
 #include <stdexcept>
+#include <vector>
 
 namespace hymm::dense
 {
+namespace
+{
+/** splitmix64 (Steele, Lea, Flood 2014) over an external 8-byte state: a uniform random
+ *  bit generator small enough to keep one per region. */
+struct SplitMix64
+{
+    using result_type = std::uint64_t;
+    std::uint64_t& state;
+    static constexpr result_type min() { return 0; }
+    static constexpr result_type max() { return ~result_type{0}; }
+    result_type operator()()
+    {
+        std::uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
+        z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+        z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+        return z ^ (z >> 31);
+    }
+};
+}  // namespace
+
 hymm::core::OptionTable PointsLayer::Options::table()
 {
     using namespace hymm::core;
     OptionTable t;
     t.real("voxel_size_m", voxel_size_m, "m", between(0, 100), "keep one point per voxel; 0 = keep every return");
+    t.integer("max_points", max_points, "", 0, 100000000,
+              "returns kept per region at most, a uniform sample of all it received (reservoir sampling); "
+              "0 = keep every return (thesis Sec. 3.9)");
+    t.integer("random_seed", random_seed, "", 0, 2147483647, "mixed with the region's vertices (reservoir sampling)");
     return t;
 }
 
@@ -37,9 +64,35 @@ void PointsLayer::Options::validate(const std::string& s) const
 {
     if (!(voxel_size_m >= 0))
         hymm::core::throwConfigError(s, "voxel_size_m", std::to_string(voxel_size_m), "must be >= 0");
+    if (max_points < 0) hymm::core::throwConfigError(s, "max_points", std::to_string(max_points), "must be >= 0");
 }
 
-PointsLayer::PointsLayer(const Options& options) : options_(options) { options_.validate(); }
+PointsLayer::PointsLayer(const Options& options)
+    : PointsLayer(options, {Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero()})
+{
+}
+
+PointsLayer::PointsLayer(const Options& options, const hymm::ltr::TriangleFrame::Vertices& reference)
+    : options_(options)
+{
+    options_.validate();
+    // Seed from the option and the vertices' bit patterns: regions draw independent
+    // streams, and the same map is rebuilt on the same data.
+    std::vector<std::uint32_t> seed{static_cast<std::uint32_t>(options_.random_seed)};
+    for (const auto& v : reference)
+        for (int k = 0; k < 2; ++k)
+        {
+            std::uint64_t bits = 0;
+            const double x = v[k];
+            std::memcpy(&bits, &x, sizeof(bits));
+            seed.push_back(static_cast<std::uint32_t>(bits));
+            seed.push_back(static_cast<std::uint32_t>(bits >> 32));
+        }
+    std::seed_seq seq(seed.begin(), seed.end());
+    std::uint32_t words[2];
+    seq.generate(words, words + 2);
+    rng_ = (static_cast<std::uint64_t>(words[0]) << 32) | words[1];
+}
 
 bool PointsLayer::acceptVoxel(const Eigen::Vector2d& p)
 {
@@ -52,8 +105,22 @@ bool PointsLayer::acceptVoxel(const Eigen::Vector2d& p)
 
 void PointsLayer::insertPoints(const std::vector<Eigen::Vector2d>& points_ref)
 {
+    const auto cap = static_cast<size_t>(options_.max_points);
     for (const auto& p : points_ref)
-        if (acceptVoxel(p)) points_.insertPoint(static_cast<float>(p.x()), static_cast<float>(p.y()));
+    {
+        if (!acceptVoxel(p)) continue;
+        ++offered_;
+        if (cap == 0 || points_.size() < cap)
+        {
+            points_.insertPoint(static_cast<float>(p.x()), static_cast<float>(p.y()));
+            continue;
+        }
+        // Algorithm R: the offered_-th return takes slot j if j < cap, j uniform in
+        // [0, offered_): every return seen so far is kept with probability cap / offered_.
+        SplitMix64 gen{rng_};
+        const size_t j = std::uniform_int_distribution<size_t>(0, offered_ - 1)(gen);
+        if (j < cap) points_.setPoint(j, static_cast<float>(p.x()), static_cast<float>(p.y()), 0.0f);
+    }
 }
 
 void PointsLayer::insert(const RegionScan& scan) { insertPoints(scan.hits); }
@@ -107,6 +174,7 @@ void PointsLayer::load(std::istream& in)
         points_.insertPoint(x, y);
         acceptVoxel(Eigen::Vector2d(x, y));
     }
+    offered_ = points_.size();
 }
 
 }  // namespace hymm::dense

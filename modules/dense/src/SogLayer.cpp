@@ -68,6 +68,9 @@ hymm::core::OptionTable SogLayer::Options::table()
     t.choice("fusion_rule", fusion_rule, {{"average", FusionRule::Average}, {"product", FusionRule::Product}},
              "Eq. 4.17-4.20 average, or the Bayesian product");
     t.real("cutoff_sigmas", cutoff_sigmas, "sigmas", above(0, 100), "surface rendering ignores a Gaussian beyond this");
+    t.flag("absorb_within_d_min", absorb_within_d_min,
+           "a scan Gaussian no map Gaussian took is fused into the nearest one within `d_min_m` instead of being "
+           "added, so revisits do not add components (false = the thesis, Sec. 4.3.2)");
     return t;
 }
 
@@ -183,6 +186,40 @@ void SogLayer::insert(const RegionScan& scan)
         if (best == obs.size()) continue;
         g = fuse(g, obs[best]);
         used[best] = 1;
+    }
+    const size_t prior = gaussians_.size();
+    if (options_.absorb_within_d_min && prior > 0)
+    {
+        // The unused scan Gaussians near a map Gaussian join it (the header: revisits);
+        // the map Gaussians are looked up in a hash grid of cell d_min like the scan's.
+        std::unordered_map<std::int64_t, std::vector<size_t>> map_index;
+        for (size_t j = 0; j < prior; ++j) map_index[key(gaussians_[j].mean, 0, 0)].push_back(j);
+        for (size_t i = 0; i < obs.size(); ++i)
+        {
+            if (used[i]) continue;
+            size_t best = prior;
+            double best_d2 = options_.d_min_m * options_.d_min_m;
+            for (std::int64_t dx = -1; dx <= 1; ++dx)
+                for (std::int64_t dy = -1; dy <= 1; ++dy)
+                {
+                    const auto it = map_index.find(key(obs[i].mean, dx, dy));
+                    if (it == map_index.end()) continue;
+                    for (const size_t j : it->second)
+                    {
+                        const double d2 = (gaussians_[j].mean - obs[i].mean).squaredNorm();
+                        if (d2 < best_d2)
+                        {
+                            best_d2 = d2;
+                            best = j;
+                        }
+                    }
+                }
+            if (best == prior) continue;
+            // The map Gaussian may move a little with each fusion; the index keeps its
+            // cell at the time of the lookup, which only matters within d_min.
+            gaussians_[best] = fuse(gaussians_[best], obs[i]);
+            used[i] = 1;
+        }
     }
     for (size_t i = 0; i < obs.size(); ++i)
         if (!used[i]) gaussians_.push_back(obs[i]);

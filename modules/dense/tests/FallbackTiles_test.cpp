@@ -218,6 +218,35 @@ TEST(FallbackTilesTest, TilesGoWithTheirAnchor)
     EXPECT_EQ(map.fallbackTiles(), 0u);
 }
 
+TEST(FallbackTilesTest, RemoveRegionsDropsTheSameAsTheWholeMapWalk)
+{
+    // removeRegions(ids) touches only the removed ids; removeStaleRegions(partition)
+    // walks everything: one region at a time, both must leave the same map.
+    WallWorld w;
+    HybridMetricMap by_ids(fallbackOptions(5.0)), by_walk(fallbackOptions(5.0));
+    const auto scan = wallScan(kVehicle, kMount, kWallX, kBeams, kHalfFov);
+    by_ids.insertScan(scan, kVehicle, w.partition);
+    by_walk.insertScan(scan, kVehicle, w.partition);
+    ASSERT_GT(by_ids.fallbackTiles(), 0u);
+    ASSERT_GT(by_ids.size(), 1u);
+    EXPECT_TRUE(by_ids.removeRegions({123456}).empty());  // unknown id: nothing happens
+    EXPECT_EQ(by_ids.fallbackTiles(), by_walk.fallbackTiles());
+    size_t partial = 0;  // removals that dropped some tiles and left others
+    for (const long id : w.partition.regionIds())
+    {
+        const size_t before = by_ids.fallbackTiles();
+        ASSERT_TRUE(w.partition.removeRegion(id));
+        EXPECT_EQ(by_ids.removeRegions({id}), by_walk.removeStaleRegions(w.partition));
+        EXPECT_EQ(by_ids.regionIds(), by_walk.regionIds());
+        EXPECT_EQ(by_ids.fallbackTiles(), by_walk.fallbackTiles());
+        partial += by_ids.fallbackTiles() < before && by_ids.fallbackTiles() > 0;
+        EXPECT_EQ(by_ids.localMap(id), nullptr);
+    }
+    EXPECT_EQ(by_ids.size(), 0u);
+    EXPECT_EQ(by_ids.fallbackTiles(), 0u);
+    EXPECT_GE(partial, 1u);
+}
+
 TEST(FallbackTilesTest, OptionsAreChecked)
 {
     HybridMetricMap::Options o;

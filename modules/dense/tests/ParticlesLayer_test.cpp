@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <optional>
 #include <sstream>
 
@@ -136,6 +137,39 @@ TEST(ParticlesLayerTest, AssociationBayesUpdateAndAveragingFollowEquations410To4
     EXPECT_EQ(layer.lastUpdate().associated, 1u);
     EXPECT_EQ(layer.lastUpdate().free_updated, 1u);
     EXPECT_EQ(layer.lastUpdate().added, 0u);
+}
+
+TEST(ParticlesLayerTest, CellCapLevelsOffOnRevisitsAndKeepsTheWall)
+{
+    // The same wall seen again and again (a region revisited lap after lap): without the
+    // cap every scan adds the samples no particle took; with it the count levels off.
+    ParticlesLayer::Options o;
+    o.max_per_cell = 4;
+    ParticlesLayer capped(o, kRef);
+    o.max_per_cell = 0;
+    ParticlesLayer thesis(o, kRef);
+    std::vector<size_t> n_capped, n_thesis;
+    for (int k = 0; k < 40; ++k)
+    {
+        capped.insert(scanOf(10.0, std::nullopt));
+        thesis.insert(scanOf(10.0, std::nullopt));
+        n_capped.push_back(capped.size());
+        n_thesis.push_back(thesis.size());
+    }
+    EXPECT_GT(n_thesis[39], n_thesis[19] + (n_thesis[19] - n_thesis[9]) / 2);  // still growing
+    EXPECT_LE(n_capped[39], n_capped[19] + n_capped[19] / 50);                   // levelled off
+    EXPECT_LT(n_capped[39], n_thesis[39] / 2);
+    // At most 4 per d_min cell, and the wall is still where the heavy particles are.
+    std::map<std::pair<long, long>, int> per_cell;
+    for (const auto& p : capped.particles())
+    {
+        const std::pair<long, long> cell(std::lround(std::floor(p.position.x() / o.d_min_m)),
+                                         std::lround(std::floor(p.position.y() / o.d_min_m)));
+        EXPECT_LE(++per_cell[cell], 4);
+    }
+    const auto on_wall = near(capped, 10.0, 0.1, 2.0);
+    ASSERT_GT(on_wall.size(), 50u);
+    for (const auto& p : on_wall) EXPECT_GT(p.weight, 0.5);
 }
 
 TEST(ParticlesLayerTest, SubsamplingBoundsTheCountAndKeepsTheHeaviest)

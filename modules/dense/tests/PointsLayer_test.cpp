@@ -7,6 +7,8 @@
 #include <gtest/gtest.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 
+#include <cmath>
+#include <random>
 #include <sstream>
 
 namespace
@@ -42,6 +44,56 @@ TEST(PointsLayerTest, VoxelThinningKeepsOnePointPerVoxel)
     PointsLayer layer(o);
     layer.insertPoints({V2(0.1, 0.1), V2(0.4, 0.2), V2(0.6, 0.1), V2(-0.1, 0.1)});
     EXPECT_EQ(layer.size(), 3u);
+}
+
+TEST(PointsLayerTest, RevisitCapKeepsAUniformSampleOfEveryReturn)
+{
+    // A wall y = 0 seen on 20 laps, 1000 noisy returns a lap (sigma 0.15 m across it).
+    const double sigma = 0.15;
+    const hymm::ltr::TriangleFrame::Vertices ref{{V2(0, -5), V2(10, -5), V2(5, 5)}};
+    PointsLayer::Options o;
+    o.max_points = 500;
+    PointsLayer capped(o, ref), capped_again(o, ref);
+    o.max_points = 0;
+    PointsLayer all(o, ref);
+    o.voxel_size_m = 0.05;
+    PointsLayer voxels(o, ref);
+    std::mt19937_64 rng(7);
+    std::normal_distribution<double> n01(0, 1);
+    std::vector<std::vector<V2>> laps(20);
+    for (auto& lap : laps)
+        for (int k = 0; k < 1000; ++k) lap.emplace_back(0.01 * k, sigma * n01(rng));
+    for (const auto& lap : laps)
+    {
+        capped.insertPoints(lap);
+        capped_again.insertPoints(lap);
+        all.insertPoints(lap);
+        voxels.insertPoints(lap);
+        EXPECT_LE(capped.size(), 500u);
+    }
+    EXPECT_EQ(capped.size(), 500u);
+    EXPECT_EQ(capped.offered(), 20000u);
+    EXPECT_EQ(all.size(), 20000u);
+    // Same region, same data: the same map.
+    for (size_t i = 0; i < capped.size(); ++i)
+        EXPECT_EQ(capped.points().getPointsBufferRef_y()[i], capped_again.points().getPointsBufferRef_y()[i]);
+    const auto spread = [](const PointsLayer& l) {
+        double s2 = 0;
+        for (const float y : l.points().getPointsBufferRef_y()) s2 += static_cast<double>(y) * y;
+        return std::sqrt(s2 / static_cast<double>(l.size()));
+    };
+    // The sample keeps the returns' spread about the wall (500 samples: +-3.2 % 1-sigma);
+    // one point per voxel does not: over the laps the tails fill every voxel.
+    EXPECT_NEAR(spread(capped), sigma, 0.12 * sigma);
+    EXPECT_NEAR(spread(all), sigma, 0.03 * sigma);
+    EXPECT_GT(spread(voxels), 1.3 * sigma);  // 1.49 sigma measured
+    // Later laps replace earlier ones: every lap is in the sample about equally (the
+    // x position tells the order within a lap only, so count by lap through y values).
+    size_t from_last_lap = 0;
+    for (const float y : capped.points().getPointsBufferRef_y())
+        for (const V2& p : laps.back()) from_last_lap += static_cast<float>(p.y()) == y;
+    EXPECT_GT(from_last_lap, 5u);   // expected 25
+    EXPECT_LT(from_last_lap, 60u);
 }
 
 TEST(PointsLayerTest, SaveLoadRoundTripIsExact)

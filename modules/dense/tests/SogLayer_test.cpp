@@ -15,6 +15,7 @@
 #include <Eigen/LU>
 
 #include <cmath>
+#include <random>
 #include <sstream>
 
 namespace
@@ -151,6 +152,51 @@ TEST(SogLayerTest, RepeatedScansFuseInsteadOfGrowing)
     // A second wall beyond d_min adds its own Gaussians.
     layer.insert(wallScan(7.0, 0.0));
     EXPECT_EQ(layer.size(), 2 * n);
+}
+
+TEST(SogLayerTest, RevisitsAreAbsorbedWithinDMin)
+{
+    // Returns 0.5 deg apart (0.04 m at 5 m), each revisit with its beams shifted along
+    // the wall: several returns per map Gaussian. The thesis step fuses one per map
+    // Gaussian and adds the others, on every revisit; absorbing them (the default) adds
+    // nothing once the wall is mapped.
+    auto o = opts();
+    std::mt19937_64 rng(3);
+    std::normal_distribution<double> noise(0.0, 0.03);
+    std::uniform_real_distribution<double> shift(0.0, 0.5);
+    const auto dense_wall = [&](int) {
+        RegionScan s;
+        s.sensor = V2(0, 0);
+        const double offset = shift(rng);
+        for (int k = -40; k <= 40; ++k)
+        {
+            const double th = (k * 0.5 + offset) * M_PI / 180;
+            const double r = 5.0 / std::cos(th) + noise(rng);
+            s.hits.emplace_back(r * std::cos(th), r * std::sin(th));
+        }
+        return s;
+    };
+    o.absorb_within_d_min = true;
+    SogLayer absorb(o);
+    o.absorb_within_d_min = false;
+    SogLayer thesis(o);
+    std::vector<size_t> n_absorb, n_thesis;
+    for (int rep = 0; rep < 20; ++rep)
+    {
+        const RegionScan scan = dense_wall(rep);
+        absorb.insert(scan);
+        thesis.insert(scan);
+        n_absorb.push_back(absorb.size());
+        n_thesis.push_back(thesis.size());
+    }
+    EXPECT_EQ(n_absorb.front(), 81u);  // an empty map absorbs nothing
+    EXPECT_EQ(n_absorb.back(), n_absorb.front());
+    EXPECT_GT(n_thesis.back(), n_thesis.front() + 10);
+    for (const G& g : absorb.gaussians())
+    {
+        EXPECT_NEAR(g.mean.x(), 5.0, 0.05);
+        expectCovariance(g.cov);
+    }
 }
 
 TEST(SogLayerTest, SurfaceEllipsesAndRendering)

@@ -6,6 +6,7 @@
 
 #include <hymm/core/config_utils.h>
 #include <hymm/dense/ScanPoints.h>
+#include <hymm/dense/geometry.h>
 #include <hymm/denseslam/EkfCovarianceView.h>
 #include <mrpt/math/wrap2pi.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
@@ -347,7 +348,9 @@ void DenseSlam::updateRegions(const ltr::LandmarkCovarianceView& view,
     if (!stale.empty())
     {
         stats_.regions_removed += stale.size();
-        hybrid_->removeStaleRegions(*partition_);
+        // Only the removed ids: walking the whole map here would make every step's cost
+        // grow with the map.
+        hybrid_->removeRegions(stale);
         dropUnusedVirtualLandmarks();
     }
     // Refreshes the current vertices (near the vehicle or all), then grows around it.
@@ -426,8 +429,16 @@ void DenseSlam::insertDenseScan(const mrpt::obs::CObservation2DRangeScan& scan,
         ++stats_.dense_scans;
         stats_.returns_fallback += st.returns_fallback;
         stats_.returns_withheld_fallback += st.withheld_fallback;
-        for (size_t i = 0; i < st.unassigned.size() && outside_.size() < kMaxOutsideRecords; ++i)
-            outside_.push_back({st.unassigned[i], st.unassigned_kept[i] != 0});
+        const double cell = options_.outside_cell_m;
+        for (size_t i = 0; i < st.unassigned.size(); ++i)
+        {
+            const Eigen::Vector2d& p = st.unassigned[i];
+            OutsideSum& c = outside_[dense::packCellKey(static_cast<std::int64_t>(std::floor(p.x() / cell)),
+                                                        static_cast<std::int64_t>(std::floor(p.y() / cell)))];
+            c.sum += p;
+            ++c.returns;
+            c.kept += st.unassigned_kept[i] != 0;
+        }
         if (virtual_options_.enabled) createVirtualLandmarks(st.unassigned, t);
         // What the fallback kept is in a dense layer; the rest may wait in the store.
         std::vector<Eigen::Vector2d> dropped;
@@ -437,6 +448,19 @@ void DenseSlam::insertDenseScan(const mrpt::obs::CObservation2DRangeScan& scan,
         if (store_ && !dropped.empty()) storeUnassigned(pts, dropped, t);
     }
     if (classic_) classic_->insertScan(pts, vehicle);
+}
+
+std::vector<DenseSlam::OutsideReturnCell> DenseSlam::outsideReturnCells() const
+{
+    std::vector<std::pair<std::int64_t, OutsideReturnCell>> cells;
+    cells.reserve(outside_.size());
+    for (const auto& [key, c] : outside_)
+        cells.push_back({key, {c.sum / static_cast<double>(c.returns), c.returns, c.kept}});
+    std::sort(cells.begin(), cells.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    std::vector<OutsideReturnCell> out;
+    out.reserve(cells.size());
+    for (const auto& kv : cells) out.push_back(kv.second);
+    return out;
 }
 
 void DenseSlam::processDense(const mrpt::obs::CSensoryFrame& frame, double t, bool map_changed)

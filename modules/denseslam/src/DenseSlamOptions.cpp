@@ -163,6 +163,9 @@ core::OptionTable DenseSlam::Options::table()
     t.real("max_local_std_m", max_local_std_m, "m", atLeast(0, 1000),
            "a scan is fused into a region only while its returns' error in the region's frame is at most this "
            "(Sec. 3.6, 3.7.3); 0 = always fuse");
+    t.real("outside_cell_m", outside_cell_m, "m", above(0, 10),
+           "returns in no region are tallied per cell of this size as they arrive (count and mean position) "
+           "for the end-of-run diagnostic of why they fell outside: memory bounded by the area, not the run");
     t.real("same_object_distance_m", same_object_distance, "m", atLeast(0, 100),
            "laser_reflectors_and_trees: a tree this close to a reflector of the same scan is the same object; "
            "0 = beam overlap only");

@@ -35,7 +35,8 @@
  * Per-scan use by the pipeline (after the EKF update of that step):
  *   partition.update(view, t);            // or updateVertexPositions(view): current vertices
  *   dense.insertScan(ScanPoints::fromRangeScan(obs), vehicle_pose_estimate, partition);
- * and after regions are removed from the partition: dense.removeStaleRegions(partition).
+ * and after regions are removed from the partition: dense.removeRegions(removed_ids) (or
+ * dense.removeStaleRegions(partition), which finds them by walking the whole map).
  */
 #pragma once
 
@@ -210,8 +211,15 @@ public:
     void insertRegionScan(long region_id, const RegionScan& scan,
                           const hymm::ltr::RegionPartition& partition);
 
-    /** Drops local maps of regions the partition no longer has; returns their ids. */
+    /** Drops local maps of regions the partition no longer has; returns their ids.
+     *  Walks every region and fallback tile (O(map)): when the caller knows which
+     *  regions it removed, removeRegions() does the same in O(removed). */
     std::vector<long> removeStaleRegions(const hymm::ltr::RegionPartition& partition);
+    /** Drops the local maps of `region_ids` and the fallback tiles anchored on them (the
+     *  regions the partition just removed); ids without content are ignored. Returns the
+     *  ids that had a local map. O(k log n) for k ids: the per-step cost does not grow
+     *  with the map. */
+    std::vector<long> removeRegions(const std::vector<long>& region_ids);
 
     // --- global rendering at the current landmark estimates ------------------------
     /** Every stored return, mapped through its region's reference -> current map. */

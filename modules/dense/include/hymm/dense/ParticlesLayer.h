@@ -37,8 +37,18 @@
  *     A vacated area seen through beams that return nothing, or from a surface
  *     behind it, has no return within d_min and lies in front of its beams' returns:
  *     it is still lowered.
- *  5. Particles below `min_weight` are removed; with `max_particles` > 0 only the
- *     heaviest `max_particles` are kept (subsampling bounds memory per region).
+ *  5. Particles below `min_weight` are removed; with `max_per_cell` > 0 at most that
+ *     many are kept per square cell of side d_min (reference frame), the heaviest; with
+ *     `max_particles` > 0 only the heaviest `max_particles` of the region are kept.
+ *     Why the cell cap (revisits): a prior particle absorbs at most one sample per scan
+ *     (step 3), so every scan adds the samples no particle took, and the weights of
+ *     samples drawn from the sensor model are >= p_min > min_weight: a surface seen
+ *     again and again gathers particles without end (the chapter-3 world: +100k per
+ *     lap, linearly, docs/benchmarks.md "Soak"), and steps 2-4 walk them all. d_min is
+ *     the layer's resolution (two particles closer than it take the same samples), so
+ *     a cap per d_min cell bounds memory and cost by the area mapped, and keeping the
+ *     heaviest keeps the ones the returns confirmed most (the layer describes occupied
+ *     structure, Sec. 4.2.1).
  * Distances (d_min) are measured in the reference frame; the affine reference ->
  * current map of a region is close to a rigid motion, so this equals the metric
  * distance up to the (small) deformation of the triangle.
@@ -81,6 +91,8 @@ public:
         double min_weight = 0.1;      //!< particles below are removed
         double max_weight = 0.99;     //!< upper clamp so particles stay revisable
         int max_particles = 0;        //!< per region; 0 = unbounded (thesis: no subsampling)
+        /** per square cell of side d_min, the heaviest kept; 0 = unbounded (thesis) */
+        int max_per_cell = 8;
         int random_seed = 1;          //!< mixed with the region's vertices: reproducible maps
         double render_min_weight = 0.0;  //!< renderInto draws particles with w >= this
 

@@ -11,7 +11,16 @@
  * of the scan (nearest neighbour); if their means are closer than d_min the two are
  * fused into the map Gaussian and the scan Gaussian is consumed. Scan Gaussians that
  * fused with nothing are added. Prior Gaussians with no scan Gaussian within d_min
- * (including everything outside the sensor view) are untouched. Fusion rules:
+ * (including everything outside the sensor view) are untouched.
+ * Revisits (`absorb_within_d_min`, default on): a scan Gaussian that no map Gaussian took
+ * but that lies within d_min of one is fused into its nearest map Gaussian instead of
+ * being added. In the thesis' step each map Gaussian takes ONE scan Gaussian, so where a
+ * scan holds several returns within d_min of a component (consecutive beams on a near
+ * wall) all but one become new components, also where the surface is already mapped:
+ * the chapter-3 world gains ~3k components per lap, linearly, and every insert walks
+ * them all (docs/benchmarks.md "Soak"). Absorbing them keeps the components at least
+ * d_min apart at birth, which bounds their number by the area mapped. Off: the thesis.
+ * Fusion rules:
  *  - "average" (the thesis): mean (x_priori + x_obs) / 2 (Eq. 4.17); covariance
  *    P_priori + P_obs if sigma_priori + sigma_obs <= k d_min (Eq. 4.18-4.19), else
  *    P_priori (Eq. 4.20).
@@ -57,6 +66,9 @@ public:
         double k = 0.8;                //!< Eq. 4.18 factor (Sec. 4.3.3)
         FusionRule fusion_rule = FusionRule::Average;  //!< ini: "average" | "product"
         double cutoff_sigmas = 3.0;    //!< surface rendering ignores a Gaussian beyond this
+        /** a scan Gaussian no map Gaussian took is fused into the nearest one within
+         *  d_min instead of being added (revisits; false = the thesis) */
+        bool absorb_within_d_min = true;
 
         /** Every ini key, declared once: loader, saver and README table come from it. */
         hymm::core::OptionTable table();

@@ -50,6 +50,7 @@
 #include <mrpt/poses/CPose2D.h>
 #include <mrpt/system/CTimeLogger.h>
 
+#include <cstdint>
 #include <map>
 #include <memory>
 #include <optional>
@@ -138,6 +139,9 @@ public:
          *  uncertainty relative to the vertices: ltr::localFusionCovariance at the
          *  triangle's centroid) is at most this (Sec. 3.6, 3.7.3); 0 = always fuse. */
         double max_local_std_m = 0.0;
+        /** [m] cell of the per-cell tally of the returns in no region
+         *  (outsideReturnCells). */
+        double outside_cell_m = 0.05;
 
         /** True if a layer of the HYMM is on (regions are grown only then; the classic
          *  grid does not need them). */
@@ -318,16 +322,21 @@ public:
     const uif::DelayedDenseStore* delayedStore() const { return store_.get(); }
     /** The motion layers and their use (Sec. 6.3); nullptr unless [DynamicSlam] enabled. */
     const dynamic::SlamMotionHook* motionHook() const { return motion_.get(); }
-    /** A return that fell in no region when seen (global position at that time) and
-     *  whether the fallback kept it; for the diagnostic of why (ltr/outside_causes.h).
-     *  At most kMaxOutsideRecords are kept (the first ones). */
-    struct OutsideReturn
+    /** The returns that fell in no region when seen, tallied as they arrive per square
+     *  cell of Options::outside_cell_m (global position at the time): how many, how many
+     *  of them the fallback kept, and their mean position, where the end-of-run
+     *  diagnostic of why they fell outside (ltr/outside_causes.h) is evaluated. The
+     *  causes are those of the FINAL map (a region may have formed there since), so they
+     *  cannot be counted as the returns arrive; a tally per cell bounds the memory and
+     *  the final classification by the area seen, not by the run's length. */
+    struct OutsideReturnCell
     {
-        Eigen::Vector2d p = Eigen::Vector2d::Zero();
-        bool kept = false;
+        Eigen::Vector2d p = Eigen::Vector2d::Zero();  //!< mean position of its returns
+        size_t returns = 0;
+        size_t kept = 0;  //!< of them, kept by the fallback
     };
-    static constexpr size_t kMaxOutsideRecords = 500000;
-    const std::vector<OutsideReturn>& outsideReturns() const { return outside_; }
+    /** One entry per cell holding returns, ordered by cell. */
+    std::vector<OutsideReturnCell> outsideReturnCells() const;
     /** The classic grid baseline; nullptr unless classic_grid is on. */
     const dense::ClassicOccupancyGrid* classicGrid() const { return classic_.get(); }
 
@@ -388,7 +397,12 @@ private:
     extract::TreeExtractor trees_;
     extract::ReflectorExtractor reflectors_;
     std::vector<PathSample> path_;
-    std::vector<OutsideReturn> outside_;
+    struct OutsideSum
+    {
+        Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+        size_t returns = 0, kept = 0;
+    };
+    std::unordered_map<std::int64_t, OutsideSum> outside_;  //!< by cell (outsideReturnCells)
     Stats stats_;
     std::map<long, LandmarkFeatures> features_;
     std::optional<mrpt::poses::CPose2D> last_odometry_;  //!< for observation-only rawlogs
