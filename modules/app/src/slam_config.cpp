@@ -62,6 +62,7 @@ const std::vector<OptionSection>& optionSections()
         declared<dense::ClassicOccupancyGrid::Options>("dense", "ClassicOccupancyGrid"),
         declared<dynamic::SlamMotionHook::Options>("dynamic", "DynamicSlam"),
         declared<dynamic::MotionDetector::Options>("dynamic", "MotionDetector"),
+        declared<hll::HighLevelLandmarks::Options>("hll", "HighLevelLandmarks"),
     };
     return all;
 }
