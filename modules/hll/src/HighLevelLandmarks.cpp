@@ -60,7 +60,13 @@ std::vector<std::pair<std::string, size_t>> HighLevelLandmarks::Stats::list() co
 HighLevelLandmarks::Options HighLevelLandmarks::loadOptions(const mrpt::config::CConfigFileBase* cfg)
 {
     Options o;
-    if (cfg) o.table().load(*cfg, "HighLevelLandmarks");
+    if (cfg)
+    {
+        o.table().load(*cfg, "HighLevelLandmarks");
+        // The matcher's section is checked (and so known to a strict file) even when
+        // the HLLs are off: the same file runs with and without them.
+        (void)scanslam::makeMatcher(o.matcher, cfg, "HllMatcher");
+    }
     return o;
 }
 
