@@ -1,6 +1,8 @@
 // hymm-consistency: average-NEES consistency of the pipeline over N simulated runs.
 //   hymm-consistency --scenario configs/sim/ch2_landmarks.ini --slam configs/ch2_slam.ini
 //                    --runs 20 --work /tmp/consistency [--laps 1] [--out result.json]
+// Prints the run-averaged NEES test and, under "per_run", each run's path RMSE, final
+// error, point-landmark error, mean vehicle NEES (and HLL counts with [HighLevelLandmarks]).
 #include <hymm/app/ConsistencyStudy.h>
 #include <hymm/eval/MetricsJson.h>
 #include <hymm/core/command_line.h>
@@ -49,6 +51,17 @@ int main(int argc, char** argv)
         l.set("band_upper", r.landmark_band_upper);
         l.set("fraction_inside", r.landmark_fraction_inside);
         l.set("mean_error_m", mean(r.landmark_mean_error));
+        auto& pr = j.object("per_run");
+        pr.set("path_rmse_m", r.path_rmse);
+        pr.set("final_error_m", r.final_position_error);
+        pr.set("landmark_mean_error_m", r.landmark_mean_error);
+        pr.set("vehicle_nees_mean", r.vehicle_nees_run_mean);
+        if (!r.hll_accepted.empty())
+        {
+            pr.set("hll_accepted", r.hll_accepted);
+            pr.set("hll_initialised", r.hll_initialised);
+            pr.set("hll_updated", r.hll_updated);
+        }
         std::cout << j.dump() << "\n";
         if (!out.getValue().empty()) j.save(out.getValue());
         const bool pass = r.vehicle_fraction_inside >= 0.9 && r.landmark_fraction_inside >= 0.9;

@@ -23,6 +23,8 @@ struct RunOutcome
     std::vector<double> vehicle_nees;  //!< per step, NaN where unmatched
     std::vector<double> landmark_nees;  //!< per true landmark, NaN where unmapped
     double final_error = 0, path_rmse = 0, landmark_mean_error = 0;
+    bool hll = false;
+    double hll_accepted = 0, hll_initialised = 0, hll_updated = 0;
 };
 
 RunOutcome runOne(const sim::Scenario& scenario, const mrpt::config::CConfigFileBase& slam_cfg,
@@ -58,6 +60,13 @@ RunOutcome runOne(const sim::Scenario& scenario, const mrpt::config::CConfigFile
     lo.association = landmarkAssociationFor(slam);
     const auto lr = eval::LandmarkEvaluator(lo).evaluate(estimatedLandmarks(slam.ekf()), gt.landmarks);
     out.landmark_mean_error = lr.mean_error;
+    if (const auto* h = slam.highLevelLandmarks())
+    {
+        out.hll = true;
+        out.hll_accepted = static_cast<double>(h->stats().accepted);
+        out.hll_initialised = static_cast<double>(h->stats().initialised);
+        out.hll_updated = static_cast<double>(h->tracker().stats().updated);
+    }
     out.landmark_nees.assign(gt.landmarks.size(), std::nan(""));
     for (const auto& m : lr.matches)
         if (m.has_nees && m.nees.ok()) out.landmark_nees[m.truth] = m.nees.value;
@@ -100,6 +109,17 @@ ConsistencyStudy::Result ConsistencyStudy::run() const
         r.final_position_error.push_back(o.final_error);
         r.path_rmse.push_back(o.path_rmse);
         r.landmark_mean_error.push_back(o.landmark_mean_error);
+        double sum = 0;
+        size_t n = 0;
+        for (double v : o.vehicle_nees)
+            if (std::isfinite(v)) sum += v, ++n;
+        r.vehicle_nees_run_mean.push_back(n ? sum / static_cast<double>(n) : std::nan(""));
+        if (o.hll)
+        {
+            r.hll_accepted.push_back(o.hll_accepted);
+            r.hll_initialised.push_back(o.hll_initialised);
+            r.hll_updated.push_back(o.hll_updated);
+        }
     }
 
     averageVehicleNees(runs, confidence, r);

@@ -125,6 +125,7 @@ void SlamApp::writeOutputs(const std::string& out, const io::GroundTruth* gt,
     if (args_.png) writeMapPng(makeMapPlot(*slam_, gt), out + "map.png");
     writeDenseOutputs(*slam_, out, args_.png);
     writeMotionOutputs(*slam_, out, args_.png);
+    writeHllOutputs(*slam_, out, args_.png);
     if (gt)
     {
         auto metrics = computeMetrics(*slam_, *gt, run_s);

@@ -111,6 +111,7 @@ eval::MetricsJson computeMetrics(const DenseSlam& slam, const GroundTruth& gt, d
         ej.set("landmarks_reflector_and_tree", static_cast<unsigned long>(by.both));
     }
     writeScanSourceMetrics(j, slam);
+    writeHllMetrics(j, slam);
     eval::writeRunMetrics(j, estimatedPoses(slam), estimatedLandmarks(slam.ekf()),
                           landmarkAssociationFor(slam), gt);
     return j;

@@ -81,6 +81,7 @@ const std::vector<OptionSection>& optionSections()
         declared<datasets::CarParkImporter::Options>("datasets", "CarParkImporter"),
         declared<datasets::MrclamImporter::Options>("datasets", "MrclamImporter"),
         declared<datasets::NoiseCalibrationOptions>("datasets", "NoiseCalibration"),
+        declared<hll::HighLevelLandmarks::Options>("hll", "HighLevelLandmarks"),
     };
     return all;
 }

@@ -126,6 +126,7 @@ void writeSummary(const DenseSlam& slam, double run_seconds, size_t entries, con
       << "final pose           " << pose[0] << " " << pose[1] << " " << pose[2] << "\n"
       << "run time [s]         " << run_seconds << "\n";
     writeScanSourceSummary(f, slam);
+    writeHllSummary(f, slam);
     writeRegionSummary(f, slam);
     if (!s.unsupported.empty())
     {

@@ -104,6 +104,14 @@ DenseSlam::DenseSlam(const Options& opts, const ekf::EkfSlam::Options& ekf_opts,
                 "[DynamicSlam] enabled = true needs the occupancy layer ([DenseSlam] dense_layers)");
         motion_ = std::make_unique<dynamic::SlamMotionHook>(dense_opts.dynamic);
     }
+    if (dense_opts.hll.enabled)
+    {
+        if (!options_.dense_occupancy || !options_.dense_sog)
+            throw std::invalid_argument(
+                "[HighLevelLandmarks] enabled = true needs the occupancy and sog layers "
+                "([DenseSlam] dense_layers)");
+        hll_ = hll::HighLevelLandmarks::make(dense_opts.hll, sources_cfg);
+    }
     makeScanSources(sources_cfg);
 }
 
@@ -263,6 +271,15 @@ void DenseSlam::processFrame(const mrpt::obs::CSensoryFrame& frame)
                                       options_.landmark_source != LandmarkSource::None;
             if (laser_points) processScan(*scan);
             processScanSources(*scan);
+            if (hll_)
+            {
+                // The HLLs are observed like scan landmarks (Sec. 6.1.3): after the
+                // point sources, before the dense part reads the filter.
+                mrpt::system::CTimeLoggerEntry tle(profiler_, "denseslam.3_hll_observe");
+                const size_t before = hll_->mapChanges();
+                hll_->processScan(ekf_, *scan, frame_t_);
+                updates_ += hll_->mapChanges() - before;
+            }
             if (!laser_points && sources_.empty() && !partition_ && !classic_)
                 ++stats_.observations_unused;
         }
@@ -291,6 +308,21 @@ void DenseSlam::processFrame(const mrpt::obs::CSensoryFrame& frame)
     s.cov = ekf_.vehicleCov();
     path_.push_back(s);
     if (partition_ || classic_) processDense(frame, s.t, updates_ != updates_before);
+    if (hll_) searchHighLevelLandmarks(s.t);
+}
+
+void DenseSlam::searchHighLevelLandmarks(double t)
+{
+    if (!hll_->due(t)) return;
+    mrpt::system::CTimeLoggerEntry tle(profiler_, "denseslam.7_hll_search");
+    // Areas of the Scan-SLAM templates in the filter: an HLL must not duplicate them.
+    std::vector<hll::OrientedRect> exclusions;
+    if (const auto* src = scanLandmarks())
+        for (const auto& [id, tpl] : src->map().templates())
+            if (ekf_.hasLandmark(id) && tpl.sog.size() > 0)
+                exclusions.push_back(
+                    hll::boundingRect(tpl.sog.points).placed(ekf_.landmarkBlockMean(id).head<3>()));
+    hll_->search(t, ekf_, *partition_, *hybrid_, exclusions);
 }
 
 double DenseSlam::localFusionStd(const ltr::LandmarkCovarianceView& view, long region_id) const

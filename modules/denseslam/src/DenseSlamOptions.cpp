@@ -195,6 +195,7 @@ void DenseSlam::DenseOptions::loadFromConfigFile(const mrpt::config::CConfigFile
     hybrid.loadAll(cfg);
     classic.loadFromConfigFile(cfg, "ClassicOccupancyGrid");
     dynamic.loadAll(cfg, "DynamicSlam");
+    hll = hll::HighLevelLandmarks::loadOptions(&cfg);
 }
 
 core::OptionTable DenseSlam::LaserOptions::table()

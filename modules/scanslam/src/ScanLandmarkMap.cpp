@@ -14,6 +14,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace hymm::scanslam
 {
@@ -40,6 +41,13 @@ void ScanLandmarkMap::Options::load(const mrpt::config::CConfigFileBase& cfg,
            "segments farther away create no landmark");
     t.real("min_spread_ratio", min_spread_ratio, "", between(0, 1),
            "collinearity test: minor/major spread of a segment");
+    t.flag("create_landmarks", create_landmarks,
+           "segments of unexplained returns become new landmarks (false: observe only)");
+    t.real("visible_bin_deg", visible_bin, "deg", atLeast(0),
+           "align only the template points visible from the prediction, bearing bins of this size (0: all)",
+           M_PI / 180);
+    t.real("visible_depth_tol_m", visible_depth_tol_m, "m", atLeast(0),
+           "a template point this close behind the nearest of its bearing bin is visible");
     t.integer("seed", seed, "", 0, std::numeric_limits<uint32_t>::max(), "acceptance test's random seed");
     t.load(cfg, s);
 }
@@ -169,7 +177,20 @@ void ScanLandmarkMap::processScan(ekf::EkfSlam& ekf, const mrpt::obs::CObservati
     const double fov = static_cast<double>(scan.aperture);
     std::vector<char> explained(pts.size(), 0);
     for (const auto& [id, tpl] : templates_) observe(ekf, id, tpl, pts, sensor, max_range, fov, explained);
-    createLandmarks(ekf, pts, sensor, explained);
+    if (options_.create_landmarks) createLandmarks(ekf, pts, sensor, explained);
+}
+
+long ScanLandmarkMap::addTemplateLandmark(ekf::EkfSlam& ekf, ScanTemplate tpl, const AlignResult& obs,
+                                          const Vec3& sensor)
+{
+    if (tpl.sog.empty()) throw std::invalid_argument("addTemplateLandmark: empty template");
+    if (!obs.ok || !obs.z.allFinite() || !isCovariance(obs.R))
+        throw std::invalid_argument("addTemplateLandmark: the observation is not a valid alignment");
+    const long id = ekf.addPoseLandmark(obs.z, obs.R, sensor);
+    tpl.frame_in_sensor = obs.z;
+    templates_.emplace(id, std::move(tpl));
+    ++stats_.created;
+    return id;
 }
 
 void ScanLandmarkMap::observe(ekf::EkfSlam& ekf, long id, const ScanTemplate& tpl,
@@ -185,7 +206,13 @@ void ScanLandmarkMap::observe(ekf::EkfSlam& ekf, long id, const ScanTemplate& tp
     Vec3 placed = z_hat;
     if (fractionInView(tpl, z_hat, max_range, fov) <= options_.in_view_fraction)
         ++stats_.out_of_view;
-    else if (const AlignResult res = matcher_->align(tpl.sog, pts, z_hat); !res.ok)
+    else if (const AlignResult res =
+                 matcher_->align(options_.visible_bin > 0
+                                     ? visiblePart(tpl.sog, z_hat, max_range, fov, options_.visible_bin,
+                                                   options_.visible_depth_tol_m)
+                                     : tpl.sog,
+                                 pts, z_hat);
+             !res.ok)
         ++stats_.align_failed[res.failure];
     else
     {

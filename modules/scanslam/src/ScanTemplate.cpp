@@ -4,7 +4,10 @@
  */
 #include "hymm/scanslam/ScanTemplate.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
+#include <vector>
 #include <stdexcept>
 
 namespace hymm::scanslam
@@ -42,6 +45,31 @@ double fractionInView(const ScanTemplate& tpl, const Vec3& z, double max_range_m
         if (q.norm() < max_range_m && std::abs(std::atan2(q.y(), q.x())) <= 0.5 * fov) ++inside;
     }
     return static_cast<double>(inside) / static_cast<double>(tpl.sog.size());
+}
+
+PointSet visiblePart(const PointSet& tpl, const Vec3& z, double max_range_m, double fov,
+                     double bin_rad, double depth_tol_m)
+{
+    PointSet out;
+    if (tpl.empty() || !(bin_rad > 0)) return out;
+    const size_t bins = static_cast<size_t>(std::ceil(2 * M_PI / bin_rad)) + 1;
+    std::vector<double> nearest(bins, std::numeric_limits<double>::infinity());
+    std::vector<double> r(tpl.size()), b(tpl.size());
+    auto binOf = [&](double bearing) {
+        return std::min(bins - 1, static_cast<size_t>((bearing + M_PI) / bin_rad));
+    };
+    for (size_t i = 0; i < tpl.size(); ++i)
+    {
+        const Vec2 q = transformPoint(z, tpl.points[i]);
+        r[i] = q.norm();
+        b[i] = std::atan2(q.y(), q.x());
+        if (r[i] < max_range_m && std::abs(b[i]) <= 0.5 * fov)
+            nearest[binOf(b[i])] = std::min(nearest[binOf(b[i])], r[i]);
+    }
+    for (size_t i = 0; i < tpl.size(); ++i)
+        if (r[i] < max_range_m && std::abs(b[i]) <= 0.5 * fov && r[i] <= nearest[binOf(b[i])] + depth_tol_m)
+            out.add(tpl.points[i], tpl.covs[i]);
+    return out;
 }
 
 }  // namespace hymm::scanslam

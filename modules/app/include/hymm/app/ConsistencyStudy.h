@@ -41,6 +41,10 @@ struct ConsistencyStudy
         std::vector<double> final_position_error;  //!< [m] per run, last step
         std::vector<double> path_rmse;             //!< [m] per run
         std::vector<double> landmark_mean_error;   //!< [m] per run
+        /** Per run, with [HighLevelLandmarks] on (else empty): HLLs accepted,
+         *  initialised in the filter, and their updates. */
+        std::vector<double> hll_accepted, hll_initialised, hll_updated;
+        std::vector<double> vehicle_nees_run_mean;  //!< per run: mean NEES over its steps
     };
 
     /** Runs the study; throws on bad configuration or if runs have different lengths. */

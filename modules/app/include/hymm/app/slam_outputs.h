@@ -77,6 +77,16 @@ void writeScanSourceMetrics(eval::MetricsJson& j, const DenseSlam& slam);
 /** One summary line of the registered sources' counters (nothing when none is in use). */
 void writeScanSourceSummary(std::ostream& f, const DenseSlam& slam);
 
+/** "hll": the high-level landmarks' counters (proposed, accepted, initialised, updated,
+ *  rejections by reason, alignments); nothing unless [HighLevelLandmarks] is on. */
+void writeHllMetrics(eval::MetricsJson& j, const DenseSlam& slam);
+/** One summary line of the HLL counters (nothing unless they are on). */
+void writeHllSummary(std::ostream& f, const DenseSlam& slam);
+/** hll.csv (one line per HLL: detection, template, landmark, pose now, half extents)
+ *  and, with `png`, hll.png: the occupancy layer with corners, candidate and accepted
+ *  rectangles and the HLLs' axes (thesis Fig. 6.5). `dir` ends with a separator. */
+void writeHllOutputs(const DenseSlam& slam, const std::string& dir, bool png);
+
 /** Wall-clock cost of processing one sensory frame (or single observation). */
 struct FrameTiming
 {

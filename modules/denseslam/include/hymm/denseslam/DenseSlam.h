@@ -40,6 +40,7 @@
 #include <hymm/denseslam/OdometryModel.h>
 #include <hymm/ekf/EkfSlam.h>
 #include <hymm/extract/ReflectorExtractor.h>
+#include <hymm/hll/HighLevelLandmarks.h>
 #include <hymm/extract/TreeExtractor.h>
 #include <hymm/ltr/RegionPartition.h>
 #include <hymm/ltr/VirtualLandmarks.h>
@@ -187,6 +188,10 @@ public:
         dense::HybridMetricMap::Options hybrid;
         dense::ClassicOccupancyGrid::Options classic;
         dynamic::SlamMotionHook::Options dynamic;  //!< [DynamicSlam], [MotionDetector] (Sec. 6.3)
+        /** [HighLevelLandmarks] (Sec. 6.1; off by default; needs the occupancy and sog
+         *  layers). Its matcher's section [HllMatcher] is read from the config given to
+         *  the constructor. */
+        hll::HighLevelLandmarks::Options hll;
 
         /** Reads the five sections, [DynamicSlam] and [MotionDetector] (absent sections keep the defaults; unknown keys are
          *  errors). */
@@ -320,6 +325,8 @@ public:
     const std::set<long>& virtualLandmarkIds() const { return virtual_ids_; }
     /** The delayed-initialisation store (Sec. 3.7.3); nullptr unless enabled. */
     const uif::DelayedDenseStore* delayedStore() const { return store_.get(); }
+    /** High-level landmarks (Sec. 6.1); nullptr unless [HighLevelLandmarks] enabled. */
+    const hll::HighLevelLandmarks* highLevelLandmarks() const { return hll_.get(); }
     /** The motion layers and their use (Sec. 6.3); nullptr unless [DynamicSlam] enabled. */
     const dynamic::SlamMotionHook* motionHook() const { return motion_.get(); }
     /** The returns that fell in no region when seen, tallied as they arrive per square
@@ -391,6 +398,8 @@ private:
     /** Step 6 (Sec. 6.3): motion layers by differencing the regions in view (fast) and
      *  the regions due (slow); landmarks on moving objects flagged, pruned once gone. */
     void updateMotionLayers(double t);
+    /** Step 7 (Sec. 6.1): the HLL search near the vehicle when it is due. */
+    void searchHighLevelLandmarks(double t);
 
     Options options_;
     ekf::EkfSlam ekf_;
@@ -411,6 +420,7 @@ private:
     std::unique_ptr<dense::HybridMetricMap> hybrid_;
     std::unique_ptr<dense::ClassicOccupancyGrid> classic_;
     std::unique_ptr<dynamic::SlamMotionHook> motion_;  //!< nullptr unless enabled
+    std::unique_ptr<hll::HighLevelLandmarks> hll_;     //!< nullptr unless enabled
     double frame_t_ = 0;  //!< [s] time of the frame being processed (motion hook)
     std::optional<double> last_stamp_;  //!< [s] stamp of the previous stamped frame
     /** The previous frame as duplicate detection sees it: its observations' class names

@@ -52,6 +52,16 @@ public:
          *  straight line whose orientation along itself is unobservable (collinear). */
         double min_spread_ratio = 0.05;
         uint32_t seed = 1;                 //!< of the acceptance self-test's perturbations
+        /** false: only the templates already held (and those added with
+         *  addTemplateLandmark) are observed; no segment becomes a landmark (the
+         *  high-level landmarks of thesis 6.1 use the map this way). */
+        bool create_landmarks = true;
+        /** > 0: only the template points visible from the predicted pose (visiblePart,
+         *  bearing bins of this size) are aligned; 0: the whole template. Templates from
+         *  one scan are all visible from near where they were made; templates from many
+         *  vantage points (high-level landmarks) are not. (ini: visible_bin_deg) */
+        double visible_bin = 0;
+        double visible_depth_tol_m = 0.3;  //!< depth tolerance of visiblePart [m]
 
         /** Reads [section]; unknown keys and bad values throw naming the key. */
         void load(const mrpt::config::CConfigFileBase& cfg, const std::string& section);
@@ -95,6 +105,16 @@ public:
     /** One scan: observe the templates in view, then create landmarks from what is left.
      *  The scan's sensorPose is the sensor's mounting on the vehicle. */
     void processScan(ekf::EkfSlam& ekf, const mrpt::obs::CObservation2DRangeScan& scan);
+
+    /** Adds a pose landmark built elsewhere (e.g. a high-level landmark from the dense
+     *  map, thesis 6.1): `tpl` (its frame_in_sensor is not used) becomes the template
+     *  of a new EKF pose landmark initialised from the observation `obs` (template frame
+     *  in the sensor frame, its covariance) by augmentation (2.3.4, Eq. 2.53); the
+     *  sensor sits at `sensor` on the vehicle. From the next scan on it is observed by
+     *  alignment like every other template. Throws std::invalid_argument on an empty
+     *  template or an observation that is not ok. Returns the landmark id. */
+    long addTemplateLandmark(ekf::EkfSlam& ekf, ScanTemplate tpl, const AlignResult& obs,
+                             const Vec3& sensor);
 
     /** Templates by landmark id (landmarks the filter removed are dropped on the next scan). */
     const std::map<long, ScanTemplate>& templates() const { return templates_; }

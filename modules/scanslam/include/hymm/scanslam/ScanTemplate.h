@@ -29,4 +29,14 @@ struct ScanTemplate
  *  frame. Thesis 5.7: a landmark is in view when this exceeds 0.9. */
 double fractionInView(const ScanTemplate& tpl, const Vec3& z, double max_range_m, double fov);
 
+/** The points of `tpl` (landmark frame) a sensor would see when the template frame sits
+ *  at `z` in the sensor frame: in range and field of view, and not hidden behind another
+ *  template point of the same bearing (a z-buffer over bearing bins of `bin_rad`; a
+ *  point within `depth_tol_m` of the nearest one of its bin is seen). A template made
+ *  from many vantage points (e.g. a high-level landmark from the dense map, thesis 6.1)
+ *  holds sides a single scan cannot see; aligning those would pull the template to
+ *  match the scan with them. */
+PointSet visiblePart(const PointSet& tpl, const Vec3& z, double max_range_m, double fov,
+                     double bin_rad, double depth_tol_m);
+
 }  // namespace hymm::scanslam

@@ -1,0 +1,120 @@
+/**
+ * @file HllSearch_bench.cpp
+ * @brief Cost of one high-level landmark search (thesis 6.1.3: "the algorithm only
+ *        searches for HLL in the local areas around the vehicle ... This will make the
+ *        computational cost of the HLLs search independent of the global map size")
+ *        against the number of regions of the map: 10 to 2000.
+ *
+ * Landmarks on an 8 m lattice; the 10 triangles nearest the vehicle are always the
+ * same, the others are added farthest first (the map grows away from the vehicle), and
+ * every region holds occupancy and SOG content: a 10 m square room scanned from inside
+ * its centroid's neighbourhood. One iteration = HllDetector::search() around the vehicle
+ * (box lookup, local occupancy render, Harris corners, pairs, rectangles, SOG counts).
+ */
+#include <hymm/dense/HybridMetricMap.h>
+#include <hymm/hll/HllDetector.h>
+
+#include "synthetic_partition.h"
+
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+
+namespace
+{
+using namespace hymm::dense;
+using namespace hymm::dense::synthetic;
+using V2 = Eigen::Vector2d;
+
+constexpr double kSpacing = 8.0;
+constexpr int kSide = 46;  // 2 x 45 x 45 = 4050 triangles: enough for 2000 regions
+constexpr size_t kLocal = 10;
+
+/** A square room of half-size 5 m seen from its centre: four walls, four corners. */
+ScanPoints roomScan()
+{
+    ScanPoints s;
+    for (int k = 0; k < 720; ++k)
+    {
+        const double a = -M_PI + 2 * M_PI * k / 720.0;
+        const double r = 5.0 / std::max(std::abs(std::cos(a)), std::abs(std::sin(a)));
+        s.points.emplace_back(r * std::cos(a), r * std::sin(a));
+    }
+    s.range_std_m = 0.05;
+    s.bearing_std_rad = 0.5 * M_PI / 180;
+    return s;
+}
+
+struct Map
+{
+    Lattice lattice{kSide, kSide, kSpacing, V2(0, 0)};
+    std::unique_ptr<IndependentLandmarksView> view;
+    std::unique_ptr<hymm::ltr::RegionPartition> partition;
+    std::unique_ptr<HybridMetricMap> hybrid;
+    V2 vehicle;
+
+    explicit Map(size_t regions)
+        : view(std::make_unique<IndependentLandmarksView>(lattice.landmarks())),
+          partition(std::make_unique<hymm::ltr::RegionPartition>(permissivePartitionOptions()))
+    {
+        const int mid = kSide / 2;
+        vehicle = kSpacing * V2(mid + 0.3, mid + 0.4);
+        auto tris = lattice.triangles(vehicle);
+        if (regions > kLocal) std::reverse(tris.begin() + kLocal, tris.end());
+        addRegions(*partition, *view, tris, regions);
+        HybridMetricMap::Options o;
+        o.enable_points = false;
+        o.enable_occupancy = true;
+        o.enable_sog = true;
+        o.occupancy.cell_size_m = 0.2;
+        hybrid = std::make_unique<HybridMetricMap>(o);
+        // Content in every region: the room around each region's centroid (near the
+        // vehicle: around the vehicle itself, twice, so the local layers are the same
+        // in every configuration).
+        const ScanPoints room = roomScan();
+        for (int k = 0; k < 2; ++k) hybrid->insertScan(room, {vehicle.x(), vehicle.y(), 0.0}, *partition);
+        for (long id : partition->regionIds())
+        {
+            const auto& v = partition->region(id).current;
+            const V2 c = (v[0] + v[1] + v[2]) / 3.0;
+            if ((c - vehicle).norm() < 40) continue;
+            hybrid->insertScan(room, {c.x(), c.y(), 0.0}, *partition);
+        }
+    }
+};
+
+void BM_HllSearch(benchmark::State& state)
+{
+    const auto regions = static_cast<size_t>(state.range(0));
+    Map m(regions);
+    hymm::hll::HllDetector::Options o;
+    o.search_half_size_m = 12;  // the box meets the same local regions in every case
+    o.min_gaussians = 50;
+    const hymm::hll::HllDetector det(o);
+    hymm::hll::HllDetector::Search s;
+    for (auto _ : state)
+    {
+        s = det.search(m.vehicle, *m.partition, *m.hybrid, {}, 0.0);
+        benchmark::DoNotOptimize(s.candidates.data());
+    }
+    state.counters["regions_total"] = static_cast<double>(m.partition->size());
+    state.counters["regions_searched"] = static_cast<double>(s.regions);
+    state.counters["corners"] = static_cast<double>(s.corners.size());
+    state.counters["candidates"] = static_cast<double>(s.candidates.size());
+    state.counters["gaussians"] = static_cast<double>(s.gaussians.size());
+}
+BENCHMARK(BM_HllSearch)
+    ->Arg(10)
+    ->Arg(100)
+    ->Arg(500)
+    ->Arg(1000)
+    ->Arg(2000)
+    ->Repetitions(5)
+    ->ReportAggregatesOnly(true)
+    ->Unit(benchmark::kMicrosecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();
