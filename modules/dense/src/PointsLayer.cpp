@@ -1,5 +1,7 @@
 #include "hymm/dense/PointsLayer.h"
 
+#include "region_seed.h"
+
 #include <hymm/core/config_utils.h>
 #include <hymm/dense/geometry.h>
 
@@ -76,18 +78,7 @@ PointsLayer::PointsLayer(const Options& options, const hymm::ltr::TriangleFrame:
     : options_(options)
 {
     options_.validate();
-    // Seed from the option and the vertices' bit patterns: regions draw independent
-    // streams, and the same map is rebuilt on the same data.
-    std::vector<std::uint32_t> seed{static_cast<std::uint32_t>(options_.random_seed)};
-    for (const auto& v : reference)
-        for (int k = 0; k < 2; ++k)
-        {
-            std::uint64_t bits = 0;
-            const double x = v[k];
-            std::memcpy(&bits, &x, sizeof(bits));
-            seed.push_back(static_cast<std::uint32_t>(bits));
-            seed.push_back(static_cast<std::uint32_t>(bits >> 32));
-        }
+    const auto seed = detail::regionSeedWords(static_cast<std::uint32_t>(options_.random_seed), reference);
     std::seed_seq seq(seed.begin(), seed.end());
     std::uint32_t words[2];
     seq.generate(words, words + 2);

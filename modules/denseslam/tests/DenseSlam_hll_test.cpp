@@ -42,23 +42,14 @@ TEST(DenseSlamHll, FoundInitialisedAndTrackedOnTheTrueOutlines)
     DenseSlam slam = DenseSlam::fromConfig(cfg);
     ASSERT_NE(slam.highLevelLandmarks(), nullptr);
     std::vector<double> nees;
-    hymm::sim::Simulator sim(sc);
-    hymm::sim::SimFrame f;
     double t_end = 0;
-    while (sim.next(f))
-    {
-        slam.processOdometry(mrpt::poses::CPosePDFGaussian(
-            mrpt::poses::CPose2D(f.odometry_mean[0], f.odometry_mean[1], f.odometry_mean[2]),
-            mrpt::math::CMatrixDouble33(f.odometry_cov)));
-        mrpt::obs::CSensoryFrame sf;
-        if (f.scan) sf.insert(f.scan);
-        if (f.detections) sf.insert(f.detections);
-        slam.processFrame(sf);
+    hymm::sim::Simulator sim(sc);
+    hymm::denseslam::testing::runFrames(sim, slam, [&](const hymm::sim::SimFrame& f) {
         Eigen::Vector3d e = slam.ekf().vehiclePose() - f.true_pose;
         e.z() = std::remainder(e.z(), 2 * M_PI);
         nees.push_back(e.dot(slam.ekf().vehicleCov().ldlt().solve(e)));
         t_end = f.t;
-    }
+    });
     const auto& h = *slam.highLevelLandmarks();
     const auto& st = h.stats();
     // One search per minute of log time (the first lap is about 90 s).

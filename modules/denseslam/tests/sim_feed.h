@@ -16,12 +16,11 @@
 
 namespace hymm::denseslam::testing
 {
-/** Every simulated frame to `slam` (odometry action, then the sensory frame); calls
- *  `probe(t)` after each frame. */
-inline void run(const hymm::sim::Scenario& s, DenseSlam& slam,
-                const std::function<void(double)>& probe)
+/** Every frame `sim` has left to `slam` (odometry action, then the sensory frame); calls
+ *  `probe(frame)` after each frame. */
+inline void runFrames(hymm::sim::Simulator& sim, DenseSlam& slam,
+                      const std::function<void(const hymm::sim::SimFrame&)>& probe)
 {
-    hymm::sim::Simulator sim(s);
     hymm::sim::SimFrame f;
     while (sim.next(f))
     {
@@ -32,8 +31,16 @@ inline void run(const hymm::sim::Scenario& s, DenseSlam& slam,
         if (f.scan) sf.insert(f.scan);
         if (f.detections) sf.insert(f.detections);
         slam.processFrame(sf);
-        probe(f.t);
+        probe(f);
     }
+}
+
+/** As runFrames, with `probe(t)` after each frame. */
+inline void run(const hymm::sim::Scenario& s, DenseSlam& slam,
+                const std::function<void(double)>& probe)
+{
+    hymm::sim::Simulator sim(s);
+    runFrames(sim, slam, [&](const hymm::sim::SimFrame& f) { probe(f.t); });
 }
 
 /** The pipeline of the moving-object scenes (configs/sim/ch6_dynamic_slow_*.ini):
