@@ -184,7 +184,7 @@ StepStats denseStep(World& w, const ScanPoints& scan, double t)
     const auto stale = local ? w.partition->regionsWithMissingLandmarksNear(view, vehicle_xy, reach)
                              : w.partition->regionsWithMissingLandmarks(view);
     for (const long id : stale) w.partition->removeRegion(id);
-    if (!stale.empty()) w.map->removeStaleRegions(*w.partition);
+    if (!stale.empty()) w.map->removeRegions(stale);  // as DenseSlam::updateRegions
     st.stale = stale.size();
     st.created = (local ? w.partition->updateNear(view, t, reach) : w.partition->update(view, t)).size();
 

@@ -37,6 +37,19 @@ double distanceToTriangle(const Eigen::Vector2d& p, const hymm::ltr::TriangleFra
                      distanceToSegment(p, tri[2], tri[0])});
 }
 
+std::optional<hymm::ltr::AffineRegionMap> usableReferenceToCurrent(const hymm::ltr::RegionPartition& partition,
+                                                                    long id)
+{
+    try
+    {
+        return partition.referenceToCurrent(id);
+    }
+    catch (const std::invalid_argument&)
+    {
+        return std::nullopt;
+    }
+}
+
 std::optional<long> nearestRegion(
     const hymm::ltr::RegionPartition& partition, const Eigen::Vector2d& p, double max_distance_m,
     const std::function<bool(long)>& usable)

@@ -236,15 +236,7 @@ HybridMetricMap::InsertStats HybridMetricMap::insertScan(
                 if (!cands[c->second].withheld) it->second = cands[c->second].to_current;
             }
             else if (!accept || accept(id))
-            {
-                try
-                {
-                    it->second = partition.referenceToCurrent(id);
-                }
-                catch (const std::invalid_argument&)
-                {
-                }
-            }
+                it->second = usableReferenceToCurrent(partition, id);
         }
         return it->second;
     };
@@ -423,21 +415,11 @@ bool HybridMetricMap::insertFallbackReturn(
 {
     const double fb_dist = options_.fallback_max_distance_m;
     if (!(fb_dist > 0) || !ret.allFinite() || !sensor.allFinite()) return false;
-    std::unordered_map<long, std::optional<AffineRegionMap>> maps;
-    const auto frameOf = [&](long id) -> const std::optional<AffineRegionMap>& {
-        const auto [it, fresh] = maps.try_emplace(id);
-        if (fresh) try
-            {
-                it->second = partition.referenceToCurrent(id);
-            }
-            catch (const std::invalid_argument&)
-            {
-            }
-        return it->second;
-    };
-    const auto anchor = nearestRegion(partition, ret, fb_dist, [&](long id) { return frameOf(id).has_value(); });
+    const auto anchor = nearestRegion(partition, ret, fb_dist, [&](long id) {
+        return usableReferenceToCurrent(partition, id).has_value();
+    });
     if (!anchor) return false;
-    const AffineRegionMap& to_current = *frameOf(*anchor);
+    const AffineRegionMap to_current = *usableReferenceToCurrent(partition, *anchor);
     const Eigen::Vector2d p_ref = to_current.inverseMapPoint(ret);
     RegionScan rs;
     rs.sensor = to_current.inverseMapPoint(sensor);

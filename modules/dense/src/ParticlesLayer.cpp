@@ -54,9 +54,7 @@ public:
 private:
     std::int64_t key(const Eigen::Vector2d& p, std::int64_t dx, std::int64_t dy) const
     {
-        return packCellKey(
-            static_cast<std::int64_t>(std::floor(p.x() / cell_)) + dx,
-            static_cast<std::int64_t>(std::floor(p.y() / cell_)) + dy);
+        return pointCellKey(p, cell_, dx, dy);
     }
     double cell_;
     std::unordered_map<std::int64_t, std::vector<Eigen::Vector2d>> cells_;
@@ -362,9 +360,7 @@ void ParticlesLayer::prune()
         std::unordered_map<std::int64_t, std::vector<size_t>> cells;
         cells.reserve(particles_.size() / per_cell + 1);
         for (size_t i = 0; i < particles_.size(); ++i)
-            cells[packCellKey(static_cast<std::int64_t>(std::floor(particles_[i].position.x() / cell)),
-                              static_cast<std::int64_t>(std::floor(particles_[i].position.y() / cell)))]
-                .push_back(i);
+            cells[pointCellKey(particles_[i].position, cell)].push_back(i);
         std::vector<char> drop(particles_.size(), 0);
         bool any = false;
         for (auto& [key, idx] : cells)

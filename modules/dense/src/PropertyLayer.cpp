@@ -77,9 +77,7 @@ PropertyLayer::PropertyLayer(const Options& options, const hymm::ltr::TriangleFr
 
 std::int64_t PropertyLayer::keyOf(const Eigen::Vector2d& p) const
 {
-    return packCellKey(
-        static_cast<std::int64_t>(std::floor(p.x() / options_.cell_size_m)),
-        static_cast<std::int64_t>(std::floor(p.y() / options_.cell_size_m)));
+    return pointCellKey(p, options_.cell_size_m);
 }
 
 void PropertyLayer::fuse(const Eigen::Vector2d& p_ref, double value, double value_std)

@@ -153,36 +153,39 @@ void SogLayer::insert(const RegionScan& scan)
 {
     if (scan.hits.empty()) return;
     const std::vector<Gaussian> obs = observationGaussians(scan);
-    // Nearest scan Gaussian of each map Gaussian, looked up in a hash grid of cell
-    // d_min: only neighbours closer than d_min can be fused (step 3).
+    // Neighbours closer than d_min are found in hash grids of cell d_min (step 3).
     const double cell = options_.d_min_m;
-    const auto key = [cell](const Eigen::Vector2d& p, std::int64_t dx, std::int64_t dy) {
-        return packCellKey(
-            static_cast<std::int64_t>(std::floor(p.x() / cell)) + dx,
-            static_cast<std::int64_t>(std::floor(p.y() / cell)) + dy);
+    using CellIndex = std::unordered_map<std::int64_t, std::vector<size_t>>;
+    const auto indexOf = [cell](const std::vector<Gaussian>& gs, size_t n) {
+        CellIndex index;
+        for (size_t i = 0; i < n; ++i) index[pointCellKey(gs[i].mean, cell)].push_back(i);
+        return index;
     };
-    std::unordered_map<std::int64_t, std::vector<size_t>> index;
-    for (size_t i = 0; i < obs.size(); ++i) index[key(obs[i].mean, 0, 0)].push_back(i);
-    std::vector<char> used(obs.size(), 0);
-    for (Gaussian& g : gaussians_)
-    {
-        size_t best = obs.size();
-        double best_d2 = options_.d_min_m * options_.d_min_m;
+    // The entry of `gs` (as indexed) nearest to p within d_min, or `none`.
+    const auto nearest = [&](const CellIndex& index, const std::vector<Gaussian>& gs, const Eigen::Vector2d& p,
+                             size_t none) {
+        size_t best = none;
+        double best_d2 = cell * cell;
         for (std::int64_t dx = -1; dx <= 1; ++dx)
             for (std::int64_t dy = -1; dy <= 1; ++dy)
             {
-                const auto it = index.find(key(g.mean, dx, dy));
+                const auto it = index.find(pointCellKey(p, cell, dx, dy));
                 if (it == index.end()) continue;
                 for (const size_t i : it->second)
-                {
-                    const double d2 = (obs[i].mean - g.mean).squaredNorm();
-                    if (d2 < best_d2)
+                    if (const double d2 = (gs[i].mean - p).squaredNorm(); d2 < best_d2)
                     {
                         best_d2 = d2;
                         best = i;
                     }
-                }
             }
+        return best;
+    };
+    // Each map Gaussian fuses its nearest scan Gaussian.
+    const CellIndex index = indexOf(obs, obs.size());
+    std::vector<char> used(obs.size(), 0);
+    for (Gaussian& g : gaussians_)
+    {
+        const size_t best = nearest(index, obs, g.mean, obs.size());
         if (best == obs.size()) continue;
         g = fuse(g, obs[best]);
         used[best] = 1;
@@ -190,33 +193,15 @@ void SogLayer::insert(const RegionScan& scan)
     const size_t prior = gaussians_.size();
     if (options_.absorb_within_d_min && prior > 0)
     {
-        // The unused scan Gaussians near a map Gaussian join it (the header: revisits);
-        // the map Gaussians are looked up in a hash grid of cell d_min like the scan's.
-        std::unordered_map<std::int64_t, std::vector<size_t>> map_index;
-        for (size_t j = 0; j < prior; ++j) map_index[key(gaussians_[j].mean, 0, 0)].push_back(j);
+        // The unused scan Gaussians near a map Gaussian join it (the header: revisits).
+        // The map Gaussian may move a little with each fusion; the index keeps its cell at
+        // the time of the lookup, which only matters within d_min.
+        const CellIndex map_index = indexOf(gaussians_, prior);
         for (size_t i = 0; i < obs.size(); ++i)
         {
             if (used[i]) continue;
-            size_t best = prior;
-            double best_d2 = options_.d_min_m * options_.d_min_m;
-            for (std::int64_t dx = -1; dx <= 1; ++dx)
-                for (std::int64_t dy = -1; dy <= 1; ++dy)
-                {
-                    const auto it = map_index.find(key(obs[i].mean, dx, dy));
-                    if (it == map_index.end()) continue;
-                    for (const size_t j : it->second)
-                    {
-                        const double d2 = (gaussians_[j].mean - obs[i].mean).squaredNorm();
-                        if (d2 < best_d2)
-                        {
-                            best_d2 = d2;
-                            best = j;
-                        }
-                    }
-                }
+            const size_t best = nearest(map_index, gaussians_, obs[i].mean, prior);
             if (best == prior) continue;
-            // The map Gaussian may move a little with each fusion; the index keeps its
-            // cell at the time of the lookup, which only matters within d_min.
             gaussians_[best] = fuse(gaussians_[best], obs[i]);
             used[i] = 1;
         }

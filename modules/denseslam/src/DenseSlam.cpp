@@ -465,8 +465,7 @@ void DenseSlam::insertDenseScan(const mrpt::obs::CObservation2DRangeScan& scan,
         for (size_t i = 0; i < st.unassigned.size(); ++i)
         {
             const Eigen::Vector2d& p = st.unassigned[i];
-            OutsideSum& c = outside_[dense::packCellKey(static_cast<std::int64_t>(std::floor(p.x() / cell)),
-                                                        static_cast<std::int64_t>(std::floor(p.y() / cell)))];
+            OutsideSum& c = outside_[dense::pointCellKey(p, cell)];
             c.sum += p;
             ++c.returns;
             c.kept += st.unassigned_kept[i] != 0;

@@ -58,6 +58,12 @@ hymm::ltr::TriangleFrame::Vertices fallbackTileTriangle(const FallbackTileKey& k
 /** Euclidean distance from `p` to the closed triangle `tri` (0 inside). */
 double distanceToTriangle(const Eigen::Vector2d& p, const hymm::ltr::TriangleFrame::Vertices& tri);
 
+/** The region's reference-to-current map, or nullopt when its current triangle is
+ *  degenerate (RegionPartition::referenceToCurrent refuses it): such a region anchors no
+ *  fallback content this scan. */
+std::optional<hymm::ltr::AffineRegionMap> usableReferenceToCurrent(const hymm::ltr::RegionPartition& partition,
+                                                                    long id);
+
 /** The region whose CURRENT triangle is nearest to `p` within `max_distance_m` (ties:
  *  lowest id) among those `usable` accepts, or nullopt. Only regions whose box meets the
  *  square of half-side max_distance_m around p are visited (RegionPartition lookup grid). */

@@ -12,6 +12,7 @@
 #include <Eigen/Core>
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <optional>
 
@@ -55,6 +56,13 @@ inline std::int64_t packCellKey(std::int64_t ix, std::int64_t iy)
 {
     return static_cast<std::int64_t>((static_cast<std::uint64_t>(ix) << 32) ^
                                      (static_cast<std::uint64_t>(iy) & 0xffffffffULL));
+}
+
+/** packCellKey of the square cell of side `cell` holding `p`, shifted by (dx, dy) cells. */
+inline std::int64_t pointCellKey(const Eigen::Vector2d& p, double cell, std::int64_t dx = 0, std::int64_t dy = 0)
+{
+    return packCellKey(static_cast<std::int64_t>(std::floor(p.x() / cell)) + dx,
+                       static_cast<std::int64_t>(std::floor(p.y() / cell)) + dy);
 }
 
 }  // namespace hymm::dense
