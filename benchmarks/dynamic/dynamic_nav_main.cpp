@@ -1,7 +1,7 @@
 // hymm-dynamic-nav: navigation effect of the motion layers (thesis Sec. 6.3) over N
 // simulated runs (a Monte Carlo evaluation, not a timing benchmark).
 //   hymm-dynamic-nav --scenario configs/sim/ch6_parked_car.ini --slam configs/ch6_parked_car.ini
-//                    --runs 20 --work /tmp/nav [--out result.json]
+//                    --runs 20 [--first 1] --work /tmp/nav [--out result.json]
 //                    [--variant "name Section.key=value ..."]...
 // Every seed is simulated once and its rawlog run through DenseSlam in each variant of
 // the pipeline configuration: "off" ([DynamicSlam] enabled = false), "on" (the file as
@@ -168,7 +168,8 @@ int main(int argc, char** argv)
         TCLAP::CmdLine cmd("hymm-dynamic-nav: path error with and without the motion layers", ' ', "0.1");
         TCLAP::ValueArg<std::string> sc("", "scenario", "simulator scenario .ini", true, "", "FILE", cmd);
         TCLAP::ValueArg<std::string> sl("", "slam", "pipeline .ini", true, "", "FILE", cmd);
-        TCLAP::ValueArg<int> runs("", "runs", "number of seeds (1..N)", false, 20, "N", cmd);
+        TCLAP::ValueArg<int> runs("", "runs", "number of seeds (first..first+N-1)", false, 20, "N", cmd);
+        TCLAP::ValueArg<int> first("", "first", "first seed", false, 1, "SEED", cmd);
         TCLAP::ValueArg<std::string> work("", "work", "folder for the runs", true, "", "DIR", cmd);
         TCLAP::ValueArg<std::string> out("", "out", "JSON result file", false, "", "FILE", cmd);
         TCLAP::MultiArg<std::string> var("", "variant", "\"name Section.key=value ...\"", false, "TEXT", cmd);
@@ -185,7 +186,7 @@ int main(int argc, char** argv)
 
         std::vector<long> seeds;
         std::vector<std::vector<Outcome>> res(variants.size());
-        for (long seed = 1; seed <= runs.getValue(); ++seed)
+        for (long seed = first.getValue(); seed < first.getValue() + runs.getValue(); ++seed)
         {
             const std::string dir = work.getValue() + "/seed_" + std::to_string(seed);
             std::filesystem::create_directories(dir);
