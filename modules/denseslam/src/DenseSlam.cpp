@@ -383,6 +383,7 @@ void DenseSlam::updateRegions(const ltr::LandmarkCovarianceView& view,
         // Only the removed ids: walking the whole map here would make every step's cost
         // grow with the map.
         hybrid_->removeRegions(stale);
+        if (motion_) motion_->removeRegions(stale);
         dropUnusedVirtualLandmarks();
     }
     // Refreshes the current vertices (near the vehicle or all), then grows around it.

@@ -216,6 +216,16 @@ MotionDetector::StepReport MotionDetector::step(
     return rep;
 }
 
+void MotionDetector::removeRegions(const std::vector<long>& region_ids)
+{
+    for (long id : region_ids)
+    {
+        regions_.erase(id);
+        in_view_.erase(id);
+    }
+    // Queue entries of removed regions are skipped when they come due.
+}
+
 void MotionDetector::removeStaleRegions(const dense::HybridMetricMap& map)
 {
     for (auto it = regions_.begin(); it != regions_.end();)

@@ -17,6 +17,8 @@ hymm::core::OptionTable SlamMotionHook::Options::table()
            "without ids, an observation in a dynamic cell passes if a landmark is this close to it");
     t.flag("flag_landmarks", flag_landmarks, "mark landmarks that sit in dynamic cells");
     t.flag("prune_flagged", prune_flagged, "remove flagged landmarks no longer observed");
+    t.flag("drop_flagged_observations", drop_flagged_observations,
+           "observations of a flagged landmark (its id, or without ids the nearest landmark within creation_guard_m) are not used");
     t.real("prune_unseen_s", prune_unseen_s, "s", atLeast(0, 1e6), "unobserved this long before the removal");
     t.real("view_range_m", view_range_m, "m", above(0, 1000), "regions in a box of this half side are in view");
     t.real("view_fov_deg", view_fov_deg, "deg", above(0, 360),
@@ -48,6 +50,24 @@ SlamMotionHook::SlamMotionHook(const Options& options) : options_(options), dete
 {
 }
 
+long SlamMotionHook::nearestLandmark(const ekf::EkfSlam& ekf, const std::vector<long>& ids,
+                                     const Eigen::Vector2d& p, double max_distance) const
+{
+    long best = -1;
+    double best_d = max_distance;
+    for (long id : ids)
+    {
+        if (ekf.landmarkBlock(id).dim != 2) continue;
+        const double d = (ekf.landmarkMean(id) - p).norm();
+        if (d <= best_d)
+        {
+            best = id;
+            best_d = d;
+        }
+    }
+    return best;
+}
+
 std::vector<ekf::RangeBearingObs> SlamMotionHook::filterObservations(
     const std::vector<ekf::RangeBearingObs>& obs, const ekf::EkfSlam& ekf,
     const ltr::RegionPartition* partition, const mrpt::poses::CPose3D& sensor, std::vector<size_t>& kept)
@@ -56,32 +76,29 @@ std::vector<ekf::RangeBearingObs> SlamMotionHook::filterObservations(
     std::vector<ekf::RangeBearingObs> out;
     out.reserve(obs.size());
     const bool check = options_.block_creation && partition && detector_.size() > 0;
+    const bool drop = options_.drop_flagged_observations && !flagged_.empty();
     const Eigen::Vector3d v = ekf.vehiclePose();
     // Sensor pose in the global frame (planar part of the mounting).
     const double sx = v[0] + std::cos(v[2]) * sensor.x() - std::sin(v[2]) * sensor.y();
     const double sy = v[1] + std::sin(v[2]) * sensor.x() + std::cos(v[2]) * sensor.y();
     const double sphi = v[2] + sensor.yaw();
-    const auto ids = check ? ekf.landmarkIds() : std::vector<long>{};
+    const auto ids = check || drop ? ekf.landmarkIds() : std::vector<long>{};
     for (size_t i = 0; i < obs.size(); ++i)
     {
         const auto& o = obs[i];
-        bool pass = true;
-        if (check && !(o.id >= 0 && ekf.hasLandmark(o.id)))
+        const Eigen::Vector2d p(sx + o.z[0] * std::cos(sphi + o.z[1]), sy + o.z[0] * std::sin(sphi + o.z[1]));
+        const bool known = o.id >= 0 && ekf.hasLandmark(o.id);
+        if (drop && flagged_.count(known    ? o.id
+                                   : o.id < 0 ? nearestLandmark(ekf, ids, p, options_.creation_guard_m)
+                                              : -1))
         {
-            const Eigen::Vector2d p(sx + o.z[0] * std::cos(sphi + o.z[1]), sy + o.z[0] * std::sin(sphi + o.z[1]));
-            if (detector_.isDynamic(*partition, p))
-            {
-                pass = false;
-                if (o.id < 0)
-                    for (long id : ids)
-                        if (ekf.landmarkBlock(id).dim == 2 &&
-                            (ekf.landmarkMean(id) - p).norm() <= options_.creation_guard_m)
-                        {
-                            pass = true;  // it will associate with that landmark
-                            break;
-                        }
-            }
+            ++stats_.flagged_dropped;  // a landmark on a moving object corrects nothing
+            continue;
         }
+        bool pass = true;
+        if (check && !known && detector_.isDynamic(*partition, p))
+            // Without ids, it passes if it will associate with a landmark close to it.
+            pass = o.id < 0 && nearestLandmark(ekf, ids, p, options_.creation_guard_m) >= 0;
         if (pass)
         {
             kept.push_back(i);
@@ -105,7 +122,6 @@ std::vector<long> SlamMotionHook::afterFrame(const dense::HybridMetricMap& map,
 {
     const Eigen::Vector3d v = ekf.vehiclePose();
     const Eigen::Vector2d r = Eigen::Vector2d::Constant(options_.view_range_m);
-    detector_.removeStaleRegions(map);
     const auto rep = detector_.step(map, partition.regionsInBox(v.head<2>() - r, v.head<2>() + r), t);
     stats_.fast_differencings += rep.fast_differenced;
     stats_.slow_differencings += rep.slow_differenced;

@@ -341,20 +341,46 @@ TEST(MotionDetector, LayersMoveWithTheLandmarks)
     EXPECT_GT(g.getPos(static_cast<float>(marked->x() + 3.0), static_cast<float>(marked->y() - 2.0)), 0.9f);
 }
 
-TEST(MotionDetector, RegionsRemovedFromTheMapLeaveTheDetector)
+TEST(MotionDetector, RegionsRemovedByIdLeaveTheDetectorAsTheWalkDoes)
 {
+    // Two detectors on one map: one told the removed ids, one walking the map.
     FastScene sc;
-    MotionDetector det(MotionDetector::Options{});
-    sc.run(det);
-    const size_t before = det.size();
-    ASSERT_GT(before, 0u);
+    MotionDetector by_ids(MotionDetector::Options{}), by_walk(MotionDetector::Options{});
+    auto stepBoth = [&](int k0, int k1) {
+        for (int k = k0; k <= k1; ++k)
+        {
+            const double t = 0.1 * k;
+            sc.map.insertScan(scanOf({sc.moverAt(t)}, 0.1, sc.rng), kSensorPose, sc.w.partition);
+            by_ids.step(sc.map, inView(sc.w.partition), t);
+            by_walk.step(sc.map, inView(sc.w.partition), t);
+        }
+    };
+    stepBoth(0, 50);
+    ASSERT_GT(by_ids.size(), 1u);
     const long victim = sc.w.partition.regionIds().front();
     sc.w.partition.removeRegion(victim);
-    sc.map.removeStaleRegions(sc.w.partition);
-    det.removeStaleRegions(sc.map);
-    EXPECT_EQ(det.layer(MotionKind::Fast, victim), nullptr);
+    const auto removed = sc.map.removeRegions({victim});
+    by_ids.removeRegions(removed);
+    by_ids.removeRegions({123456});  // unknown id: nothing happens
+    by_walk.removeStaleRegions(sc.map);
+    EXPECT_EQ(by_ids.layer(MotionKind::Fast, victim), nullptr);
+    EXPECT_EQ(by_ids.size(), by_walk.size());
+    stepBoth(51, 100);
+    for (auto kind : {MotionKind::Fast, MotionKind::Slow})
+    {
+        EXPECT_EQ(by_ids.markedCells(kind), by_walk.markedCells(kind));
+        for (long id : sc.w.partition.regionIds())
+        {
+            const auto *a = by_ids.layer(kind, id), *b = by_walk.layer(kind, id);
+            ASSERT_EQ(a == nullptr, b == nullptr);
+            if (!a) continue;
+            ASSERT_EQ(a->sizeX() * a->sizeY(), b->sizeX() * b->sizeY());
+            for (int iy = 0; iy < a->sizeY(); ++iy)
+                for (int ix = 0; ix < a->sizeX(); ++ix) EXPECT_EQ(a->cell(ix, iy), b->cell(ix, iy));
+        }
+    }
     // Its queued slow entry is skipped when due.
-    EXPECT_NO_THROW(det.step(sc.map, {}, 1000.0));
+    EXPECT_NO_THROW(by_ids.step(sc.map, {}, 1000.0));
 }
 
 TEST(MotionDetectorOptions, ReadsValidatesAndRejectsUnknownKeys)

@@ -144,6 +144,67 @@ TEST(SlamMotionHook, KeepsLandmarksOffAMovedObject)
     EXPECT_EQ(hook.stats().landmarks_pruned, 1u);
 }
 
+TEST(SlamMotionHook, DropsObservationsOfFlaggedLandmarksWhenAsked)
+{
+    // The same removed container; with drop_flagged_observations the landmark on it,
+    // once flagged, feeds no update even though something is still seen there.
+    WallWorld w;
+    hymm::dense::HybridMetricMap::Options mo;
+    mo.enable_points = false;
+    mo.occupancy.cell_size_m = 0.2;
+    hymm::dense::HybridMetricMap map(mo);
+    SlamMotionHook::Options o;
+    o.enabled = true;
+    o.drop_flagged_observations = true;
+    o.detector.enable_fast = false;
+    o.detector.slow_period_s = 20.0;
+    SlamMotionHook hook(o);
+    hymm::ekf::EkfSlam ekf{hymm::ekf::EkfSlam::Options{}};
+    const Eigen::Vector3d here(1.0, 7.5, 0.0), away(200.0, 200.0, 0.0);
+    double t = 0;
+    hymm::ekf::UpdateReport both, wall;
+    both.assigned_ids = {1, 2};
+    wall.assigned_ids = {2};
+    auto visit = [&](bool box, const Eigen::Vector3d& at, double until, const hymm::ekf::UpdateReport* seen) {
+        setVehicle(ekf, at);
+        for (; t < until; t += 0.1)
+        {
+            if (at == here) map.insertScan(scan(box), {1.0, 7.5, 0.0}, w.partition);
+            if (seen) hook.noteUpdate(*seen, t);
+            hook.afterFrame(map, w.partition, ekf, t);
+        }
+    };
+    visit(true, here, 3.0, &both);
+    visit(true, away, 15.0, nullptr);
+    visit(false, here, 18.0, &both);
+    visit(false, away, 60.0, nullptr);
+    visit(false, here, 60.05, &both);
+    ASSERT_TRUE(hook.flagged().count(1));
+    ASSERT_FALSE(hook.flagged().count(2));
+    auto obsAt = [&](const Eigen::Vector2d& p, long id) {
+        hymm::ekf::RangeBearingObs z;
+        const Eigen::Vector2d d = p - here.head<2>();
+        z.z = {d.norm(), std::atan2(d.y(), d.x())};
+        z.R = 0.01 * Eigen::Matrix2d::Identity();
+        z.id = id;
+        return z;
+    };
+    std::vector<size_t> kept;
+    hook.filterObservations({obsAt({8.1, 7.4}, -1), obsAt({17.0, 3.0}, -1), obsAt({8.0, 7.5}, 1), obsAt({17.0, 3.0}, 2)},
+                            ekf, &w.partition, mrpt::poses::CPose3D(), kept);
+    EXPECT_EQ(kept, (std::vector<size_t>{1, 3}));
+    EXPECT_EQ(hook.stats().flagged_dropped, 2u);
+    // Only the wall is updated from now on: landmark 1 goes after prune_unseen_s.
+    std::vector<long> removed;
+    for (int k = 0; k < 60 && removed.empty(); ++k, t += 0.1)
+    {
+        hook.noteUpdate(wall, t);
+        removed = hook.afterFrame(map, w.partition, ekf, t);
+    }
+    EXPECT_EQ(removed, std::vector<long>{1});
+    EXPECT_TRUE(ekf.hasLandmark(2));
+}
+
 TEST(SlamMotionHookOptions, ReadsBothSections)
 {
     mrpt::config::CConfigFileMemory cfg(

@@ -69,6 +69,19 @@ World::World(std::vector<Landmark> landmarks, std::vector<WorldObject> objects,
                                         " is used more than once");
         if (obj.property) properties_.objects[obj.id] = *obj.property;
     }
+    for (const auto& lm : landmarks_)
+        if (lm.carrier >= 0 && !carrier(lm))
+            throw std::invalid_argument("World: landmark " + std::to_string(lm.id) +
+                                        " is carried by object " + std::to_string(lm.carrier) +
+                                        ", which does not exist");
+}
+
+const WorldObject* World::carrier(const Landmark& lm) const
+{
+    if (lm.carrier < 0) return nullptr;
+    const auto it = std::find_if(objects_.begin(), objects_.end(),
+                                 [&](const WorldObject& o) { return o.id == lm.carrier; });
+    return it == objects_.end() ? nullptr : &*it;
 }
 
 double World::propertyAt(const WorldSnapshot::Hit& hit, const Vec2& p) const
@@ -88,6 +101,14 @@ World World::build(const Options& o, const ClosedPath* path)
         gen.addLandmarks(landmarks, objects);
     }
     for (size_t i = 0; i < objects.size(); ++i) objects[i].id = static_cast<long>(i);
+    // Landmarks the objects carry come last: every other id stays what it was.
+    for (const auto& obj : objects)
+        for (const auto& c : obj.landmarks)
+        {
+            const Eigen::Vector3d p = obj.poseAt(-std::numeric_limits<double>::infinity());
+            const Vec2 at = transformPolygon({c.offset}, p[0], p[1], p[2]).front();
+            landmarks.push_back(Landmark{0, at, c.radius, obj.id, c.offset});
+        }
     for (size_t i = 0; i < landmarks.size(); ++i) landmarks[i].id = static_cast<long>(i);
     return World(std::move(landmarks), std::move(objects), o.landmark_property,
                  o.property_field.value_or(PropertyField{}));
@@ -97,7 +118,17 @@ WorldSnapshot World::snapshot(double t, const Vec2& centre, double radius) const
 {
     WorldSnapshot s;
     for (const auto& lm : landmarks_)
-        if ((lm.position - centre).norm() <= radius + lm.radius) s.landmarks.push_back(lm);
+    {
+        Landmark at = lm;
+        if (const WorldObject* obj = carrier(lm))
+        {
+            // A carried landmark is where its object is, and absent when it is.
+            if (!obj->presentAt(t)) continue;
+            const Eigen::Vector3d p = obj->poseAt(t);
+            at.position = transformPolygon({lm.offset}, p[0], p[1], p[2]).front();
+        }
+        if ((at.position - centre).norm() <= radius + at.radius) s.landmarks.push_back(at);
+    }
     for (const auto& obj : objects_)
     {
         if (!obj.presentAt(t)) continue;

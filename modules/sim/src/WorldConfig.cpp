@@ -18,7 +18,8 @@ namespace
 {
 const std::vector<std::string> kObjectKeys = {"kind",     "shape",       "size",
                                               "vertices", "pose",        "trajectory",
-                                              "appear_s", "disappear_s", "property"};
+                                              "appear_s", "disappear_s", "property",
+                                              "landmarks"};
 
 std::string raw(const mrpt::config::CConfigFileBase& cfg, const std::string& sec,
                 const std::string& key)
@@ -112,6 +113,13 @@ WorldObject WorldObject::fromConfig(const mrpt::config::CConfigFileBase& cfg,
         throwConfigError(sec, "disappear_s", raw(cfg, sec, "disappear_s"),
                          "must be later than appear_s");
     obj.property = optionalFinite(cfg, sec, "property");
+    const auto lm = detail::readGroups(cfg, sec, "landmarks", 3, 1);
+    for (size_t i = 0; i + 2 < lm.size(); i += 3)
+    {
+        if (!(lm[i + 2] > 0))
+            throwConfigError(sec, "landmarks", detail::formatNumber(lm[i + 2]), "radius must be > 0");
+        obj.landmarks.push_back(CarriedLandmark{Vec2(lm[i], lm[i + 1]), lm[i + 2]});
+    }
     return obj;
 }
 
@@ -131,6 +139,9 @@ void WorldObject::toConfig(mrpt::config::CConfigFileBase& cfg, const std::string
     if (!std::isinf(present_from)) detail::writeNumber(cfg, sec, "appear_s", present_from);
     if (!std::isinf(present_to)) detail::writeNumber(cfg, sec, "disappear_s", present_to);
     if (property) detail::writeNumber(cfg, sec, "property", *property);
+    v.clear();
+    for (const auto& c : landmarks) v.insert(v.end(), {c.offset.x(), c.offset.y(), c.radius});
+    if (!v.empty()) detail::writeNumbers(cfg, sec, "landmarks", v);
 }
 
 void World::Options::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,

@@ -144,7 +144,13 @@ public:
     StepReport step(const dense::HybridMetricMap& map, const std::vector<long>& regions_in_view,
                     double t);
 
-    /** Drops the layers and snapshots of regions `map` no longer holds. */
+    /** Drops the layers and snapshots of the regions `region_ids` (those the partition
+     *  just removed; unknown ids are ignored). O(removed * log(regions)): the pipeline
+     *  calls it every step, so it must not walk the map. Their due-queue entries are
+     *  skipped when they come due. */
+    void removeRegions(const std::vector<long>& region_ids);
+    /** Drops the layers and snapshots of regions `map` no longer holds, found by walking
+     *  every region held (O(regions)); for callers that do not know the removed ids. */
     void removeStaleRegions(const dense::HybridMetricMap& map);
 
     /** The layer of a region, or nullptr. */

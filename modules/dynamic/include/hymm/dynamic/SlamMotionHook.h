@@ -8,7 +8,8 @@
  * cell of a motion layer does not create a landmark (Sec. 6.3: observations of objects
  * that may move are kept out of the navigation map). Observations that would associate
  * with an existing landmark pass (a known id in the map, or, without ids, an existing
- * landmark within creation_guard_m).
+ * landmark within creation_guard_m), unless that landmark is flagged and
+ * drop_flagged_observations is on.
  *
  * Point 2, after the dense fusion of the frame (afterFrame): the MotionDetector steps
  * with the regions in the sensor's view (box of view_range around the vehicle); then
@@ -49,6 +50,11 @@ public:
         double creation_guard_m = 1.0;
         bool flag_landmarks = true;    //!< mark landmarks that sit in dynamic cells
         bool prune_flagged = true;     //!< remove flagged landmarks no longer observed
+        /** Observations of a flagged landmark are dropped before the update (a known id,
+         *  or, without ids, the nearest landmark within creation_guard_m is flagged): a
+         *  landmark on a moving object stops correcting the vehicle, goes unobserved and
+         *  is pruned. */
+        bool drop_flagged_observations = false;
         double prune_unseen_s = 5.0;   //!< [s] unobserved this long before the removal
         double view_range_m = 25.0;    //!< [m] regions in a box of this half side are "in view"
         /** [deg] a flagged landmark within view_range_m and this field of view (about the
@@ -69,6 +75,7 @@ public:
     struct Stats
     {
         size_t creations_blocked = 0;   //!< observations dropped (would have created)
+        size_t flagged_dropped = 0;     //!< observations of flagged landmarks dropped
         size_t landmarks_flagged = 0;   //!< distinct landmarks ever flagged
         size_t landmarks_pruned = 0;    //!< flagged landmarks removed
         size_t fast_differencings = 0;  //!< region differencings, fast layer
@@ -91,11 +98,18 @@ public:
         std::vector<size_t>& kept);
     /** Records which landmarks the update used (UpdateReport::assigned_ids) at time t. */
     void noteUpdate(const ekf::UpdateReport& report, double t);
+    /** The partition removed these regions (with their dense content): their motion
+     *  layers go too, in O(removed) (HybridMetricMap::removeRegions, same ids). */
+    void removeRegions(const std::vector<long>& region_ids) { detector_.removeRegions(region_ids); }
     /** Point 2. May remove landmarks from `ekf` (prune_flagged); returns their ids. */
     std::vector<long> afterFrame(const dense::HybridMetricMap& map, const ltr::RegionPartition& partition,
                                  ekf::EkfSlam& ekf, double t);
 
 private:
+    /** The 2-D landmark of `ids` nearest to `p` within `max_distance`, or -1. */
+    long nearestLandmark(const ekf::EkfSlam& ekf, const std::vector<long>& ids, const Eigen::Vector2d& p,
+                         double max_distance) const;
+
     Options options_;
     MotionDetector detector_;
     Stats stats_;

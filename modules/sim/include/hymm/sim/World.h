@@ -28,12 +28,22 @@ namespace hymm::sim
 class ClosedPath;
 
 /** A pole or tree: what the landmark detector reports (its centre) and what the laser
- *  sees (its circular trunk). */
+ *  sees (its circular trunk). A landmark may be carried by an object (a reflector on a
+ *  parked car): it then moves with the object and is absent whenever the object is. */
 struct Landmark
 {
     long id = 0;
-    Vec2 position = Vec2::Zero();  //!< centre [m]
+    Vec2 position = Vec2::Zero();  //!< centre [m]; carried: at the object's first pose
     double radius = 0.2;           //!< [m]
+    long carrier = -1;             //!< id of the object carrying it (-1: fixed)
+    Vec2 offset = Vec2::Zero();    //!< carried: centre in the object's frame [m]
+};
+
+/** A landmark fixed to an object, in the object's frame (WorldObject::landmarks). */
+struct CarriedLandmark
+{
+    Vec2 offset = Vec2::Zero();  //!< centre in the object's frame [m]
+    double radius = 0.2;         //!< [m]
 };
 
 /** A smooth scalar field over the plane: v0 + gx x + gy y. */
@@ -85,6 +95,8 @@ struct PoseKey
  *   trajectory = 0 -10 5 0  20 10 5 0   ; or: t x y yaw_deg keys (t in s from the start)
  *   appear_s = 100           ; optional: absent before this time [s]
  *   disappear_s = 100        ; optional: absent from this time on [s]
+ *   landmarks = 2 0.9 0.1    ; optional: x y radius of point landmarks it carries
+ *                            ; (object frame; e.g. a reflector), see World::build
  */
 struct WorldObject
 {
@@ -96,6 +108,7 @@ struct WorldObject
     double present_from = -std::numeric_limits<double>::infinity();
     double present_to = std::numeric_limits<double>::infinity();
     std::optional<double> property;  //!< own surface property (SurfaceProperties)
+    std::vector<CarriedLandmark> landmarks;  //!< point landmarks fixed to the object
 
     bool moves() const { return trajectory.size() > 1; }
     bool presentAt(double t) const { return t >= present_from && t < present_to; }
@@ -169,22 +182,26 @@ public:
     /** Prefix of the object sections. */
     static constexpr const char* kObjectSectionPrefix = "Object_";
 
-    /** Objects need distinct ids; `landmark_property` and `field` complete the
+    /** Objects need distinct ids and a carried landmark an existing carrier (throws
+     *  std::invalid_argument otherwise); `landmark_property` and `field` complete the
      *  surface properties (the objects bring their own). */
     World(std::vector<Landmark> landmarks, std::vector<WorldObject> objects,
           std::optional<double> landmark_property = std::nullopt, PropertyField field = {});
 
     /** The configured landmarks and objects plus those generated along `path` (none
-     *  when `path` is null). Landmark ids are 0..n-1, object ids 0..m-1. */
+     *  when `path` is null). Landmark ids are 0..n-1, object ids 0..m-1; the landmarks
+     *  objects carry come last (so adding one leaves every other id unchanged). */
     static World build(const Options& options, const ClosedPath* path);
 
     /** Everything present at time `t` whose bounding circle reaches the disc
-     *  (`centre`, `radius`). */
+     *  (`centre`, `radius`); carried landmarks where their object is at `t`. */
     WorldSnapshot snapshot(double t, const Vec2& centre, double radius) const;
 
     const std::vector<Landmark>& landmarks() const { return landmarks_; }
     const std::vector<WorldObject>& objects() const { return objects_; }
     const SurfaceProperties& properties() const { return properties_; }
+    /** The object carrying `lm`, or nullptr for a fixed landmark. */
+    const WorldObject* carrier(const Landmark& lm) const;
 
     /** True property of the surface `hit` (a ray cast on this world) at the global
      *  point `p` where the ray met it. */
