@@ -209,6 +209,16 @@ class ScanOwners
     std::unordered_map<long, std::optional<AffineRegionMap>> anchor_maps_;  // nullopt: unusable
 };
 
+/** Margin of RegionScan::shadow_returns, -1 for none: the particle layer's free-space
+ *  protection needs the returns a region hides behind (ParticlesLayer step 4); no other
+ *  layer reads them. */
+double shadowMargin(const HybridMetricMap::Options& o)
+{
+    return o.enable_particles && o.particles.free_space_update && o.particles.free_space_protection
+               ? o.particles.d_min_m
+               : -1.0;
+}
+
 /** Clips the beams to every region the scan may update (beside the returns it owns) and
  *  returns the indices of those that get something, ascending. */
 std::vector<size_t> clipToRegions(
@@ -234,8 +244,8 @@ std::vector<size_t> clipToRegions(
  *  and the beam pieces crossing it (existing tiles too, so that their cells can be
  *  revised), in the order they are fused: by anchor, then by tile. */
 std::vector<std::pair<FallbackTileKey, RegionScan>> fallbackTileScans(
-    const WorldScan& w, const RegionPartition& partition, ScanOwners& owners, double fb_dist,
-    double tile_m, const std::map<FallbackTileKey, std::unique_ptr<LocalDenseMap>>& tiles)
+    const WorldScan& w, const ScanPoints& scan, const RegionPartition& partition, ScanOwners& owners,
+    double fb_dist, double tile_m, const std::map<FallbackTileKey, std::unique_ptr<LocalDenseMap>>& tiles)
 {
     std::vector<std::pair<FallbackTileKey, RegionScan>> out;
     const double shadow_margin = -1.0;
@@ -274,6 +284,8 @@ std::vector<std::pair<FallbackTileKey, RegionScan>> fallbackTileScans(
             // cells of most outline the classic grid covers and HYMM's points hold
             // stayed at P <= 0.8).
             if (rs.empty()) continue;
+            rs.range_std_m = scan.range_std_m;
+            rs.bearing_std_rad = scan.bearing_std_rad;
             rs.to_reference_linear = c.to_current.inverse().linear();
             out.emplace_back(key, std::move(rs));
         }
@@ -311,13 +323,7 @@ HybridMetricMap::InsertStats HybridMetricMap::insertScan(
     {
         mrpt::system::CTimeLoggerEntry t3(profiler_, "dense.insertScan.3_clip_fuse");
         last_scan_regions_.clear();
-        // The particle layer's free-space protection needs the returns a region hides
-        // behind (ParticlesLayer step 4); no other layer reads them.
-        const double shadow_margin =
-            options_.enable_particles && options_.particles.free_space_update && options_.particles.free_space_protection
-                ? options_.particles.d_min_m
-                : -1.0;
-        for (const size_t k : clipToRegions(w, scan, owners, shadow_margin))
+        for (const size_t k : clipToRegions(w, scan, owners, shadowMargin(options_)))
         {
             const Candidate& c = owners.cands[k];
             localMapFor(c.id, c.reference).insert(owners.per_region[k]);
@@ -331,13 +337,8 @@ HybridMetricMap::InsertStats HybridMetricMap::insertScan(
     if (fb_dist > 0)
     {
         mrpt::system::CTimeLoggerEntry t3b(profiler_, "dense.insertScan.3b_fallback");
-        for (auto& [key, rs] :
-             fallbackTileScans(w, partition, owners, fb_dist, options_.fallback_tile_m, fallback_))
-        {
-            rs.range_std_m = scan.range_std_m;
-            rs.bearing_std_rad = scan.bearing_std_rad;
+        for (auto& [key, rs] : fallbackTileScans(w, scan, partition, owners, fb_dist, options_.fallback_tile_m, fallback_))
             fallbackMapFor(key).insert(rs);
-        }
     }
 
     // 4. Background coarsening of idle, almost-empty regions (Sec. 4.1.3), if due.
