@@ -26,6 +26,24 @@ std::string lower(std::string s)
         "config file '" + file + "'" + (line > 0 ? " line " + std::to_string(line) : "") + ": " + what,
         section, key);
 }
+
+/** Throws, naming the line, at the first control byte of `text` other than tab and
+ *  line ends (an .ini is text). */
+void rejectBinary(const std::string& text, const std::string& name)
+{
+    int byte_line = 1;
+    for (unsigned char c : text)
+    {
+        if (c == '\n')
+            ++byte_line;
+        else if ((c < 0x20 && c != '\t' && c != '\r') || c == 0x7f)
+        {
+            std::ostringstream h;
+            h << std::hex << static_cast<unsigned>(c);
+            fail(name, byte_line, "binary content (byte 0x" + h.str() + "), not an .ini text");
+        }
+    }
+}
 }  // namespace
 
 /** Forwards to MRPT's parsed content and records which sections loaders asked about. */
@@ -97,18 +115,7 @@ StrictConfigFile::StrictConfigFile(const std::string& text, const std::string& n
             fail(name, section_line, "section [" + section + "] holds no key", section);
     };
     // Binary content first: garbage must not be reported as a malformed line.
-    int byte_line = 1;
-    for (unsigned char c : text)
-    {
-        if (c == '\n')
-            ++byte_line;
-        else if ((c < 0x20 && c != '\t' && c != '\r') || c == 0x7f)
-        {
-            std::ostringstream h;
-            h << std::hex << static_cast<unsigned>(c);
-            fail(name, byte_line, "binary content (byte 0x" + h.str() + "), not an .ini text");
-        }
-    }
+    rejectBinary(text, name);
     while (std::getline(is, raw))
     {
         ++line;

@@ -29,6 +29,43 @@ void requireRows(const MatFile& f, const std::string& what, size_t n, size_t exp
                                  std::to_string(n) + " entries, expected " +
                                  std::to_string(expected));
 }
+
+/** An empty scan of n_beams beams of the car park's laser at time t. */
+mrpt::obs::CObservation2DRangeScan::Ptr laserScan(const CarParkImporter::Options& o, double t, size_t n_beams,
+                                                  bool has_intensity)
+{
+    auto scan = mrpt::obs::CObservation2DRangeScan::Create();
+    scan->timestamp = mrpt::Clock::fromDouble(t);
+    scan->sensorLabel = "LASER";
+    scan->aperture = static_cast<float>(mrpt::DEG2RAD(o.aperture_deg));
+    scan->rightToLeft = true;
+    scan->maxRange = static_cast<float>(o.no_return_range_m);
+    scan->stdError = static_cast<float>(o.range_std_m);
+    if (!o.track_laser) scan->sensorPose = mrpt::poses::CPose3D(o.vehicle.a, o.vehicle.b, 0, 0, 0, 0);
+    scan->resizeScan(n_beams);
+    scan->setScanHasIntensity(has_intensity);
+    return scan;
+}
+
+/** The surveyed beacons (estbeac, N x 2 or 2 x N), ids from 1; rows with a NaN skipped. */
+std::vector<hymm::io::LandmarkRecord> readBeacons(const std::string& path, ImportSummary& summary)
+{
+    const MatFile bf(path);
+    Eigen::MatrixXd b = bf.readMatrix("estbeac");
+    if (b.cols() != 2 && b.rows() == 2) b.transposeInPlace();
+    if (b.cols() != 2) throw std::runtime_error("MAT file '" + path + "': estbeac must be N x 2");
+    std::vector<hymm::io::LandmarkRecord> lms;
+    for (Eigen::Index i = 0; i < b.rows(); ++i)
+    {
+        if (!std::isfinite(b(i, 0)) || !std::isfinite(b(i, 1)))
+        {
+            summary.skip("beacon_nan");
+            continue;
+        }
+        lms.push_back({static_cast<long>(i + 1), b(i, 0), b(i, 1), {}});
+    }
+    return lms;
+}
 }  // namespace
 
 hymm::core::OptionTable CarParkImporter::Options::table()
@@ -107,18 +144,7 @@ std::vector<mrpt::obs::CObservation::Ptr> CarParkImporter::readScans(
             continue;
         }
         last_t = t[i];
-        auto scan = mrpt::obs::CObservation2DRangeScan::Create();
-        scan->timestamp = mrpt::Clock::fromDouble(t[i]);
-        scan->sensorLabel = "LASER";
-        scan->aperture = static_cast<float>(mrpt::DEG2RAD(options_.aperture_deg));
-        scan->rightToLeft = true;
-        scan->maxRange = static_cast<float>(options_.no_return_range_m);
-        scan->stdError = static_cast<float>(options_.range_std_m);
-        if (!options_.track_laser)
-            scan->sensorPose =
-                mrpt::poses::CPose3D(options_.vehicle.a, options_.vehicle.b, 0, 0, 0, 0);
-        scan->resizeScan(n_beams);
-        scan->setScanHasIntensity(has_intensity);
+        auto scan = laserScan(options_, t[i], n_beams, has_intensity);
         size_t valid = 0;
         for (size_t j = 0; j < n_beams; ++j)
         {
@@ -191,21 +217,7 @@ ImportSummary CarParkImporter::run(const Inputs& in, const std::string& out_dir)
 
     if (!in.beacons_mat.empty())
     {
-        const MatFile bf(in.beacons_mat);
-        Eigen::MatrixXd b = bf.readMatrix("estbeac");
-        if (b.cols() != 2 && b.rows() == 2) b.transposeInPlace();
-        if (b.cols() != 2)
-            throw std::runtime_error("MAT file '" + in.beacons_mat + "': estbeac must be N x 2");
-        std::vector<hymm::io::LandmarkRecord> lms;
-        for (Eigen::Index i = 0; i < b.rows(); ++i)
-        {
-            if (!std::isfinite(b(i, 0)) || !std::isfinite(b(i, 1)))
-            {
-                summary.skip("beacon_nan");
-                continue;
-            }
-            lms.push_back({static_cast<long>(i + 1), b(i, 0), b(i, 1), {}});
-        }
+        const auto lms = readBeacons(in.beacons_mat, summary);
         hymm::io::writeLandmarksCsv(
             base + "_beacons.csv", lms,
             "id,x,y (beacons surveyed with kinematic GPS, beac_juan3.mat estbeac; GPS frame)");

@@ -57,6 +57,34 @@ void restoreUniformTimes(std::vector<std::vector<double>>& rows, double period,
         printed = t;
     }
 }
+
+/** An empty observation of the robot's camera (range and bearing to barcodes) at time t. */
+mrpt::obs::CObservationBearingRange::Ptr landmarkObservation(const MrclamImporter::Options& o, double t)
+{
+    auto obs = mrpt::obs::CObservationBearingRange::Create();
+    obs->timestamp = mrpt::Clock::fromDouble(t);
+    obs->sensorLabel = "LANDMARKS";
+    obs->minSensorDistance = 0;
+    obs->maxSensorDistance = static_cast<float>(o.max_range_m);
+    obs->fieldOfView_yaw = static_cast<float>(2 * M_PI);
+    obs->fieldOfView_pitch = 0;
+    obs->sensor_std_range = static_cast<float>(o.std_range_m);
+    obs->sensor_std_yaw = static_cast<float>(mrpt::DEG2RAD(o.std_bearing_deg));
+    obs->sensor_std_pitch = 0;
+    return obs;
+}
+
+/** A measurement of the landmark `subject` (its id in the rawlog). */
+mrpt::obs::CObservationBearingRange::TMeasurement landmarkMeasurement(double range, double bearing, int subject)
+{
+    mrpt::obs::CObservationBearingRange::TMeasurement m;
+    m.range = static_cast<float>(range);
+    m.yaw = static_cast<float>(mrpt::math::wrapToPi(bearing));
+    m.pitch = 0;
+    m.landmarkID = subject;
+    m.covariance.setZero();
+    return m;
+}
 }  // namespace
 
 hymm::core::OptionTable MrclamImporter::Options::table()
@@ -275,25 +303,10 @@ std::vector<mrpt::obs::CObservation::Ptr> MrclamImporter::readMeasurements(
         if (!obs || t > obs_t + kSameTimeTolS)
         {
             flush();
-            obs = mrpt::obs::CObservationBearingRange::Create();
-            obs->timestamp = mrpt::Clock::fromDouble(t);
-            obs->sensorLabel = "LANDMARKS";
-            obs->minSensorDistance = 0;
-            obs->maxSensorDistance = static_cast<float>(options_.max_range_m);
-            obs->fieldOfView_yaw = static_cast<float>(2 * M_PI);
-            obs->fieldOfView_pitch = 0;
-            obs->sensor_std_range = static_cast<float>(options_.std_range_m);
-            obs->sensor_std_yaw = static_cast<float>(mrpt::DEG2RAD(options_.std_bearing_deg));
-            obs->sensor_std_pitch = 0;
+            obs = landmarkObservation(options_, t);
             obs_t = t;
         }
-        mrpt::obs::CObservationBearingRange::TMeasurement m;
-        m.range = static_cast<float>(range);
-        m.yaw = static_cast<float>(mrpt::math::wrapToPi(bearing));
-        m.pitch = 0;
-        m.landmarkID = it->second;
-        m.covariance.setZero();
-        obs->sensedData.push_back(m);
+        obs->sensedData.push_back(landmarkMeasurement(range, bearing, it->second));
         ++summary.measurements;
     }
     flush();

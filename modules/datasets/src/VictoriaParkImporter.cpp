@@ -39,6 +39,64 @@ void requireSameLength(const MatFile& f, size_t n, size_t m, const std::string& 
         throw std::runtime_error("MAT file '" + f.path() + "': " + what + " have different lengths (" +
                                  std::to_string(n) + " vs " + std::to_string(m) + ")");
 }
+
+/** An empty observation of the tree detector at time t (the .mat time base). */
+mrpt::obs::CObservationBearingRange::Ptr treeScan(const VictoriaParkImporter::Options& o, double t)
+{
+    auto scan = mrpt::obs::CObservationBearingRange::Create();
+    scan->timestamp = mrpt::Clock::fromDouble(t + o.detections_time_offset_s);
+    scan->sensorLabel = "TREES";
+    scan->minSensorDistance = static_cast<float>(o.min_range_m);
+    scan->maxSensorDistance = static_cast<float>(o.max_range_m);
+    scan->fieldOfView_yaw = static_cast<float>(M_PI);
+    scan->fieldOfView_pitch = 0;
+    scan->sensor_std_range = static_cast<float>(o.std_range_m);
+    scan->sensor_std_yaw = static_cast<float>(mrpt::DEG2RAD(o.std_bearing_deg));
+    scan->sensor_std_pitch = 0;
+    if (!o.track_laser)
+        scan->sensorLocationOnRobot = mrpt::poses::CPose3D(o.vehicle.a, o.vehicle.b, 0, 0, 0, 0);
+    return scan;
+}
+
+/** Why a detection is not used (the skip reason), nullptr when it is. */
+const char* detectionProblem(const VictoriaParkImporter::Options& o, double range, double bearing)
+{
+    if (range < o.min_range_m || range > o.max_range_m) return "detection_out_of_range";
+    if (bearing < -kBearingTolRad || bearing > M_PI + kBearingTolRad) return "detection_bad_bearing";
+    return nullptr;
+}
+
+/** A detection: bearing from the laser's first beam (0..pi) to the vehicle's x axis. */
+mrpt::obs::CObservationBearingRange::TMeasurement treeMeasurement(double range, double bearing)
+{
+    mrpt::obs::CObservationBearingRange::TMeasurement m;
+    m.range = static_cast<float>(range);
+    m.yaw = static_cast<float>(mrpt::math::wrapToPi(bearing - M_PI / 2));
+    m.pitch = 0;
+    m.landmarkID = -1;
+    m.covariance.setZero();
+    return m;
+}
+
+/** The side file of the trunk diameters, one line per detection of the rawlog. */
+void writeDiameters(const std::string& path, const std::string& name,
+                    const std::vector<mrpt::obs::CObservation::Ptr>& obs,
+                    const std::vector<std::vector<double>>& diameters)
+{
+    hymm::core::AtomicTextFile f(path);
+    f << "# trunk diameters of the detections in " << name
+      << ".rawlog; t [s] rawlog time base\n# frame,t,index,range_m,yaw_rad,diameter_m\n"
+      << std::setprecision(10);
+    for (size_t k = 0; k < obs.size(); ++k)
+    {
+        const auto& o = dynamic_cast<const mrpt::obs::CObservationBearingRange&>(*obs[k]);
+        for (size_t j = 0; j < o.sensedData.size(); ++j)
+            f << k << ',' << mrpt::Clock::toDouble(o.timestamp) << ',' << j << ','
+              << o.sensedData[j].range << ',' << o.sensedData[j].yaw << ','
+              << diameters[k][j] << '\n';
+    }
+    f.commit();
+}
 }  // namespace
 
 hymm::core::OptionTable VictoriaParkImporter::Options::table()
@@ -148,39 +206,16 @@ std::vector<mrpt::obs::CObservation::Ptr> VictoriaParkImporter::readDetections(
         if (!scan || t > scan_t + kSameScanTolS)
         {  // a new scan starts
             flush();
-            scan = mrpt::obs::CObservationBearingRange::Create();
-            scan->timestamp = mrpt::Clock::fromDouble(t + options_.detections_time_offset_s);
-            scan->sensorLabel = "TREES";
-            scan->minSensorDistance = static_cast<float>(options_.min_range_m);
-            scan->maxSensorDistance = static_cast<float>(options_.max_range_m);
-            scan->fieldOfView_yaw = static_cast<float>(M_PI);
-            scan->fieldOfView_pitch = 0;
-            scan->sensor_std_range = static_cast<float>(options_.std_range_m);
-            scan->sensor_std_yaw = static_cast<float>(mrpt::DEG2RAD(options_.std_bearing_deg));
-            scan->sensor_std_pitch = 0;
-            if (!options_.track_laser)
-                scan->sensorLocationOnRobot =
-                    mrpt::poses::CPose3D(options_.vehicle.a, options_.vehicle.b, 0, 0, 0, 0);
+            scan = treeScan(options_, t);
             diameters.emplace_back();
             scan_t = t;
         }
-        if (range < options_.min_range_m || range > options_.max_range_m)
+        if (const char* why = detectionProblem(options_, range, bearing))
         {
-            summary.skip("detection_out_of_range");
+            summary.skip(why);
             continue;
         }
-        if (bearing < -kBearingTolRad || bearing > M_PI + kBearingTolRad)
-        {
-            summary.skip("detection_bad_bearing");
-            continue;
-        }
-        mrpt::obs::CObservationBearingRange::TMeasurement m;
-        m.range = static_cast<float>(range);
-        m.yaw = static_cast<float>(mrpt::math::wrapToPi(bearing - M_PI / 2));
-        m.pitch = 0;
-        m.landmarkID = -1;
-        m.covariance.setZero();
-        scan->sensedData.push_back(m);
+        scan->sensedData.push_back(treeMeasurement(range, bearing));
         diameters.back().push_back(diameter);
         ++summary.measurements;
     }
@@ -213,23 +248,8 @@ ImportSummary VictoriaParkImporter::run(const Inputs& in, const std::string& out
 
     // 3. Rawlog and the diameters side file.
     writeOdometryRawlog(base + ".rawlog", odo, obs, summary);
-    {
-        const std::string path = base + "_tree_diameters.csv";
-        hymm::core::AtomicTextFile f(path);
-        f << "# trunk diameters of the detections in " << options_.name
-          << ".rawlog; t [s] rawlog time base\n# frame,t,index,range_m,yaw_rad,diameter_m\n"
-          << std::setprecision(10);
-        for (size_t k = 0; k < obs.size(); ++k)
-        {
-            const auto& o = dynamic_cast<const mrpt::obs::CObservationBearingRange&>(*obs[k]);
-            for (size_t j = 0; j < o.sensedData.size(); ++j)
-                f << k << ',' << mrpt::Clock::toDouble(o.timestamp) << ',' << j << ','
-                  << o.sensedData[j].range << ',' << o.sensedData[j].yaw << ','
-                  << diameters[k][j] << '\n';
-        }
-        f.commit();
-        summary.outputs.push_back(path);
-    }
+    writeDiameters(base + "_tree_diameters.csv", options_.name, obs, diameters);
+    summary.outputs.push_back(base + "_tree_diameters.csv");
 
     // 4. Ground truth: filtered GPS.
     if (!in.gps_mat.empty())

@@ -69,6 +69,82 @@ mrpt::opengl::CSetOfObjects::Ptr landmarksObject(const std::vector<CHybridMetric
     return group;
 }
 
+namespace
+{
+/** The raw returns as a black point cloud. */
+mrpt::opengl::CPointCloud::Ptr pointsObject(const mrpt::maps::CSimplePointsMap& m)
+{
+    auto pts = mrpt::opengl::CPointCloud::Create();
+    pts->setName("points");
+    pts->setColor(0.0f, 0.0f, 0.0f);
+    pts->setPointSize(2.0f);
+    for (size_t i = 0; i < m.size(); ++i)
+    {
+        float x, y;
+        m.getPoint(i, x, y);
+        pts->insertPoint(x, y, kPointZ);
+    }
+    return pts;
+}
+
+/** The particles coloured by weight P(occupied) (jet colour map). */
+mrpt::opengl::CPointCloudColoured::Ptr particlesObject(const mrpt::maps::CPointsMapXYZI& particles)
+{
+    auto cloud = mrpt::opengl::CPointCloudColoured::Create();
+    cloud->setName("particles");
+    cloud->setPointSize(2.0f);
+    for (size_t i = 0; i < particles.size(); ++i)
+    {
+        float x, y, z;
+        particles.getPoint(i, x, y, z);
+        float r, g, b;  // weight P(occupied) in [0, 1]
+        mrpt::img::colormap(mrpt::img::cmJET, particles.getPointIntensity(i), r, g, b);
+        cloud->push_back(x, y, kPointZ, r, g, b);
+    }
+    return cloud;
+}
+
+/** The SOG layer's ellipses as green polylines. */
+mrpt::opengl::CSetOfLines::Ptr sogObject(const std::vector<std::vector<Eigen::Vector2d>>& polys)
+{
+    auto lines = mrpt::opengl::CSetOfLines::Create();
+    lines->setName("sog");
+    lines->setColor(0.0f, 0.6f, 0.0f);
+    for (const auto& poly : polys)
+        for (size_t i = 1; i < poly.size(); ++i)
+            lines->appendLine(poly[i - 1].x(), poly[i - 1].y(), kLineZ, poly[i].x(), poly[i].y(), kLineZ);
+    return lines;
+}
+
+/** The property layer's mean, one point per observed cell coloured over its range. */
+mrpt::opengl::CPointCloudColoured::Ptr propertyObject(const ScalarField& mean)
+{
+    double lo = INFINITY, hi = -INFINITY;
+    for (Eigen::Index k = 0; k < mean.values.size(); ++k)
+        if (std::isfinite(mean.values(k)))
+        {
+            lo = std::min(lo, mean.values(k));
+            hi = std::max(hi, mean.values(k));
+        }
+    auto cloud = mrpt::opengl::CPointCloudColoured::Create();
+    cloud->setName("property");
+    cloud->setPointSize(3.0f);
+    const double span = hi > lo ? hi - lo : 1.0;
+    for (Eigen::Index iy = 0; iy < mean.values.rows(); ++iy)
+        for (Eigen::Index ix = 0; ix < mean.values.cols(); ++ix)
+        {
+            const double v = mean.values(iy, ix);
+            if (!std::isfinite(v)) continue;  // unobserved cell
+            float r, g, b;
+            mrpt::img::colormap(mrpt::img::cmJET, static_cast<float>((v - lo) / span), r, g, b);
+            const double x = mean.origin.x() + (static_cast<double>(ix) + 0.5) * mean.resolution;
+            const double y = mean.origin.y() + (static_cast<double>(iy) + 0.5) * mean.resolution;
+            cloud->push_back(static_cast<float>(x), static_cast<float>(y), kPointZ, r, g, b);
+        }
+    return cloud;
+}
+}  // namespace
+
 void CHybridMetricMap::getVisualizationInto(mrpt::opengl::CSetOfObjects& o) const
 {
     if (!genericMapParams.enableSaveAs3DObject) return;
@@ -83,75 +159,19 @@ void CHybridMetricMap::getVisualizationInto(mrpt::opengl::CSetOfObjects& o) cons
         renderedOccupancy().getVisualizationInto(*g);
         o.insert(g);
     }
-    if (opt.enable_points)
-    {
-        auto pts = mrpt::opengl::CPointCloud::Create();
-        pts->setName("points");
-        pts->setColor(0.0f, 0.0f, 0.0f);
-        pts->setPointSize(2.0f);
-        const auto& m = renderedPoints();
-        for (size_t i = 0; i < m.size(); ++i)
-        {
-            float x, y;
-            m.getPoint(i, x, y);
-            pts->insertPoint(x, y, kPointZ);
-        }
-        o.insert(pts);
-    }
+    if (opt.enable_points) o.insert(pointsObject(renderedPoints()));
     if (opt.enable_particles)
     {
         mrpt::maps::CPointsMapXYZI particles;
         dense_->renderLayer(ParticlesLayer::kKind, *partition_, particles);
-        auto cloud = mrpt::opengl::CPointCloudColoured::Create();
-        cloud->setName("particles");
-        cloud->setPointSize(2.0f);
-        for (size_t i = 0; i < particles.size(); ++i)
-        {
-            float x, y, z;
-            particles.getPoint(i, x, y, z);
-            float r, g, b;  // weight P(occupied) in [0, 1]
-            mrpt::img::colormap(mrpt::img::cmJET, particles.getPointIntensity(i), r, g, b);
-            cloud->push_back(x, y, kPointZ, r, g, b);
-        }
-        o.insert(cloud);
+        o.insert(particlesObject(particles));
     }
-    if (opt.enable_sog)
-    {
-        auto lines = mrpt::opengl::CSetOfLines::Create();
-        lines->setName("sog");
-        lines->setColor(0.0f, 0.6f, 0.0f);
-        for (const auto& poly : dense_->renderSogEllipses(*partition_))
-            for (size_t i = 1; i < poly.size(); ++i)
-                lines->appendLine(poly[i - 1].x(), poly[i - 1].y(), kLineZ, poly[i].x(), poly[i].y(), kLineZ);
-        o.insert(lines);
-    }
+    if (opt.enable_sog) o.insert(sogObject(dense_->renderSogEllipses(*partition_)));
     if (opt.enable_property)
     {
         ScalarField mean, stddev;
         dense_->renderProperty(*partition_, opt.property.cell_size_m, mean, stddev);
-        double lo = INFINITY, hi = -INFINITY;
-        for (Eigen::Index k = 0; k < mean.values.size(); ++k)
-            if (std::isfinite(mean.values(k)))
-            {
-                lo = std::min(lo, mean.values(k));
-                hi = std::max(hi, mean.values(k));
-            }
-        auto cloud = mrpt::opengl::CPointCloudColoured::Create();
-        cloud->setName("property");
-        cloud->setPointSize(3.0f);
-        const double span = hi > lo ? hi - lo : 1.0;
-        for (Eigen::Index iy = 0; iy < mean.values.rows(); ++iy)
-            for (Eigen::Index ix = 0; ix < mean.values.cols(); ++ix)
-            {
-                const double v = mean.values(iy, ix);
-                if (!std::isfinite(v)) continue;  // unobserved cell
-                float r, g, b;
-                mrpt::img::colormap(mrpt::img::cmJET, static_cast<float>((v - lo) / span), r, g, b);
-                const double x = mean.origin.x() + (static_cast<double>(ix) + 0.5) * mean.resolution;
-                const double y = mean.origin.y() + (static_cast<double>(iy) + 0.5) * mean.resolution;
-                cloud->push_back(static_cast<float>(x), static_cast<float>(y), kPointZ, r, g, b);
-            }
-        o.insert(cloud);
+        o.insert(propertyObject(mean));
     }
 }
 

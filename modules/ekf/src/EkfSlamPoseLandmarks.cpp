@@ -24,6 +24,18 @@ bool validCovariance3(const Eigen::Matrix3d& R)
     Eigen::LLT<Eigen::Matrix3d> llt(R);
     return llt.info() == Eigen::Success;
 }
+
+/** The passive blocks see the gain of a pose-landmark update (landmark at offset o)
+ *  through their cross-covariance, read before P moves. */
+void updatePassive(PassiveStates& passive, const Eigen::Matrix3d& Hv, const Eigen::Matrix3d& Hl,
+                   Eigen::Index o, const Eigen::LLT<Eigen::Matrix3d>& llt, const Eigen::MatrixXd& Wt,
+                   const Eigen::Vector3d& y)
+{
+    const Eigen::MatrixXd& Cpa = passive.crossAll();
+    const Eigen::MatrixXd PpHt = Cpa.leftCols<3>() * Hv.transpose() + Cpa.middleCols<3>(o) * Hl.transpose();
+    const Eigen::MatrixXd Wp = llt.matrixL().solve(PpHt.transpose()).transpose();
+    passive.applyUpdate(Wp, Wt.transpose(), y);
+}
 }  // namespace
 
 long EkfSlam::addPoseLandmark(const Eigen::Vector3d& z, const Eigen::Matrix3d& R,
@@ -81,14 +93,7 @@ PoseUpdateReport EkfSlam::updatePoseLandmark(long id, const Eigen::Vector3d& z,
         rep.outcome = PoseUpdateReport::Outcome::numeric;
         return rep;
     }
-    if (passive_.numBlocks() > 0)
-    {
-        const Eigen::MatrixXd& Cpa = passive_.crossAll();
-        const Eigen::MatrixXd PpHt =
-            Cpa.leftCols<3>() * Hv.transpose() + Cpa.middleCols<3>(o) * Hl.transpose();
-        const Eigen::MatrixXd Wp = llt.matrixL().solve(PpHt.transpose()).transpose();
-        passive_.applyUpdate(Wp, Wt.transpose(), y);
-    }
+    if (passive_.numBlocks() > 0) updatePassive(passive_, Hv, Hl, o, llt, Wt, y);
     x_.noalias() += Wt.transpose() * y;
     x_[2] = mrpt::math::wrapToPi(x_[2]);
     x_[o + 2] = mrpt::math::wrapToPi(x_[o + 2]);

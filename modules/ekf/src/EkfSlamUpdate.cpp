@@ -7,6 +7,8 @@
 #include <cmath>
 #include <limits>
 
+#include "batch_products.h"
+
 namespace hymm::ekf
 {
 namespace
@@ -66,27 +68,7 @@ UpdateReport EkfSlam::updateRangeBearing(
     if (!created.empty())
     {
         mrpt::system::CTimeLoggerEntry tle(profiler_, "ekf.4_augment");
-        const auto k = static_cast<Eigen::Index>(created.size());
-        Eigen::MatrixXd G(2 * k, 3), noise = Eigen::MatrixXd::Zero(2 * k, 2 * k);
-        std::vector<std::pair<long, Eigen::VectorXd>> blocks;
-        long next_id = layout_.nextFreeId();
-        for (const auto& c : created)  // known ids must not be reused by fresh ones
-            if (c.id >= next_id) next_id = c.id + 1;
-        for (Eigen::Index a = 0; a < k; ++a)
-        {
-            const NewLandmark& c = created[static_cast<size_t>(a)];
-            hymm::core::Mat23 Gv;
-            hymm::core::Mat2 Gz;
-            const Eigen::Vector2d lm =
-                hymm::core::inverseRangeBearing(x_.head<3>(), sensor, obs[c.obs].z, &Gv, &Gz);
-            G.middleRows<2>(2 * a) = Gv;
-            noise.block<2, 2>(2 * a, 2 * a) = Gz * obs[c.obs].R * Gz.transpose();
-            const long id = c.id >= 0 ? c.id : next_id++;
-            blocks.emplace_back(id, lm);
-            report.assigned_ids[c.obs] = id;
-        }
-        augment(blocks, G, noise, false);
-        report.created += created.size();
+        addNewLandmarks(created, obs, sensor, report);
     }
 
     // 5. End of step: confirm or prune tentative landmarks.
@@ -105,6 +87,60 @@ void EkfSlam::associateBatch(
 {
     // Known associations first; an unknown known-id starts a landmark with that id.
     std::vector<bool> taken(layout_.numLandmarks(), false);  // by block position
+    const std::vector<size_t> unknown = associateKnownIds(obs, valid, sensor, pairs, created, taken, report);
+    if (unknown.empty()) return;
+
+    // Individual gate against every free point landmark with its marginal S (O(n) small
+    // blocks); landmarks inside some observation's creation gate become the candidates.
+    const double creation_gate = mrpt::math::chi2inv(options_.creation_gate_prob, 2);
+    const std::vector<Pairing> cand = gateCandidates(obs, unknown, taken, sensor);
+
+    AssociationProblem prob;
+    for (size_t i : unknown)
+    {
+        prob.z.push_back(obs[i].z);
+        prob.R.push_back(obs[i].R);
+    }
+    const auto kc = static_cast<Eigen::Index>(cand.size());
+    for (const auto& pr : cand) prob.h.push_back(pr.h);
+    // Joint C = H P H^T over the candidates, from gathered P H^T columns (O(n k + k^2)).
+    prob.C = detail::projectPHt(detail::gatherPHt(activeP(), cand), cand);
+    prob.C = (0.5 * (prob.C + prob.C.transpose())).eval();
+
+    const AssociationResult res = associate(
+        prob, options_.association_method, options_.association_gate_prob, options_.jcbb_max_nodes);
+    report.jcbb_nodes = res.jcbb_nodes;
+
+    // Unpaired observations: inside the association gate of a landmark -> rejected by the
+    // joint/conflict test; inside only the creation gate -> ambiguous; else a new landmark.
+    const double assoc_gate = mrpt::math::chi2inv(options_.association_gate_prob, 2);
+    for (size_t u = 0; u < unknown.size(); ++u)
+    {
+        const size_t i = unknown[u];
+        const int j = res.assignment[u];
+        if (j >= 0)
+        {
+            Pairing pr = cand[static_cast<size_t>(j)];
+            pr.obs = i;
+            pairs.push_back(pr);
+            continue;
+        }
+        const double dmin = kc > 0 ? res.d2.row(static_cast<Eigen::Index>(u)).minCoeff()
+                                   : std::numeric_limits<double>::infinity();
+        if (dmin < assoc_gate)
+            ++report.rejected_gate;
+        else if (dmin < creation_gate)
+            ++report.ambiguous;
+        else
+            created.push_back({i, -1});
+    }
+}
+
+std::vector<size_t> EkfSlam::associateKnownIds(
+    const std::vector<RangeBearingObs>& obs, const std::vector<bool>& valid,
+    const Eigen::Vector3d& sensor, std::vector<Pairing>& pairs, std::vector<NewLandmark>& created,
+    std::vector<bool>& taken, UpdateReport& report) const
+{
     std::vector<size_t> unknown;
     std::vector<long> claimed_new;
     const double known_gate = options_.known_id_gate_prob > 0.0
@@ -158,10 +194,13 @@ void EkfSlam::associateBatch(
         for (size_t k = 0; k < layout_.blocks().size(); ++k)
             if (layout_.blocks()[k].id == id) taken[k] = true;
     }
-    if (unknown.empty()) return;
+    return unknown;
+}
 
-    // Individual gate against every free point landmark with its marginal S (O(n) small
-    // blocks); landmarks inside some observation's creation gate become the candidates.
+std::vector<EkfSlam::Pairing> EkfSlam::gateCandidates(
+    const std::vector<RangeBearingObs>& obs, const std::vector<size_t>& unknown,
+    const std::vector<bool>& taken, const Eigen::Vector3d& sensor) const
+{
     const double creation_gate = mrpt::math::chi2inv(options_.creation_gate_prob, 2);
     std::vector<Pairing> cand;
     const Eigen::Matrix3d Pvv = activeP().topLeftCorner<3, 3>();
@@ -185,61 +224,34 @@ void EkfSlam::associateBatch(
         }
         if (near) cand.push_back(pr);
     }
+    return cand;
+}
 
-    AssociationProblem prob;
-    for (size_t i : unknown)
+void EkfSlam::addNewLandmarks(const std::vector<NewLandmark>& created,
+                              const std::vector<RangeBearingObs>& obs, const Eigen::Vector3d& sensor,
+                              UpdateReport& report)
+{
+    const auto k = static_cast<Eigen::Index>(created.size());
+    Eigen::MatrixXd G(2 * k, 3), noise = Eigen::MatrixXd::Zero(2 * k, 2 * k);
+    std::vector<std::pair<long, Eigen::VectorXd>> blocks;
+    long next_id = layout_.nextFreeId();
+    for (const auto& c : created)  // known ids must not be reused by fresh ones
+        if (c.id >= next_id) next_id = c.id + 1;
+    for (Eigen::Index a = 0; a < k; ++a)
     {
-        prob.z.push_back(obs[i].z);
-        prob.R.push_back(obs[i].R);
+        const NewLandmark& c = created[static_cast<size_t>(a)];
+        hymm::core::Mat23 Gv;
+        hymm::core::Mat2 Gz;
+        const Eigen::Vector2d lm =
+            hymm::core::inverseRangeBearing(x_.head<3>(), sensor, obs[c.obs].z, &Gv, &Gz);
+        G.middleRows<2>(2 * a) = Gv;
+        noise.block<2, 2>(2 * a, 2 * a) = Gz * obs[c.obs].R * Gz.transpose();
+        const long id = c.id >= 0 ? c.id : next_id++;
+        blocks.emplace_back(id, lm);
+        report.assigned_ids[c.obs] = id;
     }
-    const auto kc = static_cast<Eigen::Index>(cand.size());
-    // Joint C = H P H^T over the candidates, from gathered P H^T columns (O(n k + k^2)).
-    Eigen::MatrixXd PHt(activeP().rows(), 2 * kc);
-    for (Eigen::Index a = 0; a < kc; ++a)
-    {
-        const auto& pr = cand[static_cast<size_t>(a)];
-        prob.h.push_back(pr.h);
-        PHt.middleCols<2>(2 * a).noalias() =
-            activeP().leftCols<3>() * pr.Hv.transpose() +
-            activeP().middleCols<2>(static_cast<Eigen::Index>(pr.offset)) * pr.Hl.transpose();
-    }
-    prob.C.resize(2 * kc, 2 * kc);
-    for (Eigen::Index a = 0; a < kc; ++a)
-    {
-        const auto& pr = cand[static_cast<size_t>(a)];
-        prob.C.middleRows<2>(2 * a).noalias() =
-            pr.Hv * PHt.topRows<3>() +
-            pr.Hl * PHt.middleRows<2>(static_cast<Eigen::Index>(pr.offset));
-    }
-    prob.C = (0.5 * (prob.C + prob.C.transpose())).eval();
-
-    const AssociationResult res = associate(
-        prob, options_.association_method, options_.association_gate_prob, options_.jcbb_max_nodes);
-    report.jcbb_nodes = res.jcbb_nodes;
-
-    // Unpaired observations: inside the association gate of a landmark -> rejected by the
-    // joint/conflict test; inside only the creation gate -> ambiguous; else a new landmark.
-    const double assoc_gate = mrpt::math::chi2inv(options_.association_gate_prob, 2);
-    for (size_t u = 0; u < unknown.size(); ++u)
-    {
-        const size_t i = unknown[u];
-        const int j = res.assignment[u];
-        if (j >= 0)
-        {
-            Pairing pr = cand[static_cast<size_t>(j)];
-            pr.obs = i;
-            pairs.push_back(pr);
-            continue;
-        }
-        const double dmin = kc > 0 ? res.d2.row(static_cast<Eigen::Index>(u)).minCoeff()
-                                   : std::numeric_limits<double>::infinity();
-        if (dmin < assoc_gate)
-            ++report.rejected_gate;
-        else if (dmin < creation_gate)
-            ++report.ambiguous;
-        else
-            created.push_back({i, -1});
-    }
+    augment(blocks, G, noise, false);
+    report.created += created.size();
 }
 
 size_t EkfSlam::pruneTentative()

@@ -67,6 +67,33 @@ std::vector<std::pair<size_t, size_t>> associateByDistance(
     std::sort(pairs.begin(), pairs.end());
     return pairs;
 }
+
+/** The estimates in the ground-truth frame (unchanged without an alignment). */
+std::vector<LandmarkEstimate> inTruthFrame(const std::vector<LandmarkEstimate>& estimates,
+                                           const Se2Transform* alignment)
+{
+    std::vector<LandmarkEstimate> est = estimates;
+    if (alignment)
+    {
+        const Eigen::Matrix2d R = alignment->rotation();
+        for (auto& e : est)
+        {
+            e.position = alignment->apply(e.position);
+            e.cov = R * e.cov * R.transpose();
+        }
+    }
+    return est;
+}
+
+/** Nearest-neighbour pairs (estimate, truth) within `gate`. */
+std::vector<std::pair<size_t, size_t>> associateByPosition(const std::vector<LandmarkEstimate>& est,
+                                                           const std::vector<io::LandmarkRecord>& truth,
+                                                           double gate)
+{
+    std::vector<Eigen::Vector2d> pos;
+    for (const auto& e : est) pos.push_back(e.position);
+    return associateByDistance(pos, truth, gate);
+}
 }  // namespace
 
 std::vector<LandmarkEstimate> landmarkEstimatesFromRecords(
@@ -154,32 +181,15 @@ LandmarkEvaluator::Result LandmarkEvaluator::evaluate(
     const std::vector<LandmarkEstimate>& estimates, const std::vector<io::LandmarkRecord>& truth,
     const Se2Transform* alignment) const
 {
-    // Estimates in the ground-truth frame.
-    std::vector<LandmarkEstimate> est = estimates;
-    if (alignment)
-    {
-        const Eigen::Matrix2d R = alignment->rotation();
-        for (auto& e : est)
-        {
-            e.position = alignment->apply(e.position);
-            e.cov = R * e.cov * R.transpose();
-        }
-    }
+    const std::vector<LandmarkEstimate> est = inTruthFrame(estimates, alignment);
 
     Result r;
     r.used = options_.association;
     if (r.used == Association::Auto)
         r.used = idsUsable(est, truth) ? Association::Id : Association::Nearest;
 
-    std::vector<std::pair<size_t, size_t>> pairs;
-    if (r.used == Association::Id)
-        pairs = associateById(est, truth);
-    else
-    {
-        std::vector<Eigen::Vector2d> pos;
-        for (const auto& e : est) pos.push_back(e.position);
-        pairs = associateByDistance(pos, truth, options_.gate);
-    }
+    const std::vector<std::pair<size_t, size_t>> pairs =
+        r.used == Association::Id ? associateById(est, truth) : associateByPosition(est, truth, options_.gate);
 
     double sum = 0, sum_sq = 0, sum_nees = 0;
     for (const auto& [i, j] : pairs)

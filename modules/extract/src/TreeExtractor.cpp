@@ -83,6 +83,16 @@ std::optional<TrunkModel> fittedModel(
     if (ratio > max_ratio || ratio < 1.0 / max_ratio) return std::nullopt;
     return TrunkModel{circle->centre, circle->radius, false};
 }
+
+/** The counter of the first acceptance test (fit, smallest and largest diameter) a trunk
+ *  fails, nullptr when it passes them all. */
+size_t* failedAcceptance(const TreeExtractor::Options& o, const ScanFeature& f, TreeExtractor::Rejections& r)
+{
+    if (!(f.fit_rms <= o.max_fit_rms)) return &r.bad_fit;
+    if (f.diameter < o.min_diameter) return &r.too_small;
+    if (f.diameter > o.max_diameter) return &r.too_large;
+    return nullptr;
+}
 }  // namespace
 
 hymm::core::OptionTable TreeExtractor::Options::table()
@@ -195,19 +205,9 @@ TreeExtractor::Result TreeExtractor::extract(const mrpt::obs::CObservation2DRang
         ScanFeature f;
         f.fit_rms = circleRms(pts, model->centre, model->radius);
         f.diameter = 2.0 * model->radius;
-        if (!(f.fit_rms <= o.max_fit_rms))
+        if (size_t* failed = failedAcceptance(o, f, res.rejected))
         {
-            ++res.rejected.bad_fit;
-            continue;
-        }
-        if (f.diameter < o.min_diameter)
-        {
-            ++res.rejected.too_small;
-            continue;
-        }
-        if (f.diameter > o.max_diameter)
-        {
-            ++res.rejected.too_large;
+            ++*failed;
             continue;
         }
         f.range = model->centre.norm();

@@ -39,6 +39,22 @@
 
 namespace hymm::io::detail
 {
+// Bytes per element of MRPT's dynamic matrix classes (version 0: rows, columns, data);
+// 0 for any other class. "CMatrix" is the float matrix of older rawlogs.
+inline uint64_t matrixElementBytes(const std::string& name)
+{
+    if (name == "CMatrixF" || name == "CMatrix") return 4;
+    if (name == "CMatrixD") return 8;
+    return 0;
+}
+
+// "mrpt::obs::CSensoryFrame" (MRPT 2) and "CSensoryFrame" (older rawlogs) alike.
+inline std::string unqualified(const std::string& name)
+{
+    const auto colon = name.rfind("::");
+    return colon == std::string::npos ? name : name.substr(colon + 2);
+}
+
 /** A declared size that does not fit in the rest of the file. */
 struct RawlogSizeError : std::runtime_error
 {
@@ -106,6 +122,18 @@ private:
     size_t rawRead(void* buffer, size_t count);
     bool peek(uint64_t offset, void* out, size_t n);
     void armFor(const std::string& class_name, bool old_format);
+    /** The version and first data byte of the object whose class name was just read
+     *  (pos_ is past the name); false on a short read or an impossible version. */
+    bool readVersion(ObjectHeader& h);
+    /** armFor for the classes whose counts need more than a fixed offset. */
+    void armScan(const ObjectHeader& h);
+    void armBearingRange(const ObjectHeader& h);
+    void armRobotMovement(const ObjectHeader& h);
+    /** A count at `at` followed by elements of `element` bytes and `tail` bytes more
+     *  (plus the end flag) before the object ends. */
+    static Checkpoint countAt(const ObjectHeader& h, uint64_t at, uint64_t element, uint64_t tail,
+                              const char* what);
+    static uint64_t endFlagBytes(const ObjectHeader& h) { return h.old_format ? 0 : 1; }
     void checkCount(const Checkpoint& c);
     [[noreturn]] void refuse(uint64_t n, uint64_t need, const Checkpoint& c, uint64_t left);
     bool peekHeader(uint64_t at, ObjectHeader& h);

@@ -70,6 +70,32 @@ double perAxis(const Eigen::MatrixXd& p_aa, const Eigen::MatrixXd& p_ab, const E
     return std::min(rho, 1.0);
 }
 
+/** Thesis Fig. 3.10a: the n-sigma ellipse of each vertex (vertices taken as independent,
+ *  the conservative case) must not touch the line through the other two vertices, or an
+ *  update could flip the triangle over. */
+CheckResult checkEllipses(const TriangleFrame::Vertices& v, const std::array<Eigen::Matrix2d, 3>& cov,
+                          double ellipse_sigma)
+{
+    // The half-extent of the ellipse along the unit normal n of that line is
+    // n_sigma * sqrt(n^T P n).
+    for (int k = 0; k < 3; ++k)
+    {
+        const Eigen::Vector2d& p = v[static_cast<size_t>(k)];
+        const Eigen::Vector2d& q1 = v[static_cast<size_t>((k + 1) % 3)];
+        const Eigen::Vector2d& q2 = v[static_cast<size_t>((k + 2) % 3)];
+        const Eigen::Vector2d edge = q2 - q1;
+        const Eigen::Vector2d n = Eigen::Vector2d(-edge.y(), edge.x()).normalized();
+        const double height = std::abs(n.dot(p - q1));
+        const Eigen::Matrix2d& c = cov[static_cast<size_t>(k)];
+        const double extent = ellipse_sigma * std::sqrt(std::max(0.0, n.dot(c * n)));
+        if (!(extent < height))
+            return fail(
+                BaseCondition::IllConditioned, extent, height,
+                "vertex " + std::to_string(k) + ": " +
+                    fmt("ellipse half-extent [m]", extent, ">= distance to opposite edge", height));
+    }
+    return {};
+}
 }  // namespace
 
 const char* toString(BaseCondition c)
@@ -262,27 +288,7 @@ CheckResult BaseConditionChecker::checkGeometry(
                 fmt("edge length [m]", len, ">", options_.max_edge_length_m));
     }
 
-    // Thesis Fig. 3.10a: the n-sigma ellipse of each vertex (vertices taken as
-    // independent, the conservative case) must not touch the line through the other
-    // two vertices, or an update could flip the triangle over. The half-extent of the
-    // ellipse along the unit normal n of that line is n_sigma * sqrt(n^T P n).
-    for (int k = 0; k < 3; ++k)
-    {
-        const Eigen::Vector2d& p = v[static_cast<size_t>(k)];
-        const Eigen::Vector2d& q1 = v[static_cast<size_t>((k + 1) % 3)];
-        const Eigen::Vector2d& q2 = v[static_cast<size_t>((k + 2) % 3)];
-        const Eigen::Vector2d edge = q2 - q1;
-        const Eigen::Vector2d n = Eigen::Vector2d(-edge.y(), edge.x()).normalized();
-        const double height = std::abs(n.dot(p - q1));
-        const Eigen::Matrix2d& c = cov[static_cast<size_t>(k)];
-        const double extent = options_.ellipse_sigma * std::sqrt(std::max(0.0, n.dot(c * n)));
-        if (!(extent < height))
-            return fail(
-                BaseCondition::IllConditioned, extent, height,
-                "vertex " + std::to_string(k) + ": " +
-                    fmt("ellipse half-extent [m]", extent, ">= distance to opposite edge", height));
-    }
-    return {};
+    return checkEllipses(v, cov, options_.ellipse_sigma);
 }
 
 bool BaseConditionChecker::interiorsOverlap(

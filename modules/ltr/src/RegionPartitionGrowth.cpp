@@ -41,6 +41,33 @@ double inCircle(
     const double orient = cross(b - a, c - a);
     return orient > 0 ? m.determinant() : -m.determinant();
 }
+
+/** Third vertices for free edge (a, b) among `eligible`, on the side away from the owning
+ *  region's third vertex `inner`, by decreasing angle subtended by the edge (with the
+ *  angle). At most one virtual vertex per region (virtual-virtual correlations are not
+ *  kept). */
+std::vector<std::pair<double, long>> thirdVertices(const LandmarkCovarianceView& view,
+                                                   const std::vector<long>& eligible, long a, long b,
+                                                   long inner)
+{
+    const Eigen::Vector2d pa = view.mean(a), pb = view.mean(b);
+    const double inner_side = cross(pb - pa, view.mean(inner) - pa);
+    std::vector<std::pair<double, long>> cands;
+    const bool edge_has_virtual = view.isVirtual(a) || view.isVirtual(b);
+    for (const long c : eligible)
+    {
+        if (c == a || c == b) continue;
+        if (edge_has_virtual && view.isVirtual(c)) continue;
+        const Eigen::Vector2d pc = view.mean(c);
+        if (!(cross(pb - pa, pc - pa) * inner_side < 0)) continue;
+        const Eigen::Vector2d u = pa - pc, v = pb - pc;
+        cands.emplace_back(std::atan2(std::abs(cross(u, v)), u.dot(v)), c);
+    }
+    std::sort(cands.begin(), cands.end(), [](const auto& x, const auto& y) {
+        return x.first > y.first || (x.first == y.first && x.second < y.second);
+    });
+    return cands;
+}
 }  // namespace
 
 struct RegionPartition::Neighbourhood
@@ -143,23 +170,7 @@ bool RegionPartition::growFromEdges(
     {
         const long a = e.key.first, b = e.key.second;
         const Eigen::Vector2d pa = view.mean(a), pb = view.mean(b);
-        const double inner_side = cross(pb - pa, view.mean(e.inner) - pa);
-        // Third vertices on the free side, by decreasing angle subtended by the edge.
-        std::vector<std::pair<double, long>> cands;
-        // At most one virtual vertex per region (virtual-virtual correlations are not kept).
-        const bool edge_has_virtual = view.isVirtual(a) || view.isVirtual(b);
-        for (const long c : nb.eligible)
-        {
-            if (c == a || c == b) continue;
-            if (edge_has_virtual && view.isVirtual(c)) continue;
-            const Eigen::Vector2d pc = view.mean(c);
-            if (!(cross(pb - pa, pc - pa) * inner_side < 0)) continue;
-            const Eigen::Vector2d u = pa - pc, v = pb - pc;
-            cands.emplace_back(std::atan2(std::abs(cross(u, v)), u.dot(v)), c);
-        }
-        std::sort(cands.begin(), cands.end(), [](const auto& x, const auto& y) {
-            return x.first > y.first || (x.first == y.first && x.second < y.second);
-        });
+        const auto cands = thirdVertices(view, nb.eligible, a, b, e.inner);
         int tries = 0;
         for (const auto& [angle, c] : cands)
         {

@@ -75,6 +75,78 @@ bool strictlyInside(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Ei
     const double d1 = cross(b - a, p - a), d2 = cross(c - b, p - b), d3 = cross(a - c, p - c);
     return (d1 > 0 && d2 > 0 && d3 > 0) || (d1 < 0 && d2 < 0 && d3 < 0);
 }
+
+/** A free edge: no other region uses both ends. */
+bool freeEdge(const RegionPartition& partition, long a, long b)
+{
+    const auto ra = partition.regionsUsingLandmark(a), rb = partition.regionsUsingLandmark(b);
+    size_t shared = 0;
+    for (const long x : ra) shared += std::count(rb.begin(), rb.end(), x);
+    return shared == 1;
+}
+
+/** "Created at a moment where the vehicle is highly correlated with the other two
+ *  landmarks" (Sec. 3.5.1). */
+bool correlated(const RegionPartition& partition, const LandmarkCovarianceView& view, long a, long b,
+                const VirtualLandmarkOptions& options)
+{
+    const auto& chk = partition.checker();
+    return !(chk.vehicleCorrelation(a, view) < options.min_vehicle_correlation ||
+             chk.vehicleCorrelation(b, view) < options.min_vehicle_correlation);
+}
+
+/** Whether edge (a, b) may carry a virtual landmark: two real landmarks of the filter,
+ *  a free edge, both ends `near` the vehicle and correlated with it. */
+template <class Near>
+bool usableEdge(const RegionPartition& partition, const LandmarkCovarianceView& view, long a, long b,
+                const VirtualLandmarkOptions& options, const Near& near)
+{
+    if (view.isVirtual(a) || view.isVirtual(b) || !view.has(a) || !view.has(b)) return false;
+    return freeEdge(partition, a, b) && near(a) && near(b) && correlated(partition, view, a, b, options);
+}
+
+/** Unit normal of edge e = pb - pa pointing away from the region's third vertex pc;
+ *  `side` (-1 or 1) is the sign that turned it so. */
+Eigen::Vector2d outwardNormal(const Eigen::Vector2d& e, const Eigen::Vector2d& pa, const Eigen::Vector2d& pc,
+                              double& side)
+{
+    Eigen::Vector2d n(-e.y(), e.x());
+    n.normalize();
+    side = n.dot(pc - pa) > 0 ? -1.0 : 1.0;  // away from the owning region
+    n *= side;
+    return n;
+}
+
+/** Depth of the apex on the bisector of edge (pa, pa + e) (unit outward normal n) that puts
+ *  each return inside the triangle: at edge parameter t and height h the triangle is
+ *  2 D min(t, 1-t) tall. One depth per return that fits within max_depth_m. */
+std::vector<double> apexDepths(const std::vector<Eigen::Vector2d>& unassigned, const Eigen::Vector2d& pa,
+                               const Eigen::Vector2d& e, const Eigen::Vector2d& n,
+                               const VirtualLandmarkOptions& options)
+{
+    const double len2 = e.squaredNorm();
+    std::vector<double> need;
+    for (const auto& p : unassigned)
+    {
+        const double t = (p - pa).dot(e) / len2;
+        const double h = (p - pa).dot(n);
+        if (!(t > 0 && t < 1 && h > 0 && h <= options.max_depth_m)) continue;
+        const double d = h / (1.0 - std::abs(2.0 * t - 1.0));
+        if (d + options.margin_m <= options.max_depth_m) need.push_back(d);
+    }
+    return need;
+}
+
+/** Whether a landmark lies inside the proposed triangle; only landmarks within reach of
+ *  it are tested (idsNear: no scan of the map). */
+bool holdsLandmark(const LandmarkCovarianceView& view, const VirtualLandmarkProposal& p)
+{
+    const Eigen::Vector2d pa = view.mean(p.a), pb = view.mean(p.b);
+    const double reach = p.depth + (pb - pa).norm();
+    for (const long id : view.idsNear(p.edge_midpoint, reach))
+        if (id != p.a && id != p.b && strictlyInside(view.mean(id), pa, pb, p.position)) return true;
+    return false;
+}
 }  // namespace
 
 Eigen::Vector2d virtualApex(
@@ -120,39 +192,15 @@ std::vector<VirtualLandmarkProposal> proposeVirtualLandmarks(
             const long a = reg.vertex_ids[k], b = reg.vertex_ids[(k + 1) % 3];
             const long c = reg.vertex_ids[(k + 2) % 3];
             if (!seen.insert({std::min(a, b), std::max(a, b)}).second) continue;
-            if (view.isVirtual(a) || view.isVirtual(b) || !view.has(a) || !view.has(b)) continue;
-            // Free edge: no other region uses both ends.
-            const auto ra = partition.regionsUsingLandmark(a), rb = partition.regionsUsingLandmark(b);
-            size_t shared = 0;
-            for (const long x : ra) shared += std::count(rb.begin(), rb.end(), x);
-            if (shared != 1 || !near(a) || !near(b)) continue;
-            // "Created at a moment where the vehicle is highly correlated with the other two
-            // landmarks" (Sec. 3.5.1).
-            const auto& chk = partition.checker();
-            if (chk.vehicleCorrelation(a, view) < options.min_vehicle_correlation ||
-                chk.vehicleCorrelation(b, view) < options.min_vehicle_correlation)
-                continue;
+            if (!usableEdge(partition, view, a, b, options, near)) continue;
 
             const Eigen::Vector2d pa = view.mean(a), pb = view.mean(b), pc = view.mean(c);
             const Eigen::Vector2d e = pb - pa;
             const double len2 = e.squaredNorm();
             if (!(len2 > 0)) continue;
-            Eigen::Vector2d n(-e.y(), e.x());
-            n.normalize();
-            const double side = n.dot(pc - pa) > 0 ? -1.0 : 1.0;  // away from the owning region
-            n *= side;
-
-            // Depth of the apex on the bisector that puts each return inside the
-            // triangle: at edge parameter t and height h the triangle is 2 D min(t, 1-t) tall.
-            std::vector<double> need;
-            for (const auto& p : unassigned)
-            {
-                const double t = (p - pa).dot(e) / len2;
-                const double h = (p - pa).dot(n);
-                if (!(t > 0 && t < 1 && h > 0 && h <= options.max_depth_m)) continue;
-                const double d = h / (1.0 - std::abs(2.0 * t - 1.0));
-                if (d + options.margin_m <= options.max_depth_m) need.push_back(d);
-            }
+            double side = 0;
+            const Eigen::Vector2d n = outwardNormal(e, pa, pc, side);
+            const std::vector<double> need = apexDepths(unassigned, pa, e, n, options);
             if (need.size() < static_cast<size_t>(options.min_points)) continue;
             const double depth = std::max(
                 options.min_depth_m, *std::max_element(need.begin(), need.end()) + options.margin_m);
@@ -170,18 +218,9 @@ std::vector<VirtualLandmarkProposal> proposeVirtualLandmarks(
             out.push_back(prop);
         }
     }
-    // A triangle holding a landmark would block the real regions around it. Only
-    // landmarks within reach of the triangle are tested (idsNear: no scan of the map).
+    // A triangle holding a landmark would block the real regions around it.
     out.erase(std::remove_if(out.begin(), out.end(),
-                             [&](const VirtualLandmarkProposal& p) {
-                                 const Eigen::Vector2d pa = view.mean(p.a), pb = view.mean(p.b);
-                                 const double reach = p.depth + (pb - pa).norm();
-                                 for (const long id : view.idsNear(p.edge_midpoint, reach))
-                                     if (id != p.a && id != p.b &&
-                                         strictlyInside(view.mean(id), pa, pb, p.position))
-                                         return true;
-                                 return false;
-                             }),
+                             [&](const VirtualLandmarkProposal& p) { return holdsLandmark(view, p); }),
               out.end());
     std::sort(out.begin(), out.end(), [](const auto& x, const auto& y) {
         return x.points > y.points || (x.points == y.points && std::make_pair(x.a, x.b) < std::make_pair(y.a, y.b));

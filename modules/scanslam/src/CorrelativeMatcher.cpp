@@ -112,27 +112,14 @@ std::vector<Vec2> rotate(const std::vector<Vec2>& pts, double phi)
     for (const Vec2& p : pts) out.push_back(r * p);
     return out;
 }
-}  // namespace
 
-AlignResult CorrelativeMatcher::align(const PointSet& tpl, const PointSet& scan, const Vec3& z0) const
+using Options = CorrelativeMatcher::Options;
+
+/** Coarse search: translation steps of coarse_step, angle steps of `cphi` (moving the
+ *  template's furthest point by about the same distance); the best pose. */
+Vec3 coarseSearch(const LikelihoodGrid& coarse, const PointSet& tpl, const Vec3& z0, const Options& o,
+                  double cphi, AlignResult& res)
 {
-    if (auto bad = rejectInput(tpl, scan, z0)) return *bad;
-    AlignResult res;
-    res.z = z0;
-    const auto& o = options_;
-    double radius = 0;
-    for (const Vec2& p : tpl.points) radius = std::max(radius, p.norm());
-    radius = std::max(radius, 0.5);
-    const double coarse_sigma = std::max(o.sigma_m, o.coarse_step_m);
-    const double margin = o.search_xy_m + radius + o.gate_sigma * coarse_sigma + 2 * o.grid_resolution_m;
-    const Vec2 lo = z0.head<2>() - Vec2::Constant(margin);
-    const Vec2 hi = z0.head<2>() + Vec2::Constant(margin);
-    const LikelihoodGrid coarse(lo, hi, o.grid_resolution_m, coarse_sigma, o.gate_sigma, scan);
-    const LikelihoodGrid fine(lo, hi, o.grid_resolution_m, o.sigma_m, o.gate_sigma, scan);
-
-    // Coarse search: translation steps of coarse_step, angle steps moving the template's
-    // furthest point by about the same distance.
-    const double cphi = o.coarse_step_m / radius;
     const int nxy = static_cast<int>(std::ceil(o.search_xy_m / o.coarse_step_m));
     const int nphi = static_cast<int>(std::ceil(o.search_phi / cphi));
     double best = -std::numeric_limits<double>::infinity();
@@ -154,15 +141,21 @@ AlignResult CorrelativeMatcher::align(const PointSet& tpl, const PointSet& scan,
                 }
             }
     }
+    return zc;
+}
 
-    // Fine search around the coarse cell; the score surface gives mean and covariance.
-    const double fphi = o.fine_step_m / radius;
+/** The scores of the fine search around the coarse cell at zc (offsets from zc, angle
+ *  steps fphi); `fbest` and `zbest`: the best of them. */
+std::vector<std::pair<Vec3, double>> fineSamples(const LikelihoodGrid& fine, const PointSet& tpl, const Vec3& zc,
+                                                 const Options& o, double cphi, double fphi, double& fbest,
+                                                 Vec3& zbest, AlignResult& res)
+{
     const int fxy = static_cast<int>(std::ceil(o.coarse_step_m / o.fine_step_m));
     const int fph = static_cast<int>(std::ceil(cphi / fphi));
     std::vector<std::pair<Vec3, double>> samples;
     samples.reserve(static_cast<size_t>((2 * fxy + 1) * (2 * fxy + 1) * (2 * fph + 1)));
-    double fbest = -std::numeric_limits<double>::infinity();
-    Vec3 zbest = zc;
+    fbest = -std::numeric_limits<double>::infinity();
+    zbest = zc;
     for (int k = -fph; k <= fph; ++k)
     {
         const double dphi = k * fphi;
@@ -181,6 +174,14 @@ AlignResult CorrelativeMatcher::align(const PointSet& tpl, const PointSet& scan,
                 }
             }
     }
+    return samples;
+}
+
+/** Mean offset and covariance of the score surface (weights exp(s - fbest)), with the
+ *  variance of the uniform quantisation to the fine steps added. */
+Vec3 surfaceMoments(const std::vector<std::pair<Vec3, double>>& samples, double fbest, double step_m,
+                    double fphi, Mat3& cov)
+{
     double wsum = 0;
     Vec3 mean = Vec3::Zero();
     Mat3 second = Mat3::Zero();
@@ -192,10 +193,39 @@ AlignResult CorrelativeMatcher::align(const PointSet& tpl, const PointSet& scan,
         second += w * d * d.transpose();
     }
     mean /= wsum;
-    Mat3 cov = second / wsum - mean * mean.transpose();
-    cov(0, 0) += o.fine_step_m * o.fine_step_m / 12;
-    cov(1, 1) += o.fine_step_m * o.fine_step_m / 12;
+    cov = second / wsum - mean * mean.transpose();
+    cov(0, 0) += step_m * step_m / 12;
+    cov(1, 1) += step_m * step_m / 12;
     cov(2, 2) += fphi * fphi / 12;
+    return mean;
+}
+}  // namespace
+
+AlignResult CorrelativeMatcher::align(const PointSet& tpl, const PointSet& scan, const Vec3& z0) const
+{
+    if (auto bad = rejectInput(tpl, scan, z0)) return *bad;
+    AlignResult res;
+    res.z = z0;
+    const auto& o = options_;
+    double radius = 0;
+    for (const Vec2& p : tpl.points) radius = std::max(radius, p.norm());
+    radius = std::max(radius, 0.5);
+    const double coarse_sigma = std::max(o.sigma_m, o.coarse_step_m);
+    const double margin = o.search_xy_m + radius + o.gate_sigma * coarse_sigma + 2 * o.grid_resolution_m;
+    const Vec2 lo = z0.head<2>() - Vec2::Constant(margin);
+    const Vec2 hi = z0.head<2>() + Vec2::Constant(margin);
+    const LikelihoodGrid coarse(lo, hi, o.grid_resolution_m, coarse_sigma, o.gate_sigma, scan);
+    const LikelihoodGrid fine(lo, hi, o.grid_resolution_m, o.sigma_m, o.gate_sigma, scan);
+
+    const double cphi = o.coarse_step_m / radius;
+    const Vec3 zc = coarseSearch(coarse, tpl, z0, o, cphi, res);
+    // Fine search around the coarse cell; the score surface gives mean and covariance.
+    const double fphi = o.fine_step_m / radius;
+    double fbest = 0;
+    Vec3 zbest;
+    const auto samples = fineSamples(fine, tpl, zc, o, cphi, fphi, fbest, zbest, res);
+    Mat3 cov;
+    const Vec3 mean = surfaceMoments(samples, fbest, o.fine_step_m, fphi, cov);
     res.z = zc + mean;
     res.z.z() = mrpt::math::wrapToPi(res.z.z());
     res.score = fbest;

@@ -8,7 +8,9 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
+#include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "hymm/core/config_utils.h"
 #include "hymm/scanslam/quadratic_fit.h"
@@ -41,6 +43,61 @@ void SogMatcher::Options::load(const mrpt::config::CConfigFileBase& cfg, const s
     table().load(cfg, section);
 }
 
+namespace
+{
+/** One template point's part of Eq. 5.13: the sum over the scan points of gamma_ij, with
+ *  its gradient and Hessian in z when asked for. */
+struct PointTerm
+{
+    double li = 0;
+    Vec3 gi = Vec3::Zero();
+    Mat3 hi = Mat3::Zero();
+    bool matched = false;  // a pair within 3 sigma
+};
+
+/** PointTerm of the template point whose rotated position is rp (moved by z) and rotated
+ *  covariance pi, with the smoothing variance extra_var on every pair. */
+PointTerm pointTerm(const PointSet& scan, const Vec2& rp, const Vec3& z, const Mat2& pi, double extra_var,
+                    double gate2, bool derivatives)
+{
+    PointTerm t;
+    const Vec2 tp = rp + z.head<2>();
+    const double tr_p = pi.trace() + 2 * extra_var;
+    const Vec2 a(-rp.y(), rp.x());  // d(R p)/dphi
+    for (size_t j = 0; j < scan.size(); ++j)
+    {
+        const Vec2 d = tp - scan.points[j];
+        const double d2 = d.squaredNorm();
+        // |d|^2 <= gate^2 * lambda_max(Sigma) <= gate^2 * trace(Sigma) for any pair
+        // within the Mahalanobis gate.
+        if (d2 > gate2 * (tr_p + scan.covs[j].trace())) continue;
+        Mat2 sig = pi + scan.covs[j];
+        sig(0, 0) += extra_var;
+        sig(1, 1) += extra_var;
+        const double det = sig.determinant();
+        if (!(det > 0)) continue;
+        const Mat2 inv = sig.inverse();
+        const Vec2 u = inv * d;
+        const double m2 = d.dot(u);
+        if (m2 > gate2) continue;
+        if (m2 < 9) t.matched = true;
+        // gamma_ij of Eq. 5.13: a Gaussian in d with covariance P_i + Q_j.
+        const double f = std::exp(-0.5 * m2) / (2 * M_PI * std::sqrt(det));
+        t.li += f;
+        if (!derivatives) continue;
+        // d = R p + t - q: dd/dz = [I | a], d2d/dphi2 = -R p.
+        const Vec3 jtu(u.x(), u.y(), a.dot(u));
+        Eigen::Matrix<double, 2, 3> jm;
+        jm << 1, 0, a.x(), 0, 1, a.y();
+        t.gi -= f * jtu;
+        Mat3 hh = f * (jtu * jtu.transpose()) - f * (jm.transpose() * inv * jm);
+        hh(2, 2) += f * u.dot(rp);
+        t.hi += hh;
+    }
+    return t;
+}
+}  // namespace
+
 SogMatcher::Evaluation SogMatcher::evaluate(const PointSet& tpl, const PointSet& scan,
                                             const Vec3& z, double extra_var, double cov_phi,
                                             bool derivatives) const
@@ -60,48 +117,13 @@ SogMatcher::Evaluation SogMatcher::evaluate(const PointSet& tpl, const PointSet&
     {
         const Vec2& p = tpl.points[i];
         const Vec2 rp(c * p.x() - s * p.y(), s * p.x() + c * p.y());
-        const Vec2 tp = rp + z.head<2>();
-        const Vec2 a(-rp.y(), rp.x());  // d(R p)/dphi
         const Mat2 pi = rc * tpl.covs[i] * rc.transpose();
-        const double tr_p = pi.trace() + 2 * extra_var;
-        bool matched = false;
-        double li = 0;
-        Vec3 gi = Vec3::Zero();
-        Mat3 hi = Mat3::Zero();
-        for (size_t j = 0; j < scan.size(); ++j)
-        {
-            const Vec2 d = tp - scan.points[j];
-            const double d2 = d.squaredNorm();
-            // |d|^2 <= gate^2 * lambda_max(Sigma) <= gate^2 * trace(Sigma) for any pair
-            // within the Mahalanobis gate.
-            if (d2 > gate2 * (tr_p + scan.covs[j].trace())) continue;
-            Mat2 sig = pi + scan.covs[j];
-            sig(0, 0) += extra_var;
-            sig(1, 1) += extra_var;
-            const double det = sig.determinant();
-            if (!(det > 0)) continue;
-            const Mat2 inv = sig.inverse();
-            const Vec2 u = inv * d;
-            const double m2 = d.dot(u);
-            if (m2 > gate2) continue;
-            if (m2 < 9) matched = true;
-            // gamma_ij of Eq. 5.13: a Gaussian in d with covariance P_i + Q_j.
-            const double f = std::exp(-0.5 * m2) / (2 * M_PI * std::sqrt(det));
-            li += f;
-            if (!derivatives) continue;
-            // d = R p + t - q: dd/dz = [I | a], d2d/dphi2 = -R p.
-            const Vec3 jtu(u.x(), u.y(), a.dot(u));
-            Eigen::Matrix<double, 2, 3> jm;
-            jm << 1, 0, a.x(), 0, 1, a.y();
-            gi -= f * jtu;
-            Mat3 hh = f * (jtu * jtu.transpose()) - f * (jm.transpose() * inv * jm);
-            hh(2, 2) += f * u.dot(rp);
-            hi += hh;
-        }
-        if (matched) ++ev.matched;
+        const PointTerm t = pointTerm(scan, rp, z, pi, extra_var, gate2, derivatives);
+        const double li = t.li;
+        if (t.matched) ++ev.matched;
         total += li;
-        g_total += gi;
-        h_total += hi;
+        g_total += t.gi;
+        h_total += t.hi;
         if (!product) continue;
         // A point with no scan point within the gate contributes the constant floor:
         // the value of one pair at the gate distance (an outlier-robust kernel).
@@ -112,9 +134,9 @@ SogMatcher::Evaluation SogMatcher::evaluate(const PointSet& tpl, const PointSet&
             log_sum += std::log(li);
             if (derivatives)
             {
-                const Vec3 g = gi / li;
+                const Vec3 g = t.gi / li;
                 g_prod += g;
-                h_prod += hi / li - g * g.transpose();
+                h_prod += t.hi / li - g * g.transpose();
             }
         }
         else
@@ -137,20 +159,103 @@ SogMatcher::Evaluation SogMatcher::evaluate(const PointSet& tpl, const PointSet&
     return ev;
 }
 
+namespace
+{
+/** The scan points that can reach the template around z0 at some smoothing level. */
+PointSet reachablePoints(const PointSet& tpl, const PointSet& scan, const Vec3& z0, const SogMatcher::Options& o)
+{
+    double radius = 0;
+    for (const Vec2& p : tpl.points) radius = std::max(radius, p.norm());
+    double smax = 0;
+    for (double s : o.scales_m) smax = std::max(smax, s);
+    const double reach = radius + 2.0 + o.gate_sigma * (smax + 1.0);
+    PointSet near;
+    for (size_t j = 0; j < scan.size(); ++j)
+        if ((scan.points[j] - z0.head<2>()).norm() < reach) near.add(scan.points[j], scan.covs[j]);
+    return near;
+}
+
+/** Levenberg-Marquardt ascent of the objective at one smoothing variance `ev`, from `z`
+ *  with its evaluation `cur` (both updated); counts the steps in res.iterations. */
+void ascendLevel(const SogMatcher& m, const PointSet& tpl, const PointSet& near, double ev, Vec3& z,
+                 SogMatcher::Evaluation& cur, AlignResult& res)
+{
+    double lambda = 1e-3;
+    for (int it = 0; it < m.options().max_iterations; ++it)
+    {
+        ++res.iterations;
+        Mat3 a = -cur.hessian;
+        for (int k = 0; k < 3; ++k) a(k, k) += lambda * std::max(std::abs(a(k, k)), 1e-9);
+        Eigen::LDLT<Mat3> ldlt(a);
+        if (ldlt.info() != Eigen::Success || !ldlt.isPositive() ||
+            ldlt.vectorD().minCoeff() <= 0)
+        {
+            lambda *= 10;
+            if (lambda > 1e10) break;
+            continue;
+        }
+        const Vec3 step = ldlt.solve(cur.gradient);
+        Vec3 zn = z + step;
+        zn.z() = mrpt::math::wrapToPi(zn.z());
+        const SogMatcher::Evaluation nxt = m.evaluate(tpl, near, zn, ev, zn.z(), true);
+        if (std::isfinite(nxt.log_l) && nxt.log_l >= cur.log_l)
+        {
+            z = zn;
+            cur = nxt;
+            lambda = std::max(lambda * 0.1, 1e-9);
+            if (step.head<2>().norm() < 1e-6 && std::abs(step.z()) < 1e-7) break;
+        }
+        else
+        {
+            lambda *= 10;
+            if (lambda > 1e10) break;
+        }
+    }
+}
+
+/** Thesis 5.4: samples the likelihood (last level's smoothing) around the maximum `z` at
+ *  about one conditional sigma per axis and fits P^-1 by least squares; falls back to the
+ *  curvature at the maximum. nullopt if neither is positive definite. */
+std::optional<Mat3> sampledCovariance(const SogMatcher& m, const PointSet& tpl, const PointSet& near,
+                                      const Vec3& z, const SogMatcher::Evaluation& cur)
+{
+    const auto& scales = m.options().scales_m;
+    const double ev_last = scales.back() * scales.back();
+    Vec3 step;
+    for (int k = 0; k < 3; ++k)
+    {
+        const double curv = -cur.hessian(k, k);
+        step(k) = curv > 0 ? 1.0 / std::sqrt(curv) : (k < 2 ? 0.1 : 0.01);
+    }
+    step.x() = std::clamp(step.x(), 1e-4, 0.5);
+    step.y() = std::clamp(step.y(), 1e-4, 0.5);
+    step.z() = std::clamp(step.z(), 1e-5, 0.2);
+    std::vector<Vec3> offsets = quadraticFitStencil(step);
+    std::vector<double> values;
+    values.reserve(offsets.size());
+    for (const Vec3& d : offsets)
+    {
+        const Vec3 zs = z + d;
+        const double l = m.evaluate(tpl, near, zs, ev_last, zs.z(), false).log_l;
+        values.push_back(std::isfinite(l) ? -2.0 * (l - cur.log_l) : 1e6);
+    }
+    const auto inv = fitInverseCovariance(offsets, values);
+    if (inv) return Mat3(inv->inverse());
+    // Fall back to the curvature at the maximum when the fit is not positive
+    // definite (a likelihood far from Gaussian within one sigma).
+    Eigen::LDLT<Mat3> ldlt(-cur.hessian);
+    if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) return std::nullopt;
+    return Mat3(ldlt.solve(Mat3::Identity()));
+}
+}  // namespace
+
 AlignResult SogMatcher::align(const PointSet& tpl, const PointSet& scan, const Vec3& z0) const
 {
     if (auto bad = rejectInput(tpl, scan, z0)) return *bad;
     AlignResult res;
     res.z = z0;
     // Only scan points that can reach the template at some level take part.
-    double radius = 0;
-    for (const Vec2& p : tpl.points) radius = std::max(radius, p.norm());
-    double smax = 0;
-    for (double s : options_.scales_m) smax = std::max(smax, s);
-    const double reach = radius + 2.0 + options_.gate_sigma * (smax + 1.0);
-    PointSet near;
-    for (size_t j = 0; j < scan.size(); ++j)
-        if ((scan.points[j] - z0.head<2>()).norm() < reach) near.add(scan.points[j], scan.covs[j]);
+    const PointSet near = reachablePoints(tpl, scan, z0, options_);
     if (near.size() < 3)
     {
         res.failure = "too_few_points";
@@ -168,37 +273,7 @@ AlignResult SogMatcher::align(const PointSet& tpl, const PointSet& scan, const V
             res.failure = "no_overlap";
             return res;
         }
-        double lambda = 1e-3;
-        for (int it = 0; it < options_.max_iterations; ++it)
-        {
-            ++res.iterations;
-            Mat3 a = -cur.hessian;
-            for (int k = 0; k < 3; ++k) a(k, k) += lambda * std::max(std::abs(a(k, k)), 1e-9);
-            Eigen::LDLT<Mat3> ldlt(a);
-            if (ldlt.info() != Eigen::Success || !ldlt.isPositive() ||
-                ldlt.vectorD().minCoeff() <= 0)
-            {
-                lambda *= 10;
-                if (lambda > 1e10) break;
-                continue;
-            }
-            const Vec3 step = ldlt.solve(cur.gradient);
-            Vec3 zn = z + step;
-            zn.z() = mrpt::math::wrapToPi(zn.z());
-            const Evaluation nxt = evaluate(tpl, near, zn, ev, zn.z(), true);
-            if (std::isfinite(nxt.log_l) && nxt.log_l >= cur.log_l)
-            {
-                z = zn;
-                cur = nxt;
-                lambda = std::max(lambda * 0.1, 1e-9);
-                if (step.head<2>().norm() < 1e-6 && std::abs(step.z()) < 1e-7) break;
-            }
-            else
-            {
-                lambda *= 10;
-                if (lambda > 1e10) break;
-            }
-        }
+        ascendLevel(*this, tpl, near, ev, z, cur, res);
     }
     res.z = z;
     res.score = cur.log_l;
@@ -217,46 +292,14 @@ AlignResult SogMatcher::align(const PointSet& tpl, const PointSet& scan, const V
         res.failure = "too_few_matches";
         return res;
     }
-
-    // Thesis 5.4: sample the likelihood (last level's smoothing) around the maximum at
-    // about one conditional sigma per axis and fit P^-1 by least squares.
-    const double ev_last = options_.scales_m.back() * options_.scales_m.back();
-    Vec3 step;
-    for (int k = 0; k < 3; ++k)
+    const std::optional<Mat3> cov = sampledCovariance(*this, tpl, near, z, cur);
+    if (!cov)
     {
-        const double curv = -cur.hessian(k, k);
-        step(k) = curv > 0 ? 1.0 / std::sqrt(curv) : (k < 2 ? 0.1 : 0.01);
-    }
-    step.x() = std::clamp(step.x(), 1e-4, 0.5);
-    step.y() = std::clamp(step.y(), 1e-4, 0.5);
-    step.z() = std::clamp(step.z(), 1e-5, 0.2);
-    std::vector<Vec3> offsets = quadraticFitStencil(step);
-    std::vector<double> values;
-    values.reserve(offsets.size());
-    for (const Vec3& d : offsets)
-    {
-        const Vec3 zs = z + d;
-        const double l = evaluate(tpl, near, zs, ev_last, zs.z(), false).log_l;
-        values.push_back(std::isfinite(l) ? -2.0 * (l - cur.log_l) : 1e6);
-    }
-    const auto inv = fitInverseCovariance(offsets, values);
-    Mat3 cov;
-    if (inv)
-        cov = inv->inverse();
-    else
-    {
-        // Fall back to the curvature at the maximum when the fit is not positive
-        // definite (a likelihood far from Gaussian within one sigma).
-        Eigen::LDLT<Mat3> ldlt(-cur.hessian);
-        if (ldlt.info() != Eigen::Success || !ldlt.isPositive())
-        {
-            res.failure = "covariance_not_positive";
-            return res;
-        }
-        cov = ldlt.solve(Mat3::Identity());
+        res.failure = "covariance_not_positive";
+        return res;
     }
     res.z = z;
-    return finishAlignment(res, cov, options_.cov_inflation);
+    return finishAlignment(res, *cov, options_.cov_inflation);
 }
 
 }  // namespace hymm::scanslam

@@ -65,6 +65,32 @@ void checkNoise(const Eigen::Matrix2d& R)
         throw std::invalid_argument(
             "DelayedDenseStore: the sensor noise R must be finite, symmetric and positive definite");
 }
+
+/** addScan's arguments beside the noise: finite sensor pose and time, one tag per return,
+ *  no earlier than the previous scan. */
+void checkScanInput(const std::vector<Eigen::Vector2d>& z, const Eigen::Vector3d& sensor_on_vehicle, double time,
+                    const std::vector<long>* tags, double last_time)
+{
+    if (!sensor_on_vehicle.allFinite() || !std::isfinite(time))
+        throw std::invalid_argument("DelayedDenseStore::addScan: non-finite sensor pose or time");
+    if (tags && tags->size() != z.size())
+        throw std::invalid_argument("DelayedDenseStore::addScan: tags must have one entry per return");
+    if (time < last_time)
+        throw std::invalid_argument(
+            "DelayedDenseStore::addScan: time " + std::to_string(time) + " is before the previous scan's " +
+            std::to_string(last_time));
+}
+
+/** Keeps m of the points, evenly spread over them (keeps the scan's coverage); returns
+ *  how many went. */
+size_t thinEvenly(std::vector<StoredPoint>& points, size_t m)
+{
+    std::vector<StoredPoint> kept;
+    const size_t n = points.size();
+    for (size_t k = 0; k < m; ++k) kept.push_back(points[k * n / m]);
+    points.swap(kept);
+    return n - m;
+}
 }  // namespace
 
 DelayedDenseStore::DelayedDenseStore(const Options& options)
@@ -175,14 +201,7 @@ DelayedDenseStore::AddReport DelayedDenseStore::addScan(
     if (!options_.enabled) return rep;
     mrpt::system::CTimeLoggerEntry tle(profiler_, "uif.addScan");
     checkNoise(R);
-    if (!sensor_on_vehicle.allFinite() || !std::isfinite(time))
-        throw std::invalid_argument("DelayedDenseStore::addScan: non-finite sensor pose or time");
-    if (tags && tags->size() != z.size())
-        throw std::invalid_argument("DelayedDenseStore::addScan: tags must have one entry per return");
-    if (time < last_time_)
-        throw std::invalid_argument(
-            "DelayedDenseStore::addScan: time " + std::to_string(time) + " is before the previous scan's " +
-            std::to_string(last_time_));
+    checkScanInput(z, sensor_on_vehicle, time, tags, last_time_);
     last_time_ = time;
 
     // 1. Forget scans the filter no longer carries, and scans that are too old.
@@ -194,13 +213,7 @@ DelayedDenseStore::AddReport DelayedDenseStore::addScan(
 
     // 3. A scan larger than the whole budget is thinned evenly (keeps its coverage).
     if (scan.points.size() > options_.max_stored_points)
-    {
-        std::vector<StoredPoint> kept;
-        const size_t n = scan.points.size(), m = options_.max_stored_points;
-        for (size_t k = 0; k < m; ++k) kept.push_back(scan.points[k * n / m]);
-        rep.thinned = n - m;
-        scan.points.swap(kept);
-    }
+        rep.thinned = thinEvenly(scan.points, options_.max_stored_points);
     if (scan.points.empty())
     {
         releaseUnusedPotentialRegions();

@@ -300,6 +300,20 @@ private:
     void associateBatch(const std::vector<RangeBearingObs>& obs, const std::vector<bool>& valid,
                         const Eigen::Vector3d& sensor, std::vector<Pairing>& pairs,
                         std::vector<NewLandmark>& created, UpdateReport& report) const;
+    /** associateBatch, known ids: pairs them (gated when known_id_gate_prob > 0), marks the
+     *  paired blocks in `taken`; returns the valid observations without an id. */
+    std::vector<size_t> associateKnownIds(const std::vector<RangeBearingObs>& obs,
+                                          const std::vector<bool>& valid, const Eigen::Vector3d& sensor,
+                                          std::vector<Pairing>& pairs, std::vector<NewLandmark>& created,
+                                          std::vector<bool>& taken, UpdateReport& report) const;
+    /** associateBatch, the rest: the free point landmarks inside the creation gate of one
+     *  of the `unknown` observations. */
+    std::vector<Pairing> gateCandidates(const std::vector<RangeBearingObs>& obs,
+                                        const std::vector<size_t>& unknown, const std::vector<bool>& taken,
+                                        const Eigen::Vector3d& sensor) const;
+    /** New landmarks at the updated vehicle pose (Eq. 2.53), all in one augmentation. */
+    void addNewLandmarks(const std::vector<NewLandmark>& created, const std::vector<RangeBearingObs>& obs,
+                         const Eigen::Vector3d& sensor, UpdateReport& report);
     /** Batched sparse update; false (state untouched) if S is not PD. */
     bool fuse(const std::vector<Pairing>& pairs, const std::vector<RangeBearingObs>& obs,
               std::string& reason);

@@ -1,0 +1,188 @@
+// GuardedRawlogStream: where the counts lie in the serialised objects of the classes
+// HYMM reads (the checkpoints armFor sets when a class name goes by).
+#include "GuardedRawlogStream.h"
+
+#include <cstdint>
+#include <string>
+
+namespace hymm::io::detail
+{
+namespace
+{
+// Smallest serialised object (a null pointer: header, "nullptr", end flag).
+constexpr uint64_t kMinObjectBytes = 9;
+// CActionRobotMovement2D's Thrun motion model draws this many samples at most (MRPT's
+// default is 300); each costs about 64 bytes, so the cap bounds that draw to 64 MiB.
+constexpr uint32_t kMaxMotionModelParticles = 1000000;
+}  // namespace
+
+void GuardedRawlogStream::armFor(const std::string& qualified, bool old_format)
+{
+    // pos_ is just past the class name: the version comes next. Offsets below follow
+    // MRPT 2.5's serializeFrom() of each class, for every version it still reads.
+    ObjectHeader h;
+    h.name = unqualified(qualified);
+    h.old_format = old_format;
+    if (!readVersion(h)) return;
+    const int v = h.version;
+    const uint64_t data = h.data;
+    const std::string& name = h.name;
+    if (name == "CSensoryFrame" && v <= 2)
+    {
+        // v0: ID (uint32) and a timestamp (uint64) before the count; v1: the ID.
+        const uint64_t at = data + (v == 0 ? 12 : v == 1 ? 4 : 0);
+        checkpoints_.push_back(countAt(h, at, kMinObjectBytes, 0, "observations"));
+    }
+    else if (name == "CActionCollection" && v == 0)
+        checkpoints_.push_back(countAt(h, data, kMinObjectBytes, 0, "actions"));
+    else if (name == "CObservation2DRangeScan" && v <= 7)
+        armScan(h);
+    else if (name == "CObservationBearingRange" && v <= 3)
+        armBearingRange(h);
+    else if (name == "CObservationOdometry" && v <= 2)
+    {
+        // odometry (CPose2D object), then the label, timestamp, and from v1 more fields.
+        const uint64_t at = skipObject(data);
+        if (at == 0) return;
+        checkpoints_.push_back(countAt(h, at, 1, 8, "bytes of sensor label"));
+    }
+    else if (name == "CActionRobotMovement2D" && v >= 3 && v <= 7)
+        armRobotMovement(h);
+    else if (name == "CPosePDFParticles" && v <= 1)
+        // v1: log weight and a TPose2D (x, y, phi): 4 doubles per particle, as MRPT stores
+        // them;
+        // v0: log weight and a CPose2D object of at least 22 bytes.
+        checkpoints_.push_back(countAt(h, data, v == 1 ? 32 : 8 + 22, 0, "particles"));
+    else if (name == "CPosePDFSOG" && v <= 2)
+        // Per mode: log weight, mean (CPose2D object), the covariance's upper triangle
+        // (6 floats in v1, doubles otherwise).
+        checkpoints_.push_back(countAt(h, data, 8 + 22 + (v == 1 ? 24 : 48), 0, "modes"));
+    else if (name == "CPosePDFGrid" && v == 0)
+        // 8 doubles of limits and resolutions, 7 int32 sizes and indices, then the
+        // cells as a vector of doubles.
+        checkpoints_.push_back(countAt(h, data + 64 + 28, 8, 0, "grid cells"));
+    else if (v == 0 && matrixElementBytes(name) != 0)
+    {
+        Checkpoint c = countAt(h, data, matrixElementBytes(name), 0, "matrix elements");
+        c.kind = Checkpoint::Matrix;
+        checkpoints_.push_back(c);
+    }
+}
+
+bool GuardedRawlogStream::readVersion(ObjectHeader& h)
+{
+    if (h.old_format)
+    {
+        int32_t v = 0;
+        if (!peek(pos_, &v, 4) || v < 0 || v > 255) return false;
+        h.version = v;
+        h.data = pos_ + 4;
+    }
+    else
+    {
+        uint8_t v = 0;
+        if (!peek(pos_, &v, 1)) return false;
+        h.version = v;
+        h.data = pos_ + 1;
+    }
+    return true;
+}
+
+void GuardedRawlogStream::armScan(const ObjectHeader& h)
+{
+    const int v = h.version;
+    const uint64_t data = h.data;
+    // aperture (float), rightToLeft (bool), maxRange (float), sensorPose (CPose3D),
+    // before v6 a covariance matrix object, then the beam count.
+    uint64_t at = skipObject(data + 9);
+    if (at != 0 && v < 6) at = skipObject(at);
+    if (at == 0) return;
+    // Per beam a float range and (from v1) a validity byte: MRPT allocates 9 bytes
+    // per beam (range, validity, intensity). After the beams: stdError (v2+),
+    // timestamp (v3+), beamAperture (v4+), the label's length and deltaPitch (v5+),
+    // hasIntensity (v7).
+    const uint64_t tail = (v >= 2 ? 4 : 0) + (v >= 3 ? 8 : 0) + (v >= 4 ? 4 : 0) +
+                          (v >= 5 ? 8 : 0) + (v >= 7 ? 1 : 0);
+    Checkpoint c = countAt(h, at, v == 0 ? 4 : 5, tail, "beams");
+    if (v >= 5)
+    {
+        c.then_what = "bytes of sensor label";
+        c.then_gap = 4 + 8 + 4;
+        c.then_tail = 4 + (v >= 7 ? 1u : 0u) + endFlagBytes(h);
+    }
+    checkpoints_.push_back(c);
+}
+
+void GuardedRawlogStream::armBearingRange(const ObjectHeader& h)
+{
+    const int v = h.version;
+    const uint64_t data = h.data;
+    // min/max distance (floats), field of view (2 floats from v3, 1 before),
+    // sensorLocationOnRobot (CPose3D), timestamp (v2+), validCovariances (v3+, then
+    // three floats when false), then the count; each measurement range, yaw, pitch
+    // (floats) and the landmark ID (int32), with valid covariances a 3x3 matrix
+    // object, then the label (v1+).
+    uint64_t at = skipObject(data + 8 + (v >= 3 ? 8 : 4));
+    if (at == 0) return;
+    if (v >= 2) at += 8;
+    uint8_t valid_cov = 0;
+    if (v >= 3)
+    {
+        if (!peek(at, &valid_cov, 1)) return;
+        at += 1 + (valid_cov ? 0 : 12);
+    }
+    uint64_t element = 16;
+    if (valid_cov)
+    {
+        // Every matrix MRPT writes here is 3x3: the first one gives the stride.
+        uint32_t n = 0;
+        if (!peek(at, &n, 4)) return;
+        if (n > 0)
+        {
+            const uint64_t m = skipObject(at + 4 + 16);
+            if (m == 0) return;
+            element += m - (at + 4 + 16);
+        }
+    }
+    Checkpoint c = countAt(h, at, element, v >= 1 ? 4 : 0, "measurements");
+    if (v >= 1)
+    {
+        c.then_what = "bytes of sensor label";
+        c.then_gap = 0;
+        c.then_tail = endFlagBytes(h);
+    }
+    checkpoints_.push_back(c);
+}
+
+void GuardedRawlogStream::armRobotMovement(const ObjectHeader& h)
+{
+    const int v = h.version;
+    const uint64_t data = h.data;
+    // emOdometry (0) stores the raw increment and the motion model; MRPT rebuilds the
+    // PDF from them, drawing nParticlesCount samples for the Thrun model (1): that
+    // count is not backed by bytes in the file, so it gets a fixed cap.
+    int32_t method = -1;
+    if (!peek(data, &method, 4) || method != 0) return;
+    const uint64_t at = skipObject(data + 4);
+    int32_t model = 0;
+    if (at == 0 || !peek(at, &model, 4) || model == 0) return;
+    Checkpoint c;
+    c.kind = Checkpoint::Cap;
+    c.offset = at + 4 + (v >= 4 ? 6 : 5) * 4;
+    c.cap = kMaxMotionModelParticles;
+    c.what = "motion-model particles";
+    checkpoints_.push_back(c);
+}
+
+GuardedRawlogStream::Checkpoint GuardedRawlogStream::countAt(
+    const ObjectHeader& h, uint64_t at, uint64_t element, uint64_t tail, const char* what)
+{
+    Checkpoint c;
+    c.offset = at;
+    c.element_bytes = element;
+    c.tail_bytes = tail + endFlagBytes(h);
+    c.what = what;
+    return c;
+}
+
+}  // namespace hymm::io::detail
