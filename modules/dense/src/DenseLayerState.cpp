@@ -18,6 +18,25 @@ namespace hymm::dense
 {
 using namespace hymm::core::state;
 
+namespace
+{
+// Capacities too: memoryBytes() reports them (metrics.json, summary.txt), so a resumed
+// run must hold the same allocations as the uninterrupted one.
+template <class V>
+void writeCapacity(mrpt::serialization::CArchive& out, const V& v)
+{
+    out << static_cast<std::uint64_t>(v.capacity());
+}
+template <class V>
+void reserveFrom(mrpt::serialization::CArchive& in, V& v)
+{
+    const auto cap = readSize(in, "capacity");
+    V fresh;
+    fresh.reserve(cap);
+    v.swap(fresh);
+}
+}  // namespace
+
 void DenseLayer::saveState(mrpt::serialization::CArchive&) const
 {
     throw std::logic_error("the dense layer '" + kind() + "' cannot be saved in a run state");
@@ -29,6 +48,9 @@ void DenseLayer::loadState(mrpt::serialization::CArchive&)
 
 void LogOddsGrid::saveState(mrpt::serialization::CArchive& out) const
 {
+    writeCapacity(out, l_);
+    writeCapacity(out, flags_);
+    writeCapacity(out, touched_);
     writeMatrix(out, origin_);
     out << static_cast<std::int32_t>(size_x_) << static_cast<std::int32_t>(size_y_) << cell_size_
         << initial_;
@@ -40,6 +62,9 @@ void LogOddsGrid::saveState(mrpt::serialization::CArchive& out) const
 
 void LogOddsGrid::loadState(mrpt::serialization::CArchive& in)
 {
+    reserveFrom(in, l_);
+    reserveFrom(in, flags_);
+    reserveFrom(in, touched_);
     readMatrix(in, origin_, "grid origin");
     std::int32_t sx = 0, sy = 0;
     in >> sx >> sy >> cell_size_ >> initial_;
@@ -106,6 +131,7 @@ void PointsLayer::loadState(mrpt::serialization::CArchive& in)
 
 void ParticlesLayer::saveState(mrpt::serialization::CArchive& out) const
 {
+    writeCapacity(out, particles_);
     writeSize(out, particles_.size());
     for (const Particle& p : particles_) out << p.position.x() << p.position.y() << p.weight;
     // std::mt19937_64 streams its whole state as text (the standard's guarantee).
@@ -118,6 +144,7 @@ void ParticlesLayer::saveState(mrpt::serialization::CArchive& out) const
 }
 void ParticlesLayer::loadState(mrpt::serialization::CArchive& in)
 {
+    reserveFrom(in, particles_);
     particles_.resize(readSize(in, "particle"));
     for (Particle& p : particles_) in >> p.position.x() >> p.position.y() >> p.weight;
     std::string rng;
@@ -132,6 +159,7 @@ void ParticlesLayer::loadState(mrpt::serialization::CArchive& in)
 
 void SogLayer::saveState(mrpt::serialization::CArchive& out) const
 {
+    writeCapacity(out, gaussians_);
     writeSize(out, gaussians_.size());
     for (const Gaussian& g : gaussians_)
     {
@@ -141,6 +169,7 @@ void SogLayer::saveState(mrpt::serialization::CArchive& out) const
 }
 void SogLayer::loadState(mrpt::serialization::CArchive& in)
 {
+    reserveFrom(in, gaussians_);
     gaussians_.resize(readSize(in, "Gaussian"));
     for (Gaussian& g : gaussians_)
     {
@@ -152,12 +181,14 @@ void SogLayer::loadState(mrpt::serialization::CArchive& in)
 void PropertyLayer::saveState(mrpt::serialization::CArchive& out) const
 {
     const std::map<std::int64_t, Cell> sorted(cells_.begin(), cells_.end());
+    out << static_cast<std::uint64_t>(cells_.bucket_count());  // memoryBytes() counts the buckets
     writeSize(out, sorted.size());
     for (const auto& [key, c] : sorted) out << key << c.info << c.weighted << c.count;
 }
 void PropertyLayer::loadState(mrpt::serialization::CArchive& in)
 {
     cells_.clear();
+    cells_.rehash(readSize(in, "bucket"));
     const size_t n = readSize(in, "property cell");
     for (size_t i = 0; i < n; ++i)
     {
