@@ -188,7 +188,8 @@ void PropertyLayer::saveState(mrpt::serialization::CArchive& out) const
 void PropertyLayer::loadState(mrpt::serialization::CArchive& in)
 {
     cells_.clear();
-    cells_.rehash(readSize(in, "bucket"));
+    // rehash() rounds up to its own bucket counts: only a count the map does not have yet.
+    if (const size_t buckets = readSize(in, "bucket"); buckets != cells_.bucket_count()) cells_.rehash(buckets);
     const size_t n = readSize(in, "property cell");
     for (size_t i = 0; i < n; ++i)
     {
