@@ -13,7 +13,8 @@
  * A file without the magic, of another version, shorter than its header says (truncated),
  * with a wrong checksum (corrupt), or saved under another config (RunInfo::config: the
  * .ini's sections, keys and values, comments and order aside) is refused with a message
- * naming the file; the pipeline is then left as it was built.
+ * naming the file (hymm-slam then exits before writing anything; a pipeline that failed to
+ * load may hold part of the state and is to be discarded).
  * Source: slam_state.cpp.
  */
 #pragma once
