@@ -319,10 +319,11 @@ TEST(MrptWorkflow, MonteCarloLocalisationOnTheSavedHybridMap)
         EXPECT_GT(sc.initial_error_m, 0.5) << seed;
         EXPECT_LT(sc.mean_error_m, 0.4) << seed;
         EXPECT_LT(sc.max_error_m, 1.0) << seed;
-        // The particle set is overconfident on the hybrid map (measured 4.8-5.7 against a
-        // chi-square mean of 2: the map's own error is not in MRPT's sensor model), but far
-        // less than on the keyframes' grid (60-130).
-        EXPECT_LT(sc.mean_nees, 8.0) << seed;
+        // The particle set is overconfident on the hybrid map (measured 6.5-8.9 against a
+        // chi-square mean of 2 since map.hymm holds the fallback tiles, 4.8-5.7 without
+        // them: the map's own error is not in MRPT's sensor model, and the tiles' returns
+        // sharpen the likelihood field), but far less than on the keyframes' grid (60-130).
+        EXPECT_LT(sc.mean_nees, 12.0) << seed;
         sum_hymm += sc.mean_error_m;
         sum_grid += sg.mean_error_m;
         ++n;

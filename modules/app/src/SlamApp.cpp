@@ -1,6 +1,7 @@
 #include "hymm/app/SlamApp.h"
 #include "hymm/app/motion_outputs.h"
 #include "hymm/app/mrpt_outputs.h"
+#include "hymm/app/slam_state.h"
 
 #include <hymm/sim/ground_truth_io.h>
 
@@ -16,6 +17,8 @@
 #include <mrpt/system/filesystem.h>
 
 #include <chrono>
+#include <filesystem>
+#include <functional>
 #include <fstream>
 #include <iomanip>
 #include <ostream>
@@ -35,9 +38,12 @@ namespace
 {
 using Clock = std::chrono::steady_clock;
 
-// The main loop: one rawlog entry at a time, throttled progress. Returns the seconds.
+// The main loop: one rawlog entry at a time, throttled progress; `after` runs after each
+// entry with the count read so far and stops the loop by returning false. Returns the
+// seconds.
 double processRawlog(DenseSlam& slam, io::RawlogReader& reader, bool quiet,
-                     std::vector<FrameTiming>& timing, KeyframeRecorder& keyframes, std::ostream& log)
+                     std::vector<FrameTiming>& timing, KeyframeRecorder& keyframes, std::ostream& log,
+                     const std::function<bool(size_t)>& after)
 {
     const auto t0 = Clock::now();
     auto last_report = t0;
@@ -61,8 +67,14 @@ double processRawlog(DenseSlam& slam, io::RawlogReader& reader, bool quiet,
                 << std::chrono::duration<double>(now - t0).count() << " s\n"
                 << std::flush;
         }
+        if (!after(reader.entriesRead())) break;
     }
     return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+std::string absolutePath(const std::string& path)
+{
+    return std::filesystem::weakly_canonical(std::filesystem::absolute(path)).string();
 }
 }  // namespace
 
@@ -84,6 +96,11 @@ void SlamApp::run(std::ostream& log)
                                          ? MotionTruth{}
                                          : motionTruthFromRecords(sim::readObjectOutlines(args_.gt_objects));
 
+    // A saved state continues the run (the rawlog's entries it holds are skipped when it
+    // is the same rawlog); like the inputs, a bad state fails before anything is written.
+    KeyframeRecorder keyframes;
+    StateRun st = startState(keyframes, reader);
+
     // The output folder before any work: a bad --out fails now, and the results of an
     // earlier run in it are removed (core::OutputFolder). Files are written into its
     // staging folder and appear only when every one of them was written.
@@ -91,17 +108,23 @@ void SlamApp::run(std::ostream& log)
     folder.prepare();
 
     std::vector<FrameTiming> timing;
-    KeyframeRecorder keyframes;
-    const double run_s = processRawlog(*slam_, reader, args_.quiet, timing, keyframes, log);
+    const double run_s = processRawlog(*slam_, reader, args_.quiet, timing, keyframes, log, [&](size_t read) {
+        if (args_.save_state_every > 0 && read % args_.save_state_every == 0) saveState(st, read, keyframes);
+        return args_.stop_after == 0 || read < args_.stop_after;
+    });
     if (reader.entriesRead() == 0)
         throw std::runtime_error("rawlog '" + args_.rawlog + "' holds no entries");
+    // Before the outputs: writing them refreshes the regions (refreshRegions), which the
+    // uninterrupted run would not have done at this point.
+    if (!args_.save_state.empty()) saveState(st, reader.entriesRead(), keyframes);
+    const size_t entries = st.info.entries - st.info.rawlog_entries + reader.entriesRead();
     const auto warnings = runWarnings(*slam_);
     for (const auto& w : warnings) log << "hymm-slam: warning: " << w << "\n";
     if (args_.strict && !warnings.empty())
         throw std::runtime_error("--strict: " + std::to_string(warnings.size()) +
                                  " run warning(s) (above); no results written");
-    writeOutputs(folder.staging(), gt ? &*gt : nullptr, outlines, motion_truth, timing, run_s,
-                 reader.entriesRead(), warnings);
+    writeOutputs(folder.staging(), gt ? &*gt : nullptr, outlines, motion_truth, timing, run_s, entries,
+                 warnings);
     writeMrptOutputs(*slam_, keyframes, folder.staging());
     folder.commit();
     if (!args_.quiet)
@@ -109,6 +132,48 @@ void SlamApp::run(std::ostream& log)
         std::ifstream s(args_.out_dir + "/summary.txt");
         log << s.rdbuf() << "[hymm-slam] results in " << args_.out_dir << "\n";
     }
+}
+
+SlamApp::StateRun SlamApp::startState(KeyframeRecorder& keyframes, io::RawlogReader& reader)
+{
+    StateRun st;
+    if (args_.save_state.empty() && args_.resume.empty())
+    {
+        if (args_.save_state_every > 0) throw std::invalid_argument("--save-state-every needs --save-state");
+        return st;
+    }
+    if (const auto why = slam_->stateUnsupported(); !why.empty())
+        throw std::invalid_argument(std::string(args_.resume.empty() ? "--save-state" : "--resume") +
+                                    ": the run state cannot hold " + why +
+                                    " yet (docs/mrpt-workflows.md, Saved state)");
+    st.info.config = configFingerprint(args_.config);
+    st.info.rawlog = absolutePath(args_.rawlog);
+    if (args_.resume.empty()) return st;
+    const RunInfo saved = loadRunState(args_.resume, st.info.config, *slam_, keyframes);
+    st.info.entries = saved.entries;
+    if (saved.rawlog != st.info.rawlog) return st;  // a further rawlog: from its start
+    // The same rawlog: continue after the entries the state holds.
+    if (args_.stop_after > 0 && args_.stop_after <= saved.rawlog_entries)
+        throw std::invalid_argument("--stop-after " + std::to_string(args_.stop_after) +
+                                    ": the state '" + args_.resume + "' is already past that entry (" +
+                                    std::to_string(saved.rawlog_entries) + ")");
+    st.info.rawlog_entries = saved.rawlog_entries;
+    io::RawlogEntry entry;
+    while (reader.entriesRead() < saved.rawlog_entries)
+        if (!reader.next(entry))
+            throw std::runtime_error("--resume: rawlog '" + args_.rawlog + "' has " +
+                                     std::to_string(reader.entriesRead()) + " entries; the state '" +
+                                     args_.resume + "' was saved after its entry " +
+                                     std::to_string(saved.rawlog_entries));
+    return st;
+}
+
+void SlamApp::saveState(const StateRun& st, size_t read, const KeyframeRecorder& keyframes) const
+{
+    RunInfo info = st.info;
+    info.entries = st.info.entries - st.info.rawlog_entries + read;
+    info.rawlog_entries = read;
+    saveRunState(args_.save_state, info, *slam_, keyframes);
 }
 
 void SlamApp::writeOutputs(const std::string& out, const io::GroundTruth* gt,
@@ -156,6 +221,15 @@ bool parseSlamArgs(int argc, char** argv, SlamApp::Args& a, std::ostream& out)
         "fail (exit 1, no results) on a run warning: no observation used, most not used, no "
         "landmark observation, no odometry, time going backwards", cmd);
     TCLAP::SwitchArg verbose("", "verbose", "errors with MRPT's call-stack backtraces", cmd);
+    TCLAP::ValueArg<std::string> save_state("", "save-state",
+        "write the run state to FILE after the last entry (continue with --resume)", false, "", "FILE", cmd);
+    TCLAP::ValueArg<size_t> every("", "save-state-every",
+        "also write the --save-state FILE after every N rawlog entries", false, 0, "N", cmd);
+    TCLAP::ValueArg<std::string> resume("", "resume",
+        "continue the run saved in FILE: the same rawlog after the entries it holds, another "
+        "rawlog from its start (same config)", false, "", "FILE", cmd);
+    TCLAP::ValueArg<size_t> stop_after("", "stop-after",
+        "stop after the rawlog's entry N (counted from its start) and write the results", false, 0, "N", cmd);
     // MRPT's TCLAP returns false both after --help and after a usage error (which it
     // has already described): tell them apart so a bad command line exits non-zero.
     if (!cmd.parse(argc, argv))
@@ -178,6 +252,10 @@ bool parseSlamArgs(int argc, char** argv, SlamApp::Args& a, std::ostream& out)
     a.png = !nopng.getValue();
     a.strict = strict.getValue();
     a.verbose = verbose.getValue();
+    a.save_state = save_state.getValue();
+    a.save_state_every = every.getValue();
+    a.resume = resume.getValue();
+    a.stop_after = stop_after.getValue();
     return true;
 }
 

@@ -2,6 +2,8 @@
 // serialisation, insertion and the observation likelihood. Drawing: CHybridMetricMapScene.cpp.
 #include "hymm/dense/CHybridMetricMap.h"
 
+#include "hybrid_map_text.h"
+
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/io/CFileGZOutputStream.h>
@@ -24,55 +26,14 @@ IMPLEMENTS_SERIALIZABLE(CHybridMetricMap, CMetricMap, hymm::dense)
 
 namespace hymm::dense
 {
+using namespace hymm::dense::text;  // hybrid_map_text.h
+
 namespace
 {
-// Format of serializeTo(); readers refuse any other (a file of another HYMM version).
-constexpr uint8_t kSerialVersion = 0;
+// Formats of serializeTo(): 0 without fallback tiles, 1 with them (their text after the
+// likelihood options); readers take both and refuse any other version.
+constexpr uint8_t kSerialVersion = 1;
 
-std::string iniText(const std::function<void(mrpt::config::CConfigFileMemory&)>& write)
-{
-    mrpt::config::CConfigFileMemory cfg;
-    write(cfg);
-    return cfg.getContent();
-}
-
-std::string partitionText(const RegionPartition& p)
-{
-    std::ostringstream s;
-    s.precision(17);
-    p.save(s);
-    return s.str();
-}
-
-std::string denseText(const HybridMetricMap& d)
-{
-    std::ostringstream s;
-    s.precision(17);
-    d.save(s);
-    return s.str();
-}
-
-std::unique_ptr<RegionPartition> partitionFrom(const std::string& options_ini, const std::string& text)
-{
-    RegionPartition::Options o;
-    mrpt::config::CConfigFileMemory cfg(options_ini);
-    o.loadFromConfigFile(cfg, "LtrPartition");
-    auto p = std::make_unique<RegionPartition>(o);
-    std::istringstream s(text);
-    p->load(s);
-    return p;
-}
-
-std::unique_ptr<HybridMetricMap> denseFrom(const std::string& options_ini, const std::string& text)
-{
-    HybridMetricMap::Options o;
-    mrpt::config::CConfigFileMemory cfg(options_ini);
-    o.loadAll(cfg);
-    auto d = std::make_unique<HybridMetricMap>(o);
-    std::istringstream s(text);
-    d->load(s);
-    return d;
-}
 // MRPT 2.5's TLikelihoodOptions can be read from an .ini but not written: field by field.
 using LikelihoodOptions = mrpt::maps::COccupancyGridMap2D::TLikelihoodOptions;
 void writeLikelihoodOptions(mrpt::serialization::CArchive& out, const LikelihoodOptions& o)
@@ -191,7 +152,7 @@ void CHybridMetricMap::copyFrom(const CHybridMetricMap& other)
         iniText([&](auto& c) { other.partition_->options().saveToConfigFile(c, "LtrPartition"); }),
         partitionText(*other.partition_));
     dense_ = denseFrom(iniText([&](auto& c) { other.dense_->options().saveAll(c); }),
-                       denseText(*other.dense_));
+                       denseText(*other.dense_), fallbackText(*other.dense_));
     landmarks_ = other.landmarks_;
     likelihoodOptions = other.likelihoodOptions;
     likelihood_resolution_m = other.likelihood_resolution_m;
@@ -204,7 +165,8 @@ void CHybridMetricMap::assign(const RegionPartition& partition, const HybridMetr
     partition_ = partitionFrom(
         iniText([&](auto& c) { partition.options().saveToConfigFile(c, "LtrPartition"); }),
         partitionText(partition));
-    dense_ = denseFrom(iniText([&](auto& c) { dense.options().saveAll(c); }), denseText(dense));
+    dense_ = denseFrom(iniText([&](auto& c) { dense.options().saveAll(c); }), denseText(dense),
+                       fallbackText(dense));
     landmarks_ = std::move(landmarks);
     invalidateCache();
 }
@@ -301,7 +263,11 @@ double CHybridMetricMap::internal_computeObservationLikelihood(
 }
 
 // --- serialisation ------------------------------------------------------------------------
-uint8_t CHybridMetricMap::serializeGetVersion() const { return kSerialVersion; }
+uint8_t CHybridMetricMap::serializeGetVersion() const
+{
+    // Version 0 while there is no fallback tile: such maps stay readable by older HYMM.
+    return dense_->fallbackTiles() > 0 ? kSerialVersion : 0;
+}
 
 void CHybridMetricMap::serializeTo(mrpt::serialization::CArchive& out) const
 {
@@ -315,19 +281,20 @@ void CHybridMetricMap::serializeTo(mrpt::serialization::CArchive& out) const
             << l.cov(1, 1);
     out << likelihood_resolution_m;
     writeLikelihoodOptions(out, likelihoodOptions);
+    if (serializeGetVersion() >= 1) out << fallbackText(*dense_);
 }
 
 void CHybridMetricMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t version)
 {
-    if (version != kSerialVersion)
+    if (version > kSerialVersion)
         throw std::runtime_error("CHybridMetricMap: format version " + std::to_string(version) +
-                                 " is not readable by this version (reads " +
+                                 " is not readable by this version (reads 0 to " +
                                  std::to_string(kSerialVersion) + ")");
     in >> genericMapParams;
     std::string p_ini, p_text, d_ini, d_text;
     in >> p_ini >> p_text >> d_ini >> d_text;
     auto partition = partitionFrom(p_ini, p_text);
-    auto dense = denseFrom(d_ini, d_text);
+    auto dense = denseFrom(d_ini, d_text);  // fallback tiles below (version 1)
     uint32_t n = 0;
     in >> n;
     std::vector<Landmark> landmarks(n);
@@ -343,6 +310,13 @@ void CHybridMetricMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t 
     double res = 0;
     in >> res;
     readLikelihoodOptions(in, likelihoodOptions);
+    if (version >= 1)
+    {
+        std::string tiles;
+        in >> tiles;
+        std::istringstream t(tiles);
+        dense->loadFallbackTiles(t);
+    }
     likelihood_resolution_m = res;
     partition_ = std::move(partition);
     dense_ = std::move(dense);

@@ -18,6 +18,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <sstream>
 #include <vector>
 
 namespace
@@ -121,6 +122,52 @@ TEST(CHybridMetricMap, FileRoundTripKeepsMapAndLikelihood)
     EXPECT_DOUBLE_EQ(copy.computeObservationLikelihood(obs, f.truth()),
                      f.map.computeObservationLikelihood(obs, f.truth()));
     std::remove(file.c_str());
+}
+
+// Returns beyond the lattice's top edge (y = 15) kept in fallback tiles of the regions
+// below them travel with the map: in copies and through map.hymm (version 1).
+TEST(CHybridMetricMap, FallbackTilesRoundTripThroughTheFile)
+{
+    Fixture f;
+    HybridMetricMap::Options o;
+    o.enable_points = true;
+    o.enable_occupancy = true;
+    o.occupancy.cell_size_m = 0.1;
+    o.fallback_max_distance_m = 5;
+    HybridMetricMap dense(o);
+    for (double x = 6; x <= 14; x += 0.5)
+        ASSERT_TRUE(dense.insertFallbackReturn({10, 10}, {x, 16.5}, 0.1, 0.017, f.world.partition));
+    ASSERT_GT(dense.fallbackTiles(), 0u);
+    CHybridMetricMap map;
+    map.assign(f.world.partition, dense, f.map.landmarks());
+    EXPECT_EQ(map.dense().fallbackTiles(), dense.fallbackTiles());
+    // The tiles' returns are part of the rendered map (nothing else is mapped).
+    EXPECT_EQ(map.renderedPoints().size(), 17u);
+
+    const std::string file = tempFile("tiles.hymm");
+    map.saveToFile(file);
+    const auto back = CHybridMetricMap::loadFromFile(file);
+    EXPECT_EQ(back->dense().fallbackTiles(), dense.fallbackTiles());
+    ASSERT_EQ(back->renderedPoints().size(), 17u);
+    for (size_t i = 0; i < 17; ++i)
+    {
+        float x0, y0, x1, y1;
+        map.renderedPoints().getPoint(i, x0, y0);
+        back->renderedPoints().getPoint(i, x1, y1);
+        EXPECT_EQ(x0, x1);
+        EXPECT_EQ(y0, y1);
+    }
+    std::ostringstream a, b;
+    map.dense().saveFallbackTiles(a);
+    back->dense().saveFallbackTiles(b);
+    EXPECT_EQ(a.str(), b.str());
+    const CHybridMetricMap copy(*back);
+    EXPECT_EQ(copy.dense().fallbackTiles(), dense.fallbackTiles());
+    std::remove(file.c_str());
+
+    // Malformed tile text is an error naming the tile.
+    std::istringstream bad("fallback_tiles 1\ntile 0 0 0 7\n");
+    EXPECT_THROW(HybridMetricMap(o).loadFallbackTiles(bad), std::runtime_error);
 }
 
 TEST(CHybridMetricMap, BadFilesAreClearErrors)

@@ -32,6 +32,7 @@
 
 #include <hymm/app/motion_outputs.h>
 #include <hymm/app/slam_outputs.h>
+#include <hymm/app/slam_state.h>
 #include <hymm/denseslam/DenseSlam.h>
 #include <hymm/io/ground_truth_io.h>
 
@@ -57,6 +58,13 @@ public:
         bool png = true;             //!< write map.png
         bool strict = false;         //!< a run warning (runWarnings) is an error
         bool verbose = false;        //!< errors with MRPT's backtraces (the app prints them)
+        /** Run state written after the last entry (slam_state.h); empty: none. */
+        std::string save_state;
+        size_t save_state_every = 0;  //!< also after every N rawlog entries (0: never)
+        /** Run state to continue from: the same rawlog after the entries the state holds,
+         *  another rawlog from its start. The config must be the state's. */
+        std::string resume;
+        size_t stop_after = 0;  //!< stop after the rawlog's entry N (from its start; 0: all)
     };
 
     explicit SlamApp(Args args);
@@ -78,6 +86,18 @@ private:
                       const std::vector<dense::Polygon>& outlines, const MotionTruth& motion_truth,
                       const std::vector<FrameTiming>& timing, double run_s, size_t entries,
                       const std::vector<std::string>& warnings);
+
+    /** The run's state bookkeeping: config fingerprint, rawlog, entries before this
+     *  rawlog's first entry read. */
+    struct StateRun
+    {
+        RunInfo info;
+    };
+    /** Checks the state options, loads --resume into the pipeline and `keyframes`, and
+     *  skips the entries it holds when the rawlog is the state's (slam_state.h). */
+    StateRun startState(KeyframeRecorder& keyframes, io::RawlogReader& reader);
+    /** Writes --save-state after `read` entries of the current rawlog. */
+    void saveState(const StateRun& st, size_t read, const KeyframeRecorder& keyframes) const;
 
     Args args_;
     std::unique_ptr<DenseSlam> slam_;

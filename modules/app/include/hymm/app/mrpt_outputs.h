@@ -49,6 +49,10 @@ public:
     void record(const DenseSlam& slam, const io::RawlogEntry& entry);
     /** Path index and frame of each keyframe, in path order. */
     const std::vector<std::pair<size_t, mrpt::obs::CSensoryFrame::Ptr>>& frames() const { return frames_; }
+    /** Saved run state (slam_state.h): the keyframes so far; loadState() replaces them
+     *  (throws std::runtime_error on a corrupt state). Source: slam_state.cpp. */
+    void saveState(mrpt::serialization::CArchive& out) const;
+    void loadState(mrpt::serialization::CArchive& in);
 
 private:
     size_t path_size_ = 0;

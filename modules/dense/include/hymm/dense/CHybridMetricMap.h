@@ -25,10 +25,13 @@
  *    (1-sigma ellipses), "property" (coloured cell centres).
  *  - saveMetricMapRepresentationToFile(prefix): prefix_occupancy.png (when the layer is
  *    on), prefix_points.txt, prefix_landmarks.txt, prefix_regions.txt.
- *  - CSerializable (version 0): options (ini text of [HybridMetricMap], the layer
- *    sections and [LtrPartition]), the partition and dense layers (their text save()),
- *    the landmarks (id, mean, covariance), the likelihood options. Fallback tiles
- *    (FallbackTiles.h) are not part of HybridMetricMap::save() and are not kept.
+ *  - CSerializable: options (ini text of [HybridMetricMap], the layer sections and
+ *    [LtrPartition]), the partition and dense layers (their text save()), the landmarks
+ *    (id, mean, covariance), the likelihood options, and with fallback tiles
+ *    (FallbackTiles.h) their text (HybridMetricMap::saveFallbackTiles). A map without
+ *    tiles is written as version 0 (the format of earlier HYMM, which reads it), one
+ *    with tiles as version 1; both are read. Copies (assign, copy construction) keep
+ *    the tiles too.
  *
  * Registered for MRPT's map factory as "CHybridMetricMap" and "HybridMetricMap" once
  * registerHybridMetricMap() has run (call it before reading a file or an .ini: a static

@@ -19,6 +19,11 @@
 #include <mrpt/config/CLoadableOptions.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 
+namespace mrpt::serialization
+{
+class CArchive;
+}
+
 namespace hymm::dense
 {
 class ClassicOccupancyGrid
@@ -48,6 +53,11 @@ public:
 
     double probabilityAt(const Eigen::Vector2d& p) const;
     const LogOddsGrid& grid() const { return grid_; }
+    /** Saved run state (hymm-slam --save-state): every member a later step reads, bit
+     *  for bit; loadState() replaces them (options come from the config). Throws
+     *  std::runtime_error on a corrupt or truncated state. Source: HybridMetricMapState.cpp. */
+    void saveState(mrpt::serialization::CArchive& out) const;
+    void loadState(mrpt::serialization::CArchive& in);
     /** Same area and cells as a mrpt::maps::COccupancyGridMap2D. */
     void toOccupancyGridMap(mrpt::maps::COccupancyGridMap2D& out) const;
 

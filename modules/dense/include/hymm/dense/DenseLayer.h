@@ -30,6 +30,11 @@
 #include <memory>
 #include <string>
 
+namespace mrpt::serialization
+{
+class CArchive;
+}
+
 namespace hymm::dense
 {
 class DenseLayer
@@ -63,6 +68,12 @@ public:
     virtual void save(std::ostream& out) const = 0;
     /** Replaces the content; throws std::runtime_error on malformed input. */
     virtual void load(std::istream& in) = 0;
+    /** Saved run state (hymm-slam --save-state): the content and everything the next
+     *  insert reads (counters, random streams), bit for bit; loadState() replaces it.
+     *  The default throws std::logic_error naming the kind (a layer that cannot be
+     *  saved). Source: DenseLayerState.cpp. */
+    virtual void saveState(mrpt::serialization::CArchive& out) const;
+    virtual void loadState(mrpt::serialization::CArchive& in);
 };
 
 }  // namespace hymm::dense

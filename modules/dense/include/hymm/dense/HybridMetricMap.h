@@ -66,6 +66,11 @@
 #include <string>
 #include <vector>
 
+namespace mrpt::serialization
+{
+class CArchive;
+}
+
 namespace hymm::dense
 {
 class HybridMetricMap
@@ -292,6 +297,16 @@ public:
     void save(std::ostream& out) const;
     /** Replaces the content; throws std::runtime_error on malformed input. */
     void load(std::istream& in);
+    /** Saved run state (hymm-slam --save-state): every member a later step reads, bit
+     *  for bit; loadState() replaces them (options come from the config). Throws
+     *  std::runtime_error on a corrupt or truncated state. Source: HybridMetricMapState.cpp. */
+    void saveState(mrpt::serialization::CArchive& out) const;
+    void loadState(mrpt::serialization::CArchive& in);
+    /** The fallback tiles as text (map.hymm; save()/load() hold the regions only);
+     *  loadFallbackTiles() replaces them and throws std::runtime_error on malformed
+     *  input. Source: HybridMetricMapState.cpp. */
+    void saveFallbackTiles(std::ostream& out) const;
+    void loadFallbackTiles(std::istream& in);
 
 private:
     LocalDenseMap& localMapFor(long region_id, const hymm::ltr::TriangleFrame::Vertices& reference);

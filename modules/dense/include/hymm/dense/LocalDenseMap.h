@@ -17,6 +17,11 @@
 #include <string>
 #include <vector>
 
+namespace mrpt::serialization
+{
+class CArchive;
+}
+
 namespace hymm::dense
 {
 class LocalDenseMap
@@ -55,6 +60,11 @@ public:
     void save(std::ostream& out) const;
     /** Throws std::runtime_error on malformed input or an unknown kind. */
     static std::unique_ptr<LocalDenseMap> load(std::istream& in, const LayerFactory& factory);
+    /** Saved run state of the region map and its layers (DenseLayer::saveState);
+     *  source: HybridMetricMapState.cpp. */
+    void saveState(mrpt::serialization::CArchive& out) const;
+    static std::unique_ptr<LocalDenseMap> loadState(mrpt::serialization::CArchive& in,
+                                                    const LayerFactory& factory);
 
 private:
     const long region_id_;

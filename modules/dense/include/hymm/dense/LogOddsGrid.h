@@ -29,6 +29,11 @@
 #include <iosfwd>
 #include <vector>
 
+namespace mrpt::serialization
+{
+class CArchive;
+}
+
 namespace hymm::dense
 {
 class LogOddsGrid
@@ -72,6 +77,11 @@ public:
     void save(std::ostream& out) const;
     /** Throws std::runtime_error on malformed input. */
     static LogOddsGrid load(std::istream& in);
+    /** Saved run state (hymm-slam --save-state): every member a later step reads, bit
+     *  for bit; loadState() replaces them (options come from the config). Throws
+     *  std::runtime_error on a corrupt or truncated state. Source: DenseLayerState.cpp. */
+    void saveState(mrpt::serialization::CArchive& out) const;
+    void loadState(mrpt::serialization::CArchive& in);
 
 private:
     static constexpr std::uint8_t kUpdatable = 1;

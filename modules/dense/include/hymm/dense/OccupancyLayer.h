@@ -89,6 +89,8 @@ public:
         mrpt::maps::CMetricMap& out) const override;
     void save(std::ostream& out) const override;
     void load(std::istream& in) override;
+    void saveState(mrpt::serialization::CArchive& out) const override;  //!< DenseLayerState.cpp
+    void loadState(mrpt::serialization::CArchive& in) override;
 
     /** Fraction of the triangle's cells with P(occupied) < `min_prob` (Sec. 4.1.3). */
     double freeFraction(double min_prob) const;

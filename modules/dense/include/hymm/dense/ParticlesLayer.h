@@ -141,6 +141,8 @@ public:
         mrpt::maps::CMetricMap& out) const override;
     void save(std::ostream& out) const override;
     void load(std::istream& in) override;
+    void saveState(mrpt::serialization::CArchive& out) const override;  //!< DenseLayerState.cpp
+    void loadState(mrpt::serialization::CArchive& in) override;
 
     const std::vector<Particle>& particles() const { return particles_; }
     const UpdateStats& lastUpdate() const { return last_; }

@@ -74,6 +74,8 @@ public:
         mrpt::maps::CMetricMap& out) const override;
     void save(std::ostream& out) const override;
     void load(std::istream& in) override;
+    void saveState(mrpt::serialization::CArchive& out) const override;  //!< DenseLayerState.cpp
+    void loadState(mrpt::serialization::CArchive& in) override;
 
     /** Stored points, reference-frame coordinates. */
     const mrpt::maps::CSimplePointsMap& points() const { return points_; }

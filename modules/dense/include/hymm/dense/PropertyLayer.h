@@ -73,6 +73,8 @@ public:
         mrpt::maps::CMetricMap& out) const override;
     void save(std::ostream& out) const override;
     void load(std::istream& in) override;
+    void saveState(mrpt::serialization::CArchive& out) const override;  //!< DenseLayerState.cpp
+    void loadState(mrpt::serialization::CArchive& in) override;
 
     /** Fuses one value at a reference-frame point (same checks as insert()). */
     void fuse(const Eigen::Vector2d& p_ref, double value, double value_std);

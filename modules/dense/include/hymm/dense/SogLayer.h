@@ -102,6 +102,8 @@ public:
         mrpt::maps::CMetricMap& out) const override;
     void save(std::ostream& out) const override;
     void load(std::istream& in) override;
+    void saveState(mrpt::serialization::CArchive& out) const override;  //!< DenseLayerState.cpp
+    void loadState(mrpt::serialization::CArchive& in) override;
 
     const std::vector<Gaussian>& gaussians() const { return gaussians_; }
     /** Gaussian `i` at the current region position, as an MRPT PDF. */

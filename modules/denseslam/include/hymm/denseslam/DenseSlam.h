@@ -60,6 +60,11 @@
 #include <unordered_map>
 #include <vector>
 
+namespace mrpt::serialization
+{
+class CArchive;
+}
+
 namespace hymm::denseslam
 {
 class DenseSlam
@@ -347,6 +352,17 @@ public:
     /** The classic grid baseline; nullptr unless classic_grid is on. */
     const dense::ClassicOccupancyGrid* classicGrid() const { return classic_.get(); }
 
+    /** Saved run state (hymm-slam --save-state / --resume): the filter, the dense part
+     *  and every counter and piece of bookkeeping a later entry reads, bit for bit, so
+     *  that a run continued from it gives the uninterrupted run's results. loadState()
+     *  expects a pipeline built from the same config (hymm::app checks it). Both throw
+     *  std::runtime_error when stateUnsupported() names a component, and loadState()
+     *  on a corrupt or truncated state. Source: DenseSlamState.cpp. */
+    void saveState(mrpt::serialization::CArchive& out) const;
+    void loadState(mrpt::serialization::CArchive& in);
+    /** The enabled component whose state the run state does not hold yet (empty: none). */
+    std::string stateUnsupported() const;
+
 private:
     void processBearingRange(const mrpt::obs::CObservationBearingRange& obs);
     void processScan(const mrpt::obs::CObservation2DRangeScan& scan);
@@ -400,6 +416,10 @@ private:
     void updateMotionLayers(double t);
     /** Step 7 (Sec. 6.1): the HLL search near the vehicle when it is due. */
     void searchHighLevelLandmarks(double t);
+    /** Parts of saveState() / loadState() (DenseSlamState.cpp). */
+    void saveDenseState(mrpt::serialization::CArchive& out) const;
+    void loadDenseState(mrpt::serialization::CArchive& in);
+    void loadBookkeeping(mrpt::serialization::CArchive& in);
 
     Options options_;
     ekf::EkfSlam ekf_;

@@ -37,6 +37,11 @@
 #include <utility>
 #include <vector>
 
+namespace mrpt::serialization
+{
+class CArchive;
+}
+
 namespace hymm::ekf
 {
 /** One range-bearing observation of a point landmark, in the sensor frame. */
@@ -269,6 +274,12 @@ public:
                                  const Eigen::MatrixXd& noise_cov);
     void removePassiveState(long id) { passive_.remove(id); }
     const PassiveStates& passive() const { return passive_; }
+
+    /** Saved run state (hymm-slam --save-state): every member a later step reads, bit
+     *  for bit; loadState() replaces them (options come from the config). Throws
+     *  std::runtime_error on a corrupt or truncated state. Source: EkfSlamState.cpp. */
+    void saveState(mrpt::serialization::CArchive& out) const;
+    void loadState(mrpt::serialization::CArchive& in);
 
     const mrpt::system::CTimeLogger& profiler() const { return profiler_; }
     /** Mutable access, e.g. to clear it or to disable it (an enabled CTimeLogger prints

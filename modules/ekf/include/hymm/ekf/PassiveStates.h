@@ -22,6 +22,11 @@
 #include <unordered_map>
 #include <vector>
 
+namespace mrpt::serialization
+{
+class CArchive;
+}
+
 namespace hymm::ekf
 {
 class PassiveStates
@@ -67,6 +72,12 @@ public:
     /** Active entries [offset, offset + dim) were removed (marginalised out). */
     void removeActiveColumns(size_t offset, size_t dim);
     /** The active state was reset: drops every passive block. */
+    /** Saved run state (hymm-slam --save-state): every member a later step reads, bit
+     *  for bit; loadState() replaces them (options come from the config). Throws
+     *  std::runtime_error on a corrupt or truncated state. Source: EkfSlamState.cpp. */
+    void saveState(mrpt::serialization::CArchive& out) const;
+    void loadState(mrpt::serialization::CArchive& in);
+
     void clear();
 
 private:

@@ -15,6 +15,11 @@
 #include <unordered_map>
 #include <vector>
 
+namespace mrpt::serialization
+{
+class CArchive;
+}
+
 namespace hymm::ekf
 {
 /** Where one landmark lives in the state, plus its track bookkeeping. */
@@ -57,6 +62,12 @@ public:
 
     /** Smallest id larger than any id ever added (automatic ids never collide). */
     long nextFreeId() const { return next_free_id_; }
+
+    /** Saved run state (hymm-slam --save-state): every member a later step reads, bit
+     *  for bit; loadState() replaces them (options come from the config). Throws
+     *  std::runtime_error on a corrupt or truncated state. Source: EkfSlamState.cpp. */
+    void saveState(mrpt::serialization::CArchive& out) const;
+    void loadState(mrpt::serialization::CArchive& in);
 
     void clear();
 

@@ -56,6 +56,11 @@
 #include <unordered_map>
 #include <vector>
 
+namespace mrpt::serialization
+{
+class CArchive;
+}
+
 namespace hymm::ltr
 {
 /** One LTR. */
@@ -183,6 +188,11 @@ public:
     /** Replaces the content; throws std::runtime_error with the line number on a
      *  malformed stream. */
     void load(std::istream& in);
+    /** Saved run state (hymm-slam --save-state): every member a later step reads, bit
+     *  for bit; loadState() replaces them (options come from the config). Throws
+     *  std::runtime_error on a corrupt or truncated state. Source: RegionPartitionState.cpp. */
+    void saveState(mrpt::serialization::CArchive& out) const;
+    void loadState(mrpt::serialization::CArchive& in);
     void saveToFile(const std::string& path) const;
     void loadFromFile(const std::string& path);
 

@@ -74,6 +74,11 @@
 #include <string>
 #include <vector>
 
+namespace mrpt::serialization
+{
+class CArchive;
+}
+
 namespace hymm::uif
 {
 /** One stored return: its raw measurement, relative to the scan's passive pose block. */
@@ -202,6 +207,11 @@ public:
     DelayedDenseStore& operator=(const DelayedDenseStore&) = delete;
 
     const Options& options() const { return options_; }
+    /** Saved run state (hymm-slam --save-state): every member a later step reads, bit
+     *  for bit; loadState() replaces them (options come from the config). Throws
+     *  std::runtime_error on a corrupt or truncated state. Source: DelayedDenseStoreState.cpp. */
+    void saveState(mrpt::serialization::CArchive& out) const;
+    void loadState(mrpt::serialization::CArchive& in);
 
     /**
      * Stores returns of one scan seen from the CURRENT vehicle estimate of `ekf` (call

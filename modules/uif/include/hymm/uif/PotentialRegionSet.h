@@ -29,6 +29,11 @@
 #include <map>
 #include <vector>
 
+namespace mrpt::serialization
+{
+class CArchive;
+}
+
 namespace hymm::uif
 {
 struct PotentialRegion
@@ -62,6 +67,11 @@ public:
     void retainOnly(std::vector<long> in_use);
 
     size_t size() const { return regions_.size(); }
+    /** Saved run state (hymm-slam --save-state): every member a later step reads, bit
+     *  for bit; loadState() replaces them (options come from the config). Throws
+     *  std::runtime_error on a corrupt or truncated state. Source: DelayedDenseStoreState.cpp. */
+    void saveState(mrpt::serialization::CArchive& out) const;
+    void loadState(mrpt::serialization::CArchive& in);
     bool has(long id) const { return regions_.count(id) != 0; }
     /** Throws std::out_of_range for an unknown id. */
     const PotentialRegion& region(long id) const;

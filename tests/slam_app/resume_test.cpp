@@ -1,0 +1,270 @@
+// hymm-slam --save-state / --resume (SlamApp, slam_state.h) on the bundled chapter-3
+// rawlog with every dense layer, the classic grid, virtual landmarks, the delayed store
+// and the fallback tiles (resume_layers.ini): a run cut in two and resumed writes the
+// uninterrupted run's files byte for byte (timing lines aside, as scripts/check-outputs
+// compares), from the same rawlog and from a second rawlog holding the rest; a foreign,
+// other-version, truncated or corrupt state, another config, and a component the state
+// cannot hold are clear errors before anything is written.
+#include <gtest/gtest.h>
+#include <hymm/app/SlamApp.h>
+#include <hymm/app/slam_state.h>
+#include <hymm/io/RawlogReader.h>
+#include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/serialization/CArchive.h>
+
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <unistd.h>
+
+namespace
+{
+namespace fs = std::filesystem;
+using hymm::app::SlamApp;
+
+const std::string kSrc = HYMM_SOURCE_DIR;
+const std::string kRawlog = kSrc + "/rawlogs/ch3_objects.rawlog";
+const std::string kConfig = kSrc + "/tests/slam_app/resume_layers.ini";
+const std::string kGt = kSrc + "/rawlogs/ch3_objects_gt_";
+// The run is cut after entry kCut of the first kEnd (a few seconds in all).
+constexpr size_t kCut = 150;
+constexpr size_t kEnd = 260;
+
+struct TempDir
+{
+    fs::path path;
+    TempDir()
+    {
+        path = fs::temp_directory_path() / ("hymm_resume_test_" + std::to_string(::getpid()));
+        fs::remove_all(path);
+        fs::create_directories(path);
+    }
+    ~TempDir() { fs::remove_all(path); }
+    std::string operator/(const std::string& name) const { return (path / name).string(); }
+};
+
+SlamApp::Args argsFor(const std::string& out)
+{
+    SlamApp::Args a;
+    a.config = kConfig;
+    a.rawlog = kRawlog;
+    a.out_dir = out;
+    a.gt_path = kGt + "path.tum";
+    a.gt_landmarks = kGt + "landmarks.csv";
+    a.gt_objects = kGt + "objects.txt";
+    a.quiet = true;
+    return a;
+}
+
+std::string readFile(const fs::path& p)
+{
+    std::ifstream f(p, std::ios::binary);
+    std::ostringstream s;
+    s << f.rdbuf();
+    return s.str();
+}
+
+// As scripts/check-outputs --compare: the lines carrying run times are left out.
+std::string withoutTimings(const std::string& text)
+{
+    static const std::regex timing(R"("run_seconds"|^run time|seconds|elapsed|[0-9.]+ s\b)");
+    std::istringstream in(text);
+    std::string line, out;
+    while (std::getline(in, line))
+        if (!std::regex_search(line, timing)) out += line + "\n";
+    return out;
+}
+
+// Every file of `a` equals that of `b` (timing.csv and the manifest aside); returns the
+// number compared.
+size_t expectSameOutputs(const fs::path& a, const fs::path& b)
+{
+    size_t n = 0;
+    for (const auto& e : fs::directory_iterator(a))
+    {
+        const std::string name = e.path().filename().string();
+        if (name == "timing.csv" || name == ".hymm-outputs") continue;
+        ++n;
+        if (!fs::exists(b / name))
+        {
+            ADD_FAILURE() << "missing after resume: " << name;
+            continue;
+        }
+        const bool text = name == "summary.txt" || e.path().extension() == ".json";
+        const std::string x = readFile(e.path()), y = readFile(b / name);
+        if (text)
+            EXPECT_EQ(withoutTimings(x), withoutTimings(y)) << name;
+        else
+            EXPECT_TRUE(x == y) << name << " differs after resume";
+    }
+    size_t m = 0;
+    for (const auto& e : fs::directory_iterator(b))
+        m += e.path().filename() != "timing.csv" && e.path().filename() != ".hymm-outputs";
+    EXPECT_EQ(n, m) << "the resumed run wrote other files";
+    return n;
+}
+
+// Entries [from, to) of the sample as a rawlog of their own.
+void writeEntries(const std::string& path, size_t from, size_t to)
+{
+    hymm::io::RawlogReader r(kRawlog);
+    mrpt::io::CFileGZOutputStream f;
+    ASSERT_TRUE(f.open(path, 1));
+    auto ar = mrpt::serialization::archiveFrom(f);
+    hymm::io::RawlogEntry e;
+    while (r.entriesRead() < to && r.next(e))
+        if (r.entriesRead() > from)
+        {
+            if (e.actions) ar << *e.actions;
+            if (e.frame) ar << *e.frame;
+            if (e.observation) ar << *e.observation;
+        }
+}
+
+class Resume : public ::testing::Test
+{
+protected:
+    static void SetUpTestSuite()
+    {
+        dir_ = new TempDir;
+        SlamApp::Args full = argsFor(*dir_ / "full");
+        full.stop_after = kEnd;
+        SlamApp(full).run(std::cerr);
+        SlamApp::Args first = argsFor(*dir_ / "first");
+        first.stop_after = kCut;
+        first.save_state = *dir_ / "cut.state";
+        first.save_state_every = 50;  // the periodic saves leave the run as it is
+        SlamApp app(first);
+        app.run(std::cerr);
+        // The cut falls where every part of the state holds something.
+        const auto& slam = app.slam();
+        stored_at_cut_ = slam.delayedStore()->numStoredPoints();
+        tiles_at_cut_ = slam.hybridMap()->fallbackTiles();
+        regions_at_cut_ = slam.partition()->size();
+        virtual_at_cut_ = slam.virtualLandmarkIds().size();
+    }
+    static void TearDownTestSuite() { delete dir_; }
+
+    static TempDir* dir_;
+    static size_t stored_at_cut_, tiles_at_cut_, regions_at_cut_, virtual_at_cut_;
+};
+TempDir* Resume::dir_ = nullptr;
+size_t Resume::stored_at_cut_ = 0, Resume::tiles_at_cut_ = 0, Resume::regions_at_cut_ = 0,
+       Resume::virtual_at_cut_ = 0;
+
+TEST_F(Resume, StateAtTheCutHoldsEveryDenseComponent)
+{
+    EXPECT_GT(stored_at_cut_, 0u);
+    EXPECT_GT(tiles_at_cut_, 0u);
+    EXPECT_GT(regions_at_cut_, 0u);
+    EXPECT_GT(virtual_at_cut_, 0u);
+    // The first part's results are not the whole run's: the comparison below means something.
+    EXPECT_NE(readFile(fs::path(*dir_ / "first") / "path.tum"), readFile(fs::path(*dir_ / "full") / "path.tum"));
+}
+
+TEST_F(Resume, SameRawlogContinuesAfterTheCutToIdenticalOutputs)
+{
+    SlamApp::Args second = argsFor(*dir_ / "resumed");
+    second.resume = *dir_ / "cut.state";
+    second.stop_after = kEnd;
+    SlamApp(second).run(std::cerr);
+    EXPECT_GE(expectSameOutputs(*dir_ / "full", *dir_ / "resumed"), 20u);
+}
+
+TEST_F(Resume, SecondRawlogContinuesFromItsStartToIdenticalOutputs)
+{
+    writeEntries(*dir_ / "rest.rawlog", kCut, kEnd);
+    SlamApp::Args second = argsFor(*dir_ / "resumed2");
+    second.rawlog = *dir_ / "rest.rawlog";
+    second.resume = *dir_ / "cut.state";
+    second.save_state = *dir_ / "end.state";
+    SlamApp(second).run(std::cerr);
+    EXPECT_GE(expectSameOutputs(*dir_ / "full", *dir_ / "resumed2"), 20u);
+    // The state saved after the second rawlog resumes too (nothing left to read: the
+    // results are the same again).
+    SlamApp::Args third = argsFor(*dir_ / "resumed3");
+    third.rawlog = *dir_ / "rest.rawlog";
+    third.resume = *dir_ / "end.state";
+    SlamApp(third).run(std::cerr);
+    expectSameOutputs(*dir_ / "full", *dir_ / "resumed3");
+}
+
+// A bad state, config or component fails before the output folder exists.
+void expectRefused(SlamApp::Args a, const std::string& message)
+{
+    try
+    {
+        SlamApp(a).run(std::cerr);
+        ADD_FAILURE() << "no error; expected: " << message;
+    }
+    catch (const std::exception& e)
+    {
+        EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << e.what();
+    }
+    EXPECT_FALSE(fs::exists(a.out_dir)) << "results written after: " << message;
+}
+
+void writeFile(const std::string& path, const std::string& bytes)
+{
+    std::ofstream f(path, std::ios::binary);
+    f << bytes;
+}
+
+TEST_F(Resume, BadStatesAreClearErrors)
+{
+    const std::string good = readFile(*dir_ / "cut.state");
+    ASSERT_GT(good.size(), 1000u);
+    SlamApp::Args a = argsFor(*dir_ / "refused");
+    a.resume = *dir_ / "bad.state";
+
+    std::string other = good;
+    other[8] = static_cast<char>(hymm::app::kRunStateVersion + 1);
+    writeFile(a.resume, other);
+    expectRefused(a, "has format version " + std::to_string(hymm::app::kRunStateVersion + 1));
+
+    writeFile(a.resume, good.substr(0, good.size() / 2));
+    expectRefused(a, "is truncated");
+    writeFile(a.resume, good.substr(0, 12));
+    expectRefused(a, "is truncated");
+
+    std::string flipped = good;
+    flipped[good.size() - 100] ^= 0x10;
+    writeFile(a.resume, flipped);
+    expectRefused(a, "is corrupt");
+
+    writeFile(a.resume, "[DenseSlam]\nlandmark_source = bearing_range\n");
+    expectRefused(a, "is not a hymm-slam run state");
+
+    a.resume = *dir_ / "missing.state";
+    expectRefused(a, "cannot open the run state");
+}
+
+TEST_F(Resume, StateOfAnotherConfigIsRefused)
+{
+    std::string ini = readFile(kConfig);
+    ini.replace(ini.find("samples_per_return = 5"), 22, "samples_per_return = 6");
+    writeFile(*dir_ / "other.ini", ini);
+    SlamApp::Args a = argsFor(*dir_ / "refused");
+    a.config = *dir_ / "other.ini";
+    a.resume = *dir_ / "cut.state";
+    expectRefused(a, "saved under a different config: the state has '[ParticlesLayer] samples_per_return = 5'");
+}
+
+TEST_F(Resume, ComponentsTheStateCannotHoldAreRefused)
+{
+    SlamApp::Args a = argsFor(*dir_ / "refused");
+    a.config = kSrc + "/configs/ch5_scanslam.ini";
+    a.save_state = *dir_ / "scan.state";
+    expectRefused(a, "--save-state: the run state cannot hold the scan landmarks");
+    a.config = kSrc + "/configs/ch6_dynamic_fast.ini";
+    expectRefused(a, "the run state cannot hold the motion layers");
+    a.config = kSrc + "/configs/ch4_hll.ini";
+    expectRefused(a, "the run state cannot hold the high-level landmarks");
+    EXPECT_FALSE(fs::exists(a.save_state));
+}
+
+}  // namespace
