@@ -40,6 +40,15 @@ void makeConfig()
     // every layer's code still runs on every scan (exec/s: tests/fuzz/README.md).
     g_config->write("OccupancyLayer", "cell_size_m", "1.0");
     g_config->write("ParticlesLayer", "samples_per_return", "2");
+    // The harness swallows exceptions: a config the pipeline refuses would fuzz nothing.
+    try
+    {
+        (void)hymm::denseslam::DenseSlam::fromConfig(*g_config);
+    }
+    catch (const std::exception&)
+    {
+        std::abort();
+    }
 }
 }  // namespace
 
