@@ -89,7 +89,7 @@ endfunction()
 # calling mrpt::opengl::CEllipsoid2D::Create() reproduces it with any -march). Those files
 # are built without that one check; every other check stays on.
 function(hymm_mrpt_opengl_sources)
-    if(HYMM_SANITIZE OR HYMM_FUZZ)
+    if(HYMM_SANITIZED)
         set_source_files_properties(${ARGN} PROPERTIES COMPILE_OPTIONS -fno-sanitize=alignment)
     endif()
 endfunction()

@@ -44,7 +44,14 @@ RunResult runBoth(const Regime& g, unsigned seed)
     auto& rnd = mrpt::random::getRandomGenerator();
     rnd.randomize(seed);
     std::vector<mrpt::math::TPoint2D> lms;
-    for (int i = 0; i < 60; ++i) lms.emplace_back(rnd.drawUniform(-2.0, 7.0), rnd.drawUniform(-2.0, 7.0));
+    // Draws are sequenced statement by statement: the order in which a function's arguments
+    // are evaluated differs between compilers, and the data must not.
+    for (int i = 0; i < 60; ++i)
+    {
+        const double x = rnd.drawUniform(-2.0, 7.0);
+        const double y = rnd.drawUniform(-2.0, 7.0);
+        lms.emplace_back(x, y);
+    }
 
     hymm::ekf::EkfSlam::Options o;
     o.prune_tentative = false;  // same landmark set as MRPT
@@ -70,9 +77,10 @@ RunResult runBoth(const Regime& g, unsigned seed)
             const mrpt::poses::CPose2D inc = (k % 10 >= 8) ? mrpt::poses::CPose2D(0, 0, M_PI / 8)
                                                            : mrpt::poses::CPose2D(0.2, 0, 0);
             truth = truth + inc;
-            const mrpt::poses::CPose2D noisy(inc.x() + g.odo_xy * rnd.drawGaussian1D_normalized(),
-                                             inc.y() + g.odo_xy * rnd.drawGaussian1D_normalized(),
-                                             inc.phi() + g.odo_phi * rnd.drawGaussian1D_normalized());
+            const double ex = g.odo_xy * rnd.drawGaussian1D_normalized();
+            const double ey = g.odo_xy * rnd.drawGaussian1D_normalized();
+            const double ephi = g.odo_phi * rnd.drawGaussian1D_normalized();
+            const mrpt::poses::CPose2D noisy(inc.x() + ex, inc.y() + ey, inc.phi() + ephi);
             mrpt::poses::CPosePDFGaussian pdf(noisy, mrpt::math::CMatrixDouble33(Q));
             mrpt::obs::CActionRobotMovement2D act;
             act.estimationMethod = mrpt::obs::CActionRobotMovement2D::emScan2DMatching;  // PDF as given
@@ -164,7 +172,11 @@ TEST(EkfSlamVsMrpt, SameDataSameEstimatesAcrossRegimes)
         {0.05, 1.0 * deg, 0.03, 0.3 * deg, 5.0},   // large odometry and heading noise
         {0.02, 0.01 * deg, 0.1, 1.0 * deg, 8.0},   // large sensor noise, long range
     };
-    const int seeds = 6;
+    // 20 seeds per regime: with 6, the 99% band of the summed NEES was crossed by a mere
+    // change of data (38.5 > 37.2 in the large-heading-noise regime); over 40 seeds that
+    // regime's mean vehicle NEES is 3.6 (the mild heading overconfidence of EKF-SLAM), the
+    // other two 3.2, and the 20-seed sums (64, 79, 68) sit inside the chi-square(60) band.
+    const int seeds = 20;
     for (const auto& g : regimes)
     {
         double nees_v = 0, nees_l = 0, err = 0;
