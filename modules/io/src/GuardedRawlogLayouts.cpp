@@ -14,6 +14,10 @@ constexpr uint64_t kMinObjectBytes = 9;
 // CActionRobotMovement2D's Thrun motion model draws this many samples at most (MRPT's
 // default is 300); each costs about 64 bytes, so the cap bounds that draw to 64 MiB.
 constexpr uint32_t kMaxMotionModelParticles = 1000000;
+// Smallest serialised 3x3 CMatrixD object, the only one MRPT accepts as a
+// bearing-range covariance: header (length byte, a name of at least one byte, version),
+// rows and columns, 9 doubles, end flag. The old header format is longer.
+constexpr uint64_t kMinCovarianceBytes = 1 + 1 + 1 + 8 + 9 * 8 + 1;
 }  // namespace
 
 void GuardedRawlogStream::armFor(const std::string& qualified, bool old_format)
@@ -132,20 +136,24 @@ void GuardedRawlogStream::armBearingRange(const ObjectHeader& h)
         at += 1 + (valid_cov ? 0 : 12);
     }
     uint64_t element = 16;
+    bool exact_stride = true;
     if (valid_cov)
     {
-        // Every matrix MRPT writes here is 3x3: the first one gives the stride.
+        // Every matrix MRPT writes here is 3x3: the first one gives the stride. Bytes
+        // that are no such matrix (a flipped validCovariances flag) still bound the
+        // count: MRPT sizes the vector before it reads the first covariance, so the
+        // checkpoint is armed with the smallest 3x3 matrix object, and without the
+        // label (its offset is unknown; MRPT fails on the first matrix anyway).
         uint32_t n = 0;
-        if (!peek(at, &n, 4)) return;
-        if (n > 0)
-        {
-            const uint64_t m = skipObject(at + 4 + 16);
-            if (m == 0) return;
-            element += m - (at + 4 + 16);
-        }
+        if (!peek(at, &n, 4)) return;  // a short read: MRPT reports it
+        const uint64_t first = at + 4 + 16;
+        const uint64_t m = n > 0 ? skipObject(first) : 0;
+        const bool parsed = m != 0 && m - first >= kMinCovarianceBytes;
+        exact_stride = n == 0 || parsed;
+        element += parsed ? m - first : kMinCovarianceBytes;
     }
     Checkpoint c = countAt(h, at, element, v >= 1 ? 4 : 0, "measurements");
-    if (v >= 1)
+    if (v >= 1 && exact_stride)
     {
         c.then_what = "bytes of sensor label";
         c.then_gap = 0;

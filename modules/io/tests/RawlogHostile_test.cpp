@@ -447,6 +447,24 @@ TEST(RawlogHostileTest, HugeMeasurementCountWithCovariancesIsRefused)
     expectHandMadeRefused(data, cnt, 0x10000000u, "measurements");
 }
 
+TEST(RawlogHostileTest, HugeMeasurementCountBehindAFlippedCovarianceFlagIsRefused)
+{
+    // The fuzz finding: validCovariances set in an observation written without matrices,
+    // so the bytes after each measurement are no matrix object; the count (read where the
+    // three sensor std floats were) must still be refused before MRPT sizes the vector
+    // (128 B per measurement: 32 GiB here).
+    auto data = handMadeRawlog();
+    const size_t at = afterName(data, "mrpt::obs::CObservationBearingRange");
+    ASSERT_EQ(data[at], 3) << "CObservationBearingRange version";
+    const size_t pose = at + 1 + 16;
+    ASSERT_EQ(data[pose], 0x80 | 20) << "mrpt::poses::CPose3D";
+    const size_t valid = pose + 22 + 96 + 1 + 8;
+    ASSERT_EQ(data[valid], 0) << "validCovariances";
+    ASSERT_EQ(getU32(data, valid + 1 + 12), 3u) << "measurement count";
+    data[valid] = 1;
+    expectHandMadeRefused(data, valid + 1, 0x10000000u, "declares 268435456 measurements");
+}
+
 TEST(RawlogHostileTest, HugeCovarianceMatrixIsRefused)
 {
     const auto data = handMadeRawlog();
