@@ -56,18 +56,31 @@ void setVehicle(hymm::ekf::EkfSlam& ekf, const Eigen::Vector3d& pose)
     ekf.setActiveState(x, 1e-4 * Eigen::MatrixXd::Identity(x.size(), x.size()), blocks);
 }
 
-TEST(SlamMotionHook, KeepsLandmarksOffAMovedObject)
+// The occupancy-only map and the slow-motion hook (20 s period, no fast layer) of the
+// removed-container tests.
+hymm::dense::HybridMetricMap::Options wallMapOptions()
 {
-    WallWorld w;
     hymm::dense::HybridMetricMap::Options mo;
     mo.enable_points = false;
     mo.occupancy.cell_size_m = 0.2;
-    hymm::dense::HybridMetricMap map(mo);
+    return mo;
+}
+
+SlamMotionHook::Options slowHookOptions(bool drop_flagged_observations)
+{
     SlamMotionHook::Options o;
     o.enabled = true;
+    o.drop_flagged_observations = drop_flagged_observations;
     o.detector.enable_fast = false;
     o.detector.slow_period_s = 20.0;
-    SlamMotionHook hook(o);
+    return o;
+}
+
+TEST(SlamMotionHook, KeepsLandmarksOffAMovedObject)
+{
+    WallWorld w;
+    hymm::dense::HybridMetricMap map(wallMapOptions());
+    SlamMotionHook hook(slowHookOptions(false));
     hymm::ekf::EkfSlam ekf{hymm::ekf::EkfSlam::Options{}};
     const Eigen::Vector3d here(1.0, 7.5, 0.0), away(200.0, 200.0, 0.0);
     setVehicle(ekf, here);
@@ -149,16 +162,8 @@ TEST(SlamMotionHook, DropsObservationsOfFlaggedLandmarksWhenAsked)
     // The same removed container; with drop_flagged_observations the landmark on it,
     // once flagged, feeds no update even though something is still seen there.
     WallWorld w;
-    hymm::dense::HybridMetricMap::Options mo;
-    mo.enable_points = false;
-    mo.occupancy.cell_size_m = 0.2;
-    hymm::dense::HybridMetricMap map(mo);
-    SlamMotionHook::Options o;
-    o.enabled = true;
-    o.drop_flagged_observations = true;
-    o.detector.enable_fast = false;
-    o.detector.slow_period_s = 20.0;
-    SlamMotionHook hook(o);
+    hymm::dense::HybridMetricMap map(wallMapOptions());
+    SlamMotionHook hook(slowHookOptions(true));
     hymm::ekf::EkfSlam ekf{hymm::ekf::EkfSlam::Options{}};
     const Eigen::Vector3d here(1.0, 7.5, 0.0), away(200.0, 200.0, 0.0);
     double t = 0;
