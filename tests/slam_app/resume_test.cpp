@@ -5,6 +5,8 @@
 // compares), from the same rawlog and from a second rawlog holding the rest; a foreign,
 // other-version, truncated or corrupt state, another config, and a component the state
 // cannot hold are clear errors before anything is written.
+#include "ch3_sample.h"
+
 #include <gtest/gtest.h>
 #include <hymm/app/SlamApp.h>
 #include <hymm/app/slam_state.h>
@@ -27,9 +29,9 @@ namespace fs = std::filesystem;
 using hymm::app::SlamApp;
 
 const std::string kSrc = HYMM_SOURCE_DIR;
-const std::string kRawlog = kSrc + "/rawlogs/ch3_objects.rawlog";
+const std::string& kRawlog = hymm::test::kCh3Rawlog;
 const std::string kConfig = kSrc + "/tests/slam_app/resume_layers.ini";
-const std::string kGt = kSrc + "/rawlogs/ch3_objects_gt_";
+const std::string& kGt = hymm::test::kCh3Gt;
 // The run is cut after entry kCut of the first kEnd (a few seconds in all).
 constexpr size_t kCut = 150;
 constexpr size_t kEnd = 260;
@@ -47,18 +49,7 @@ struct TempDir
     std::string operator/(const std::string& name) const { return (path / name).string(); }
 };
 
-SlamApp::Args argsFor(const std::string& out)
-{
-    SlamApp::Args a;
-    a.config = kConfig;
-    a.rawlog = kRawlog;
-    a.out_dir = out;
-    a.gt_path = kGt + "path.tum";
-    a.gt_landmarks = kGt + "landmarks.csv";
-    a.gt_objects = kGt + "objects.txt";
-    a.quiet = true;
-    return a;
-}
+SlamApp::Args argsFor(const std::string& out) { return hymm::test::ch3SampleArgs(kConfig, out); }
 
 std::string readFile(const fs::path& p)
 {

@@ -4,6 +4,8 @@
 // bad inputs fail with an exception before anything is written. With every chapter-4
 // layer on (particles, SOG, property, coarsening), each layer's files load back with
 // MRPT and agree with the metrics and the truth.
+#include "ch3_sample.h"
+
 #include <gtest/gtest.h>
 #include <hymm/io/trajectory_io.h>
 #include <hymm/dense/outline_metrics.h>
@@ -38,9 +40,9 @@ namespace fs = std::filesystem;
 using hymm::app::SlamApp;
 
 const std::string kSrc = HYMM_SOURCE_DIR;
-const std::string kRawlog = kSrc + "/rawlogs/ch3_objects.rawlog";
+const std::string& kRawlog = hymm::test::kCh3Rawlog;
 const std::string kConfig = kSrc + "/configs/ch3_slam.ini";
-const std::string kGt = kSrc + "/rawlogs/ch3_objects_gt_";
+const std::string& kGt = hymm::test::kCh3Gt;
 
 // Measured with this config: path RMSE 0.55 m; outline mean
 // distance away from the landmarks 0.36 m (occupancy) and 0.82 m (points); coverage
@@ -114,18 +116,7 @@ void readSerialized(const std::string& file, T& obj)
     mrpt::serialization::archiveFrom(f) >> obj;
 }
 
-SlamApp::Args argsFor(const std::string& out)
-{
-    SlamApp::Args a;
-    a.config = kConfig;
-    a.rawlog = kRawlog;
-    a.out_dir = out;
-    a.gt_path = kGt + "path.tum";
-    a.gt_landmarks = kGt + "landmarks.csv";
-    a.gt_objects = kGt + "objects.txt";
-    a.quiet = true;
-    return a;
-}
+SlamApp::Args argsFor(const std::string& out) { return hymm::test::ch3SampleArgs(kConfig, out); }
 
 // Number under "dense" -> `object` -> `key` in metrics.json text (flat layer objects).
 double denseMetric(const std::string& json, const std::string& object, const std::string& key)
