@@ -58,6 +58,7 @@ int main(int argc, char** argv)
         pr.set("vehicle_nees_mean", r.vehicle_nees_run_mean);
         if (!r.hll_accepted.empty())
         {
+            pr.set("hll_proposed", r.hll_proposed);
             pr.set("hll_accepted", r.hll_accepted);
             pr.set("hll_initialised", r.hll_initialised);
             pr.set("hll_updated", r.hll_updated);

@@ -24,7 +24,7 @@ struct RunOutcome
     std::vector<double> landmark_nees;  //!< per true landmark, NaN where unmapped
     double final_error = 0, path_rmse = 0, landmark_mean_error = 0;
     bool hll = false;
-    double hll_accepted = 0, hll_initialised = 0, hll_updated = 0;
+    double hll_proposed = 0, hll_accepted = 0, hll_initialised = 0, hll_updated = 0;
 };
 
 RunOutcome runOne(const sim::Scenario& scenario, const mrpt::config::CConfigFileBase& slam_cfg,
@@ -63,6 +63,7 @@ RunOutcome runOne(const sim::Scenario& scenario, const mrpt::config::CConfigFile
     if (const auto* h = slam.highLevelLandmarks())
     {
         out.hll = true;
+        out.hll_proposed = static_cast<double>(h->stats().proposed);
         out.hll_accepted = static_cast<double>(h->stats().accepted);
         out.hll_initialised = static_cast<double>(h->stats().initialised);
         out.hll_updated = static_cast<double>(h->tracker().stats().updated);
@@ -116,6 +117,7 @@ ConsistencyStudy::Result ConsistencyStudy::run() const
         r.vehicle_nees_run_mean.push_back(n ? sum / static_cast<double>(n) : std::nan(""));
         if (o.hll)
         {
+            r.hll_proposed.push_back(o.hll_proposed);
             r.hll_accepted.push_back(o.hll_accepted);
             r.hll_initialised.push_back(o.hll_initialised);
             r.hll_updated.push_back(o.hll_updated);

@@ -55,12 +55,13 @@ void writeHllOutputs(const DenseSlam& slam, const std::string& dir, bool png)
     if (!h) return;
     {
         core::AtomicTextFile f(dir + "hll.csv");
-        f << "index,t_accepted,gaussians,template_points,landmark_id,t_initialised,x,y,phi,half_x,half_y\n"
+        f << "index,t_accepted,gaussians,outline_m,template_points,landmark_id,t_initialised,x,y,phi,half_x,half_y\n"
           << std::setprecision(10);
         for (const auto& x : h->hlls())
         {
             const Eigen::Vector3d p = hllPose(slam, x);
-            f << x.index << ',' << x.t_accepted << ',' << x.gaussians << ',' << x.tpl.sog.size() << ','
+            f << x.index << ',' << x.t_accepted << ',' << x.gaussians << ',' << x.outline_m << ','
+              << x.tpl.sog.size() << ','
               << x.landmark_id << ',' << x.t_initialised << ',' << p.x() << ',' << p.y() << ',' << p.z()
               << ',' << x.rect.half.x() << ',' << x.rect.half.y() << '\n';
         }

@@ -45,10 +45,13 @@ std::vector<std::pair<std::string, size_t>> HighLevelLandmarks::Stats::list() co
 {
     return {{"searches", searches},
             {"regions_searched", regions_searched},
+            {"components_dropped", components_dropped},
+            {"corners_near_landmark", corners_near_landmark},
             {"corners", corners},
             {"proposed", proposed},
             {"accepted", accepted},
             {"rejected_few_gaussians", rejected_few_gaussians},
+            {"rejected_short_outline", rejected_short_outline},
             {"rejected_overlap_landmark", rejected_overlap_landmark},
             {"rejected_overlap_candidate", rejected_overlap_candidate},
             {"init_attempts", init_attempts},
@@ -153,9 +156,15 @@ const HllDetector::Search& HighLevelLandmarks::search(double t, const ekf::EkfSl
     last_search_t_ = t;
     std::vector<OrientedRect> ex = areas(ekf);
     ex.insert(ex.end(), exclusions.begin(), exclusions.end());
-    HllDetector::Search s = detector_.search(ekf.vehiclePose().head<2>(), partition, map, ex, t);
+    // The point landmarks (2-DOF blocks): a corner on one of them would duplicate it.
+    std::vector<Vec2> points;
+    for (long id : ekf.landmarkIds())
+        if (ekf.landmarkBlock(id).dim == 2) points.push_back(ekf.landmarkMean(id));
+    HllDetector::Search s = detector_.search(ekf.vehiclePose().head<2>(), partition, map, ex, t, points);
     ++stats_.searches;
     stats_.regions_searched += s.regions;
+    stats_.components_dropped += s.components_dropped;
+    stats_.corners_near_landmark += s.corners_near_landmark;
     stats_.corners += s.corners.size();
     stats_.proposed += s.candidates.size();
     for (const auto& c : s.candidates)
@@ -164,10 +173,12 @@ const HllDetector::Search& HighLevelLandmarks::search(double t, const ekf::EkfSl
         {
             case HllDetector::Outcome::accepted: break;
             case HllDetector::Outcome::too_few_gaussians: ++stats_.rejected_few_gaussians; continue;
+            case HllDetector::Outcome::outline_too_short: ++stats_.rejected_short_outline; continue;
             case HllDetector::Outcome::overlaps_landmark: ++stats_.rejected_overlap_landmark; continue;
             case HllDetector::Outcome::overlaps_candidate: ++stats_.rejected_overlap_candidate; continue;
         }
-        addPending(c.rect, makeTemplate(c.rect, s.gaussians, options_.template_max_points), c.gaussians, t);
+        addPending(c.rect, makeTemplate(c.rect, s.gaussians, options_.template_max_points), c.gaussians, t,
+                   c.outline_m);
     }
     s.gaussians.clear();  // the record keeps what the figure draws
     s.gaussians.shrink_to_fit();
@@ -176,13 +187,14 @@ const HllDetector::Search& HighLevelLandmarks::search(double t, const ekf::EkfSl
 }
 
 size_t HighLevelLandmarks::addPending(const OrientedRect& rect, scanslam::ScanTemplate tpl, size_t gaussians,
-                                      double t)
+                                      double t, double outline_m)
 {
     if (tpl.sog.size() < 3) throw std::invalid_argument("HighLevelLandmarks: a template needs 3 points");
     Hll h;
     h.index = hlls_.size();
     h.rect = rect;
     h.gaussians = gaussians;
+    h.outline_m = outline_m;
     h.tpl = std::move(tpl);
     h.t_accepted = t;
     hlls_.push_back(std::move(h));

@@ -85,6 +85,26 @@ size_t countInside(const OrientedRect& rect, const std::vector<HllDetector::Gaus
     return n;
 }
 
+double outlineInside(const OrientedRect& rect, const std::vector<HllDetector::Gaussian>& gaussians,
+                     double cell_m)
+{
+    if (!(cell_m > 0)) throw std::invalid_argument("outlineInside: cell_m must be > 0");
+    // Distinct cells of the rectangle's own frame holding a mean: however often the SOG
+    // layer saw a wall (it adds Gaussians on every revisit, Sec. 4.3.2), a metre of it
+    // fills about 1 / cell_m cells. The frame runs along the pair of corners, so the walls
+    // of a box are aligned with it; a wall at an angle a counts |cos a| + |sin a| times
+    // its length (at most sqrt(2)).
+    std::vector<std::pair<long, long>> cells;
+    for (const auto& g : gaussians)
+    {
+        const Vec2 q = rect.toLocal(g.mean);
+        if (std::abs(q.x()) > rect.half.x() || std::abs(q.y()) > rect.half.y()) continue;
+        cells.emplace_back(static_cast<long>(std::floor(q.x() / cell_m)), static_cast<long>(std::floor(q.y() / cell_m)));
+    }
+    std::sort(cells.begin(), cells.end());
+    return static_cast<double>(std::unique(cells.begin(), cells.end()) - cells.begin()) * cell_m;
+}
+
 // ---------------------------------------------------------------------------------
 // Options
 // ---------------------------------------------------------------------------------
@@ -108,6 +128,10 @@ core::OptionTable HllDetector::Options::table()
     t.real("min_corner_distance_m", min_corner_distance_m, "m", atLeast(0),
            "non-maximum suppression radius between corners");
     t.integer("max_corners", max_corners, "", 1, 100000, "strongest corners kept per search");
+    t.real("min_object_extent_m", min_object_extent_m, "m", atLeast(0),
+           "occupied components with a shorter bounding-box diagonal (poles) make no corners (0: all do)");
+    t.real("landmark_clearance_m", landmark_clearance_m, "m", atLeast(0),
+           "corners closer than this to a point landmark's estimate are dropped (no duplicate)");
     t.real("pair_max_distance_m", pair_max_distance_m, "m", above(0),
            "a corner pairs with its nearest neighbour this close (thesis: 12 m)");
     t.real("min_pair_distance_m", min_pair_distance_m, "m", atLeast(0),
@@ -115,6 +139,9 @@ core::OptionTable HllDetector::Options::table()
     t.real("margin_m", margin_m, "m", atLeast(0), "rectangle beyond the pair of corners (thesis: 5 m)");
     t.integer("min_gaussians", min_gaussians, "", 1, 100000000,
               "SOG Gaussians needed inside a rectangle to accept it (thesis: 200)");
+    t.real("min_outline_m", min_outline_m, "m", atLeast(0),
+           "outline length needed inside a rectangle (cells of outline_cell_m holding a Gaussian; 0: no test)");
+    t.real("outline_cell_m", outline_cell_m, "m", above(0, 10), "cell that measures the outline length");
     return t;
 }
 
@@ -124,6 +151,7 @@ const char* HllDetector::outcomeName(Outcome o)
     {
         case Outcome::accepted: return "accepted";
         case Outcome::too_few_gaussians: return "too_few_gaussians";
+        case Outcome::outline_too_short: return "outline_too_short";
         case Outcome::overlaps_landmark: return "overlaps_landmark";
         case Outcome::overlaps_candidate: return "overlaps_candidate";
     }
@@ -145,23 +173,52 @@ HllDetector::HllDetector(const Options& options) : options_(options)
 // ---------------------------------------------------------------------------------
 // Steps
 // ---------------------------------------------------------------------------------
-std::vector<Vec2> HllDetector::detectCorners(const mrpt::maps::COccupancyGridMap2D& grid) const
+namespace
+{
+/** The corner image: cells with P(occupied) > `occupied_prob`, without the occupied
+ *  connected components (8-neighbours) whose bounding box has a diagonal shorter than
+ *  `min_extent_cells`. A pole is such a component (a blob of a few cells at the tip of
+ *  its laser shadow); its Harris response is as strong as a building's corner, but it is
+ *  a point landmark, not an object with two corners (thesis 6.1.3 looks for objects). */
+cv::Mat objectImage(const mrpt::maps::COccupancyGridMap2D& grid, double occupied_prob, double min_extent_cells,
+                    size_t* dropped)
+{
+    const int w = static_cast<int>(grid.getSizeX()), h = static_cast<int>(grid.getSizeY());
+    // The unknown/free border of the explored area (scan limits) is not an object and
+    // must not make corners: only occupied cells are drawn.
+    cv::Mat img(h, w, CV_8UC1, cv::Scalar(0));
+    for (int cy = 0; cy < h; ++cy)
+        for (int cx = 0; cx < w; ++cx)
+            if (grid.getCell(cx, cy) > occupied_prob) img.at<unsigned char>(cy, cx) = 255;
+    if (!(min_extent_cells > 0)) return img;
+    cv::Mat labels, stats, centroids;
+    const int n = cv::connectedComponentsWithStats(img, labels, stats, centroids, 8, CV_32S);
+    std::vector<unsigned char> keep(static_cast<size_t>(n), 1);
+    for (int l = 1; l < n; ++l)  // label 0: background
+    {
+        const double bw = stats.at<int>(l, cv::CC_STAT_WIDTH), bh = stats.at<int>(l, cv::CC_STAT_HEIGHT);
+        if (std::hypot(bw, bh) < min_extent_cells)
+        {
+            keep[static_cast<size_t>(l)] = 0;
+            if (dropped) ++*dropped;
+        }
+    }
+    for (int cy = 0; cy < h; ++cy)
+        for (int cx = 0; cx < w; ++cx)
+            if (!keep[static_cast<size_t>(labels.at<int>(cy, cx))]) img.at<unsigned char>(cy, cx) = 0;
+    return img;
+}
+}  // namespace
+
+std::vector<Vec2> HllDetector::detectCorners(const mrpt::maps::COccupancyGridMap2D& grid,
+                                             const std::vector<Vec2>& point_landmarks, CornerStats* stats) const
 {
     const int w = static_cast<int>(grid.getSizeX()), h = static_cast<int>(grid.getSizeY());
     std::vector<Vec2> out;
     if (w < options_.harris_block_size + 2 || h < options_.harris_block_size + 2) return out;
-    // Binary image of the occupied cells: the unknown/free border of the explored area
-    // (scan limits) is not an object and must not make corners.
-    cv::Mat img(h, w, CV_8UC1, cv::Scalar(0));
-    bool any = false;
-    for (int cy = 0; cy < h; ++cy)
-        for (int cx = 0; cx < w; ++cx)
-            if (grid.getCell(cx, cy) > options_.occupied_prob)
-            {
-                img.at<unsigned char>(cy, cx) = 255;
-                any = true;
-            }
-    if (!any) return out;
+    const cv::Mat img = objectImage(grid, options_.occupied_prob, options_.min_object_extent_m / grid.getResolution(),
+                                    stats ? &stats->components_dropped : nullptr);
+    if (cv::countNonZero(img) == 0) return out;
     // Smoothing first: a wall that is not aligned with the grid is a staircase of cells
     // whose steps are corners at the scale of a cell, not of the object.
     cv::Mat smooth = img;
@@ -179,9 +236,18 @@ std::vector<Vec2> HllDetector::detectCorners(const mrpt::maps::COccupancyGridMap
     for (const auto& p : pts)
     {
         // Sub-cell positions: cell centre of index i is idx2x(i); linear in between.
-        const double x = grid.getXMin() + (p.x + 0.5) * grid.getResolution();
-        const double y = grid.getYMin() + (p.y + 0.5) * grid.getResolution();
-        out.emplace_back(x, y);
+        const Vec2 c(grid.getXMin() + (p.x + 0.5) * grid.getResolution(),
+                     grid.getYMin() + (p.y + 0.5) * grid.getResolution());
+        // A corner on a point landmark would make an HLL that duplicates it (6.1: a new
+        // landmark must be new); a pole next to a wall joins the wall's component.
+        const bool on_landmark = std::any_of(point_landmarks.begin(), point_landmarks.end(), [&](const Vec2& l)
+                                             { return (l - c).norm() < options_.landmark_clearance_m; });
+        if (on_landmark)
+        {
+            if (stats) ++stats->near_landmark;
+            continue;
+        }
+        out.push_back(c);
     }
     return out;
 }
@@ -229,6 +295,7 @@ std::vector<HllDetector::Candidate> HllDetector::evaluate(const std::vector<Vec2
         c.b = corners[j];
         c.rect = pairRectangle(c.a, c.b);
         c.gaussians = countInside(c.rect, gaussians);
+        c.outline_m = outlineInside(c.rect, gaussians, options_.outline_cell_m);
         cands.push_back(c);
     }
     // The richest candidates first (thesis: more Gaussians make the template easier to
@@ -240,6 +307,8 @@ std::vector<HllDetector::Candidate> HllDetector::evaluate(const std::vector<Vec2
     {
         if (c.gaussians < options_.min_gaussians)
             c.outcome = Outcome::too_few_gaussians;
+        else if (c.outline_m < options_.min_outline_m)
+            c.outcome = Outcome::outline_too_short;
         else if (std::any_of(exclusions.begin(), exclusions.end(),
                              [&](const OrientedRect& e) { return overlaps(c.rect, e); }))
             c.outcome = Outcome::overlaps_landmark;
@@ -257,7 +326,8 @@ std::vector<HllDetector::Candidate> HllDetector::evaluate(const std::vector<Vec2
 
 HllDetector::Search HllDetector::search(const Vec2& vehicle, const ltr::RegionPartition& partition,
                                         const dense::HybridMetricMap& map,
-                                        const std::vector<OrientedRect>& exclusions, double t) const
+                                        const std::vector<OrientedRect>& exclusions, double t,
+                                        const std::vector<Vec2>& point_landmarks) const
 {
     Search s;
     s.t = t;
@@ -297,7 +367,10 @@ HllDetector::Search HllDetector::search(const Vec2& vehicle, const ltr::RegionPa
                 s.gaussians.push_back({m, g.cov.asEigen()});
             }
     }
-    s.corners = detectCorners(grid);
+    CornerStats cs;
+    s.corners = detectCorners(grid, point_landmarks, &cs);
+    s.components_dropped = cs.components_dropped;
+    s.corners_near_landmark = cs.near_landmark;
     s.candidates = evaluate(s.corners, s.gaussians, exclusions);
     return s;
 }

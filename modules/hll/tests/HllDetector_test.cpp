@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <hymm/hll/HllDetector.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -225,6 +226,119 @@ TEST(HllDetector, AcceptsRectanglesWithEnoughGaussiansAndNoOverlap)
     // The threshold is the rule: at 10 per metre nothing reaches 200.
     const auto sparse = det.evaluate(corners, outlineGaussians(boxes, 0.1), {});
     for (const auto& c : sparse) EXPECT_EQ(c.outcome, HllDetector::Outcome::too_few_gaussians);
+}
+
+/** Draws a pole of radius `r` at `c` occupied (a point landmark as the occupancy layer
+ *  holds it: a blob of a few cells). */
+void addPole(mrpt::maps::COccupancyGridMap2D& g, const Vec2& c, double r)
+{
+    for (unsigned y = 0; y < g.getSizeY(); ++y)
+        for (unsigned x = 0; x < g.getSizeX(); ++x)
+            if ((Vec2(g.idx2x(x), g.idx2y(y)) - c).norm() <= r) g.setCell(x, y, 0.95f);
+}
+
+double nearest(const Vec2& p, const std::vector<Vec2>& set)
+{
+    double best = 1e9;
+    for (const Vec2& q : set) best = std::min(best, (p - q).norm());
+    return best;
+}
+
+// Poles (thesis' point landmarks, radius 0.15-0.4 m) beside the objects: isolated ones,
+// two 4.5 m apart (they would pair), one 1 m from a wall and one touching a wall.
+const std::vector<Vec2> kPoles = {{10, 10}, {14, 12}, {35, 5}, {-5, 20}, {3, 4}, {3, -0.35}};
+
+TEST(HllDetector, PolesGiveNoCornersAndObjectCornersRemain)
+{
+    const double res = 0.2;
+    auto grid = makeGrid({kA, kB, kC}, res);
+    for (const Vec2& p : kPoles) addPole(grid, p, 0.35);
+    std::vector<Vec2> truth;
+    for (const auto& b : {kA, kB, kC}) truth.insert(truth.end(), b.c.begin(), b.c.end());
+    const double tol = 2 * res * std::sqrt(2.0);
+
+    // Without the object filter (the rule before): the poles make corners of their own.
+    HllDetector::Options raw;
+    raw.min_object_extent_m = 0;
+    size_t on_poles = 0;
+    for (const Vec2& c : HllDetector(raw).detectCorners(grid)) on_poles += nearest(c, kPoles) < 1.0;
+    EXPECT_GE(on_poles, 4u) << "the premise: a pole alone is a Harris corner";
+
+    // With it and the point landmarks known: only the twelve object corners.
+    HllDetector det(HllDetector::Options{});
+    HllDetector::CornerStats st;
+    const auto corners = det.detectCorners(grid, kPoles, &st);
+    EXPECT_GE(st.components_dropped, 5u);  // the five poles apart from the walls
+    for (const Vec2& c : corners)
+    {
+        EXPECT_LE(nearest(c, truth), tol) << "corner off the objects " << c.transpose();
+        EXPECT_GE(nearest(c, kPoles), det.options().landmark_clearance_m);
+    }
+    size_t found = 0;
+    for (const Vec2& t : truth) found += nearest(t, corners) <= tol;
+    EXPECT_EQ(found, 12u);
+
+    // Even without the landmark list, no isolated pole makes a corner.
+    for (const Vec2& c : det.detectCorners(grid))
+        for (size_t k = 0; k < 4; ++k) EXPECT_GT((c - kPoles[k]).norm(), 1.0) << "pole " << k;
+
+    // And the HLLs are those of the objects alone: six pairs, two accepted, no pole inside
+    // an accepted rectangle's pair.
+    const auto cands = det.evaluate(corners, outlineGaussians({kA, kB, kC}, 0.05), {});
+    EXPECT_EQ(cands.size(), 6u);
+    size_t accepted = 0;
+    for (const auto& c : cands)
+    {
+        accepted += c.outcome == HllDetector::Outcome::accepted;
+        EXPECT_LE(nearest(c.a, truth), tol);
+        EXPECT_LE(nearest(c.b, truth), tol);
+    }
+    EXPECT_EQ(accepted, 2u);
+}
+
+TEST(HllDetector, OutlineLengthDoesNotDependOnTheGaussianDensity)
+{
+    const double res = 0.2;
+    const std::vector<Box> boxes = {kA, kB, kC};
+    HllDetector::Options o;
+    o.min_gaussians = 3;
+    o.min_outline_m = 12;
+    HllDetector det(o);
+    const auto corners = det.detectCorners(makeGrid(boxes, res));
+    // The same outlines at 5, 10 and 20 Gaussians per metre (a wall seen once, twice,
+    // four times by the SOG layer): the count grows with the density, the length not.
+    std::vector<std::vector<HllDetector::Candidate>> runs;
+    for (const double spacing : {0.2, 0.1, 0.05}) runs.push_back(det.evaluate(corners, outlineGaussians(boxes, spacing), {}));
+    ASSERT_EQ(runs[0].size(), 6u);
+    for (size_t k = 0; k < runs[0].size(); ++k)
+    {
+        // Candidates are sorted by count: find the same pair in each run.
+        for (const auto& run : runs)
+        {
+            const auto same = std::find_if(run.begin(), run.end(), [&](const HllDetector::Candidate& c)
+                                           { return c.a == runs[0][k].a && c.b == runs[0][k].b; });
+            ASSERT_NE(same, run.end());
+            // Against the true outline clipped to the rectangle: the box walls run along
+            // the rectangle's axes (within one cell per wall end).
+            const double truth = outlineLengthInside(same->rect, boxes);
+            EXPECT_NEAR(same->outline_m, truth, 8 * o.outline_cell_m) << "pair " << k;
+            EXPECT_EQ(same->outcome == HllDetector::Outcome::outline_too_short,
+                      same->outline_m < o.min_outline_m);
+            EXPECT_NE(same->outcome, HllDetector::Outcome::too_few_gaussians);
+        }
+    }
+    // A's and C's rectangles hold more than 12 m, B's (7 m of outline) less.
+    for (const auto& run : runs)
+    {
+        size_t accepted = 0, short_outline = 0;
+        for (const auto& c : run)
+        {
+            accepted += c.outcome == HllDetector::Outcome::accepted;
+            short_outline += c.outcome == HllDetector::Outcome::outline_too_short;
+        }
+        EXPECT_EQ(accepted, 2u);
+        EXPECT_EQ(short_outline, 2u);
+    }
 }
 
 TEST(HllDetector, EmptyOrTinyGridsGiveNoCorners)

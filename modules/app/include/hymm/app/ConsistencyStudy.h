@@ -43,7 +43,7 @@ struct ConsistencyStudy
         std::vector<double> landmark_mean_error;   //!< [m] per run
         /** Per run, with [HighLevelLandmarks] on (else empty): HLLs accepted,
          *  initialised in the filter, and their updates. */
-        std::vector<double> hll_accepted, hll_initialised, hll_updated;
+        std::vector<double> hll_proposed, hll_accepted, hll_initialised, hll_updated;
         std::vector<double> vehicle_nees_run_mean;  //!< per run: mean NEES over its steps
     };
 

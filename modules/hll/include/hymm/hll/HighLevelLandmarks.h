@@ -73,6 +73,7 @@ public:
         OrientedRect rect;              //!< at detection, global frame (its frame = the HLL's)
         scanslam::ScanTemplate tpl;     //!< Gaussians in the rectangle's frame
         size_t gaussians = 0;           //!< inside the rectangle at detection (before thinning)
+        double outline_m = 0;           //!< [m] outline length inside it at detection (outlineInside)
         double t_accepted = 0;
         long landmark_id = -1;          //!< EKF pose landmark once initialised
         double t_initialised = -1;
@@ -82,10 +83,13 @@ public:
     {
         size_t searches = 0;
         size_t regions_searched = 0;    //!< summed over searches
-        size_t corners = 0;             //!< summed over searches
+        size_t components_dropped = 0;  //!< occupied components too small for an object (poles)
+        size_t corners_near_landmark = 0;  //!< corners dropped on a point landmark
+        size_t corners = 0;             //!< summed over searches (kept ones)
         size_t proposed = 0;            //!< candidate rectangles (pairs)
         size_t accepted = 0;
         size_t rejected_few_gaussians = 0;
+        size_t rejected_short_outline = 0;
         size_t rejected_overlap_landmark = 0;
         size_t rejected_overlap_candidate = 0;
         size_t init_attempts = 0;       //!< pending HLLs in view
@@ -114,7 +118,8 @@ public:
                                       const std::vector<OrientedRect>& exclusions = {});
     /** Adds a pending HLL: `tpl` in the frame of `rect` (global at detection). search()
      *  adds the accepted rectangles this way. Returns its index. */
-    size_t addPending(const OrientedRect& rect, scanslam::ScanTemplate tpl, size_t gaussians, double t);
+    size_t addPending(const OrientedRect& rect, scanslam::ScanTemplate tpl, size_t gaussians, double t,
+                      double outline_m = 0);
     /** One scan: pending HLLs in view are initialised, those in the filter observed. */
     void processScan(ekf::EkfSlam& ekf, const mrpt::obs::CObservation2DRangeScan& scan, double t);
 

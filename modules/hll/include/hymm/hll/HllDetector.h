@@ -80,10 +80,14 @@ public:
         double quality_level = 0.05;     //!< corners weaker than this times the best are dropped
         double min_corner_distance_m = 1.0;  //!< non-maximum suppression radius
         int max_corners = 200;           //!< strongest corners kept per search
+        double min_object_extent_m = 2.0;  //!< smaller occupied components (poles) make no corners
+        double landmark_clearance_m = 1.5; //!< corners this close to a point landmark are dropped
         double pair_max_distance_m = 12; //!< nearest neighbour this close pairs (thesis: 12 m)
         double min_pair_distance_m = 1.0;  //!< closer corners are one corner (no pair)
         double margin_m = 5;             //!< rectangle beyond the corners (thesis: 5 m)
         size_t min_gaussians = 200;      //!< SOG Gaussians needed inside (thesis: 200)
+        double min_outline_m = 0;        //!< outline length needed inside (0: not tested)
+        double outline_cell_m = 0.2;     //!< cell that measures the outline length
 
         /** The keys above, declared once. */
         core::OptionTable table();
@@ -94,6 +98,7 @@ public:
     {
         accepted,
         too_few_gaussians,   //!< fewer than min_gaussians inside
+        outline_too_short,   //!< less than min_outline_m of outline inside
         overlaps_landmark,   //!< meets an existing landmark's area (an exclusion)
         overlaps_candidate,  //!< meets a rectangle accepted earlier in the same search
     };
@@ -104,6 +109,7 @@ public:
         Vec2 a = Vec2::Zero(), b = Vec2::Zero();  //!< the pair of corners
         OrientedRect rect;
         size_t gaussians = 0;  //!< SOG means inside rect
+        double outline_m = 0;  //!< [m] outline length inside rect (outlineInside)
         Outcome outcome = Outcome::too_few_gaussians;
     };
 
@@ -121,9 +127,18 @@ public:
         size_t regions = 0;             //!< regions the box lookup returned
         size_t regions_degenerate = 0;  //!< of those, skipped: current triangle degenerate
         std::vector<Vec2> corners;
+        size_t components_dropped = 0;     //!< occupied components below min_object_extent_m
+        size_t corners_near_landmark = 0;  //!< corners dropped within landmark_clearance_m
         std::vector<Candidate> candidates;
         std::vector<Gaussian> gaussians;  //!< SOG of the regions searched (templates come from it)
         size_t accepted() const;
+    };
+
+    /** What the corner step left out. */
+    struct CornerStats
+    {
+        size_t components_dropped = 0;  //!< occupied components too small to be an object
+        size_t near_landmark = 0;       //!< corners on a point landmark
     };
 
     explicit HllDetector(const Options& options);
@@ -131,15 +146,20 @@ public:
 
     /** One search around `vehicle`: renders the occupancy layers of the regions near it,
      *  finds corners, pairs, rectangles and accepts against the SOG layers and
-     *  `exclusions` (areas of landmarks that exist, global frame). */
+     *  `exclusions` (areas of landmarks that exist, global frame); no corner within
+     *  landmark_clearance_m of one of `point_landmarks` (global). */
     Search search(const Vec2& vehicle, const ltr::RegionPartition& partition,
                   const dense::HybridMetricMap& map, const std::vector<OrientedRect>& exclusions,
-                  double t) const;
+                  double t, const std::vector<Vec2>& point_landmarks = {}) const;
 
     // --- the steps, on any grid ------------------------------------------------------
     /** Harris corners (cv::goodFeaturesToTrack with the Harris measure) of the occupied
-     *  cells of `grid`, in the grid's metric coordinates. */
-    std::vector<Vec2> detectCorners(const mrpt::maps::COccupancyGridMap2D& grid) const;
+     *  cells of `grid`, in the grid's metric coordinates; occupied components smaller
+     *  than min_object_extent_m are left out of the image, corners within
+     *  landmark_clearance_m of one of `point_landmarks` are dropped (counted in `stats`). */
+    std::vector<Vec2> detectCorners(const mrpt::maps::COccupancyGridMap2D& grid,
+                                    const std::vector<Vec2>& point_landmarks = {},
+                                    CornerStats* stats = nullptr) const;
     /** Each corner with its nearest neighbour when that is within [min_pair_distance_m,
      *  pair_max_distance_m]; unordered pairs (i < j), each once. */
     std::vector<std::pair<size_t, size_t>> pairCorners(const std::vector<Vec2>& corners) const;
@@ -158,5 +178,9 @@ private:
 
 /** Number of `gaussians` whose mean lies in `rect`. */
 size_t countInside(const OrientedRect& rect, const std::vector<HllDetector::Gaussian>& gaussians);
+/** [m] Length of outline in `rect`, independent of how many Gaussians a metre holds: the
+ *  number of distinct cells of side `cell_m` (in the rectangle's frame) holding a mean,
+ *  times `cell_m`. */
+double outlineInside(const OrientedRect& rect, const std::vector<HllDetector::Gaussian>& gaussians, double cell_m);
 
 }  // namespace hymm::hll
