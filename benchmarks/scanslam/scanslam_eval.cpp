@@ -128,7 +128,7 @@ int main(int argc, char** argv)
         std::cout << "seed,steps,closure_t,dr_rmse,path_rmse,path_rmse_before,path_rmse_after,lm_before,lm_xy_before,"
                      "lm_phi_deg_before,lm_after,lm_xy_after,lm_phi_deg_after,lm_nees_after,"
                      "template_outline_m,created,updated,gated,out_of_view,align_failed,"
-                     "ms_per_step,x_real_time\n";
+                     "ms_per_step,x_real_time,view_changed,prediction_uncertain\n";
         for (int k = 0; k < seeds.getValue(); ++k)
         {
             sc.run.seed = first.getValue() + k;
@@ -138,7 +138,7 @@ int main(int argc, char** argv)
             size_t failed = 0;
             for (const auto& [key, n] : r.counters)
                 if (key.find("align_failed") != std::string::npos) failed += n;
-            std::printf("%ld,%zu,%.1f,%.4f,%.4f,%.4f,%.4f,%zu,%.4f,%.4f,%zu,%.4f,%.4f,%.3f,%.4f,%zu,%zu,%zu,%zu,%zu,%.3f,%.1f\n",
+            std::printf("%ld,%zu,%.1f,%.4f,%.4f,%.4f,%.4f,%zu,%.4f,%.4f,%zu,%.4f,%.4f,%.3f,%.4f,%zu,%zu,%zu,%zu,%zu,%.3f,%.1f,%zu,%zu\n",
                         sc.run.seed, r.steps.size(), r.closure_t, r.dead_reckoning_rmse_m,
                         r.path_rmse_m, r.path_rmse_before_m,
                         r.path_rmse_after_m, r.before_closure.landmarks, r.before_closure.rmse_xy_m,
@@ -148,7 +148,8 @@ int main(int argc, char** argv)
                         counter(r, "scan_landmarks.created"), counter(r, "scan_landmarks.updated"),
                         counter(r, "scan_landmarks.gated"), counter(r, "scan_landmarks.out_of_view"),
                         failed, 1e3 * secs / static_cast<double>(r.steps.size()),
-                        r.duration_s / secs);
+                        r.duration_s / secs, counter(r, "scan_landmarks.view_changed"),
+                        counter(r, "scan_landmarks.prediction_uncertain"));
             std::fflush(stdout);
             runs.push_back(std::move(r));
         }
