@@ -10,6 +10,8 @@
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <mrpt/core/exceptions.h>
 
+#include <Eigen/Dense>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -48,6 +50,57 @@ size_t counter(const hymm::app::ScanSlamRun& r, const std::string& key)
         if (k == key) return n;
     return 0;
 }
+/** Converged alignments binned by `key` (edges ascending): count, share fused, mean
+ *  3-DOF NEES of z against the truth with the fused R, share above the 99 % gate of
+ *  chi-square(3), per-axis normalised squared errors and RMS errors. */
+template <class Key>
+void observationTable(const std::vector<hymm::app::ScanSlamRun>& runs, const char* name,
+                      const std::vector<double>& edges, Key key)
+{
+    const double gate99 = 11.3449;
+    std::printf("\n| %s | aligned | fused | NEES (3 DOF) | NEES fused: mean / median | > 99 %% gate | NEES x / y / phi | RMS x, y [m] / phi [deg] | sqrt(R) x, y [m] / phi [deg] |\n"
+                "|---|---|---|---|---|---|---|---|---|\n", name);
+    for (size_t b = 0; b + 1 < edges.size(); ++b)
+    {
+        size_t n = 0, fused = 0, out = 0;
+        double nees = 0;
+        std::vector<double> fused_nees;
+        Eigen::Vector3d axis = Eigen::Vector3d::Zero(), sq = Eigen::Vector3d::Zero(), rd = Eigen::Vector3d::Zero();
+        for (const auto& r : runs)
+            for (const auto& o : r.observations)
+            {
+                const double k = key(o);
+                if (k < edges[b] || k >= edges[b + 1]) continue;
+                const double e = o.error.dot(o.R.ldlt().solve(o.error));
+                ++n, fused += o.updated, out += e > gate99, nees += e;
+                if (o.updated) fused_nees.push_back(e);
+                for (int i = 0; i < 3; ++i)
+                {
+                    axis[i] += o.error[i] * o.error[i] / o.R(i, i);
+                    sq[i] += o.error[i] * o.error[i];
+                    rd[i] += std::sqrt(o.R(i, i));
+                }
+            }
+        if (n == 0) continue;
+        const double dn = static_cast<double>(n);
+        const Spread fs = spread(fused_nees);
+        const double fused_mean =
+            std::accumulate(fused_nees.begin(), fused_nees.end(), 0.0) / std::max<double>(1, fused_nees.size());
+        std::printf("| %g-%g | %zu | %.2f | %.2f | %.2f / %.2f | %.3f | %.2f / %.2f / %.2f | %.3f, %.3f / %.2f | %.3f, %.3f / %.2f |\n",
+                    edges[b], edges[b + 1], n, fused / dn, nees / dn, fused_mean, fs.median, out / dn, axis[0] / dn, axis[1] / dn,
+                    axis[2] / dn, std::sqrt(sq[0] / dn), std::sqrt(sq[1] / dn), std::sqrt(sq[2] / dn) * 180 / M_PI,
+                    rd[0] / dn, rd[1] / dn, rd[2] / dn * 180 / M_PI);
+    }
+}
+/** The alignment tables of --observations: by travel and by view change since creation. */
+void observationTables(const std::vector<hymm::app::ScanSlamRun>& runs)
+{
+    using O = hymm::app::ScanSlamRun::Observation;
+    observationTable(runs, "sensor travel since creation [m]", {0, 2, 5, 10, 15, 20, 30, 1e9},
+                     [](const O& o) { return o.travel_m; });
+    observationTable(runs, "view change since creation [deg]", {0, 5, 10, 20, 40, 90, 180},
+                     [](const O& o) { return o.view_change * 180 / M_PI; });
+}
 }  // namespace
 
 int main(int argc, char** argv)
@@ -61,6 +114,10 @@ int main(int argc, char** argv)
         TCLAP::ValueArg<int> first("f", "first-seed", "first seed", false, 1, "N", cmd);
         TCLAP::ValueArg<double> duration("d", "duration", "run length [s] (0: the scenario's laps)",
                                          false, 0, "S", cmd);
+        TCLAP::SwitchArg obs_table("o", "observations",
+                                   "also print the converged alignments' errors against the truth, "
+                                   "binned by the sensor's travel and view change since the landmark was made",
+                                   cmd);
         if (!cmd.parse(argc, argv)) return 0;
         if (seeds.getValue() < 1) throw std::invalid_argument("--seeds must be >= 1");
         const auto cfg = hymm::core::openConfigFile(config.getValue());
@@ -71,7 +128,7 @@ int main(int argc, char** argv)
         std::cout << "seed,steps,closure_t,dr_rmse,path_rmse,path_rmse_before,path_rmse_after,lm_before,lm_xy_before,"
                      "lm_phi_deg_before,lm_after,lm_xy_after,lm_phi_deg_after,lm_nees_after,"
                      "template_outline_m,created,updated,gated,out_of_view,align_failed,"
-                     "ms_per_step,x_real_time\n";
+                     "ms_per_step,x_real_time,view_changed,prediction_uncertain\n";
         for (int k = 0; k < seeds.getValue(); ++k)
         {
             sc.run.seed = first.getValue() + k;
@@ -81,7 +138,7 @@ int main(int argc, char** argv)
             size_t failed = 0;
             for (const auto& [key, n] : r.counters)
                 if (key.find("align_failed") != std::string::npos) failed += n;
-            std::printf("%ld,%zu,%.1f,%.4f,%.4f,%.4f,%.4f,%zu,%.4f,%.4f,%zu,%.4f,%.4f,%.3f,%.4f,%zu,%zu,%zu,%zu,%zu,%.3f,%.1f\n",
+            std::printf("%ld,%zu,%.1f,%.4f,%.4f,%.4f,%.4f,%zu,%.4f,%.4f,%zu,%.4f,%.4f,%.3f,%.4f,%zu,%zu,%zu,%zu,%zu,%.3f,%.1f,%zu,%zu\n",
                         sc.run.seed, r.steps.size(), r.closure_t, r.dead_reckoning_rmse_m,
                         r.path_rmse_m, r.path_rmse_before_m,
                         r.path_rmse_after_m, r.before_closure.landmarks, r.before_closure.rmse_xy_m,
@@ -91,7 +148,8 @@ int main(int argc, char** argv)
                         counter(r, "scan_landmarks.created"), counter(r, "scan_landmarks.updated"),
                         counter(r, "scan_landmarks.gated"), counter(r, "scan_landmarks.out_of_view"),
                         failed, 1e3 * secs / static_cast<double>(r.steps.size()),
-                        r.duration_s / secs);
+                        r.duration_s / secs, counter(r, "scan_landmarks.view_changed"),
+                        counter(r, "scan_landmarks.prediction_uncertain"));
             std::fflush(stdout);
             runs.push_back(std::move(r));
         }
@@ -137,6 +195,7 @@ int main(int argc, char** argv)
                          for (const auto& st : r.steps) s += st.seconds;
                          return r.duration_s / s;
                      }), 1, 1) << " |\n";
+        if (obs_table.getValue()) observationTables(runs);
         return 0;
     }
     catch (const std::exception& e)

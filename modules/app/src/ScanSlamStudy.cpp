@@ -57,6 +57,32 @@ double pathRmse(const std::vector<ScanSlamRun::Step>& s, size_t from, size_t to)
     return to > from ? std::sqrt(sum / static_cast<double>(to - from)) : std::nan("");
 }
 
+/** The converged alignments of this frame against the truth (ScanSlamRun::Observation). */
+void scoreObservations(const scanslam::ScanLandmarkMap& map, double t, const Eigen::Vector3d& sensor_true,
+                       const std::map<long, Eigen::Vector3d>& truth,
+                       const std::map<long, Eigen::Vector3d>& made_from, ScanSlamRun& run)
+{
+    for (const auto& a : map.lastAligned())
+    {
+        const auto lt = truth.find(a.id);
+        if (lt == truth.end()) continue;
+        const Eigen::Vector3d z_true = compose(scanslam::inverse(sensor_true), lt->second);
+        const Eigen::Vector3d& s0 = made_from.at(a.id);
+        ScanSlamRun::Observation o;
+        o.t = t;
+        o.travel_m = (sensor_true - s0).head<2>().norm();
+        const Eigen::Vector2d d0 = s0.head<2>() - lt->second.head<2>();
+        const Eigen::Vector2d d1 = sensor_true.head<2>() - lt->second.head<2>();
+        o.view_change = std::abs(mrpt::math::wrapToPi(std::atan2(d1.y(), d1.x()) - std::atan2(d0.y(), d0.x())));
+        o.range_m = d1.norm();
+        o.error = poseError(a.z, z_true);
+        o.pred_error = poseError(a.z_hat, z_true);
+        o.R = a.R;
+        o.updated = a.updated;
+        run.observations.push_back(o);
+    }
+}
+
 void scoreTemplates(const denseslam::DenseSlam& slam, const sim::World& world, ScanSlamRun& run)
 {
     std::vector<Eigen::Vector2d> pts;
@@ -89,7 +115,7 @@ ScanSlamRun runScanSlamStudy(const sim::Scenario& scenario,
     ScanSlamRun run;
     std::map<long, Eigen::Vector3d> truth;  // landmark id -> true frame pose
     std::map<long, std::pair<double, int>> seen;  // id -> (creation time, times_seen)
-    std::map<long, Eigen::Vector3d> truth_before;
+    std::map<long, Eigen::Vector3d> made_from;  // id -> true sensor pose at creation
     bool closed = false;
     // CPU time of this thread: the cost of the step, not the machine's load.
     const auto cpu = [] {
@@ -130,6 +156,7 @@ ScanSlamRun runScanSlamStudy(const sim::Scenario& scenario,
             if (fresh)
             {
                 truth[id] = compose(compose(f.true_pose, sensor), tpl.frame_in_sensor);
+                made_from[id] = compose(f.true_pose, sensor);
                 continue;
             }
             if (!closed && times > it->second.second && f.t - it->second.first > closure_min_age_s)
@@ -141,6 +168,7 @@ ScanSlamRun runScanSlamStudy(const sim::Scenario& scenario,
             }
             it->second.second = times;
         }
+        scoreObservations(src->map(), f.t, compose(f.true_pose, sensor), truth, made_from, run);
     }
     run.duration_s = f.t;
     run.after_closure = landmarkErrors(slam, truth);

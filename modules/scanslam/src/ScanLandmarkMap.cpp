@@ -48,6 +48,17 @@ void ScanLandmarkMap::Options::load(const mrpt::config::CConfigFileBase& cfg,
            M_PI / 180);
     t.real("visible_depth_tol_m", visible_depth_tol_m, "m", atLeast(0),
            "a template point this close behind the nearest of its bearing bin is visible");
+    t.real("view_std_xy_m", view_std_xy_m, "m", atLeast(0),
+           "alignment std added in x and y at any viewpoint (measured, see above)");
+    t.real("view_std_xy_per_m", view_std_xy_per_m, "", atLeast(0),
+           "its growth per metre the template frame moved in the sensor frame since it was made");
+    t.real("view_std_phi_deg", view_std_phi, "deg", atLeast(0), "same for the angle", M_PI / 180);
+    t.real("view_std_phi_deg_per_m", view_std_phi_per_m, "deg/m", atLeast(0),
+           "growth of the angle's std per metre of viewpoint change", M_PI / 180);
+    t.real("max_view_change_m", max_view_change_m, "m", atLeast(0),
+           "> 0: templates whose frame moved more than this in the sensor frame are not aligned");
+    t.real("max_prediction_std_m", max_prediction_std_m, "m", atLeast(0),
+           "> 0: templates whose predicted position has a larger std are not aligned");
     t.integer("seed", seed, "", 0, std::numeric_limits<uint32_t>::max(), "acceptance test's random seed");
     t.load(cfg, s);
 }
@@ -60,6 +71,8 @@ std::vector<std::pair<std::string, size_t>> ScanLandmarkMap::Stats::list() const
         {"beams_invalid", beams_invalid},
         {"predicted", predicted},
         {"out_of_view", out_of_view},
+        {"view_changed", view_changed},
+        {"prediction_uncertain", prediction_uncertain},
         {"aligned", aligned}};
     for (const auto& [reason, n] : align_failed) out.emplace_back("align_failed." + reason, n);
     const std::pair<std::string, size_t> rest[] = {
@@ -160,6 +173,7 @@ size_t markExplained(const ScanTemplate& tpl, const Vec3& z, const PointSet& pts
 void ScanLandmarkMap::processScan(ekf::EkfSlam& ekf, const mrpt::obs::CObservation2DRangeScan& scan)
 {
     ++stats_.scans;
+    last_aligned_.clear();
     ScanReadStats rs;
     const PointSet pts = fromScan(scan, options_.noise, &rs);
     stats_.beams_invalid += rs.invalid + rs.non_finite + rs.out_of_range;
@@ -204,8 +218,13 @@ void ScanLandmarkMap::observe(ekf::EkfSlam& ekf, long id, const ScanTemplate& tp
     if (z_hat.head<2>().norm() > max_range + radius(tpl) + options_.explain_distance_m) return;
     ++stats_.predicted;
     Vec3 placed = z_hat;
+    const double view_change = (z_hat.head<2>() - tpl.frame_in_sensor.head<2>()).norm();
     if (fractionInView(tpl, z_hat, max_range, fov) <= options_.in_view_fraction)
         ++stats_.out_of_view;
+    else if (options_.max_view_change_m > 0 && view_change > options_.max_view_change_m)
+        ++stats_.view_changed;
+    else if (options_.max_prediction_std_m > 0 && predictionStd(ekf, id, sensor) > options_.max_prediction_std_m)
+        ++stats_.prediction_uncertain;
     else if (const AlignResult res =
                  matcher_->align(options_.visible_bin > 0
                                      ? visiblePart(tpl.sog, z_hat, max_range, fov, options_.visible_bin,
@@ -217,8 +236,10 @@ void ScanLandmarkMap::observe(ekf::EkfSlam& ekf, long id, const ScanTemplate& tp
     else
     {
         ++stats_.aligned;
-        const auto rep = ekf.updatePoseLandmark(id, res.z, res.R, sensor, options_.gate_prob);
+        const Mat3 R = viewCovariance(res.R, tpl.frame_in_sensor, z_hat);
+        const auto rep = ekf.updatePoseLandmark(id, res.z, R, sensor, options_.gate_prob);
         using O = ekf::PoseUpdateReport::Outcome;
+        last_aligned_.push_back({id, res.z, R, z_hat, rep.outcome == O::updated});
         switch (rep.outcome)
         {
             case O::updated:
@@ -233,6 +254,31 @@ void ScanLandmarkMap::observe(ekf::EkfSlam& ekf, long id, const ScanTemplate& tp
     // Returns on a known landmark create nothing, whether it was observed or not (a
     // partial view must not become a second landmark on the same object).
     stats_.returns_explained += markExplained(tpl, placed, pts, options_.explain_distance_m, explained);
+}
+
+double ScanLandmarkMap::predictionStd(const ekf::EkfSlam& ekf, long id, const Vec3& sensor) const
+{
+    Mat3 Hv, Hl;
+    ekf::poseLandmarkObservation(ekf.vehiclePose(), ekf.landmarkBlockMean(id).head<3>(), sensor, &Hv, &Hl);
+    const auto o = static_cast<Eigen::Index>(ekf.landmarkBlock(id).offset);
+    const auto P = ekf.cov();
+    const Mat3 Pvl = P.block<3, 3>(0, o);
+    const Mat3 S = Hv * P.topLeftCorner<3, 3>() * Hv.transpose() + Hl * P.block<3, 3>(o, o) * Hl.transpose() +
+                   Hv * Pvl * Hl.transpose() + Hl * Pvl.transpose() * Hv.transpose();
+    const Eigen::SelfAdjointEigenSolver<Mat2> es(Mat2(0.5 * (S.topLeftCorner<2, 2>() + S.topLeftCorner<2, 2>().transpose())));
+    return std::sqrt(std::max(es.eigenvalues()[1], 0.0));
+}
+
+Mat3 ScanLandmarkMap::viewCovariance(const Mat3& R, const Vec3& made, const Vec3& z_hat) const
+{
+    const double d = (z_hat.head<2>() - made.head<2>()).norm();
+    const double s_xy = options_.view_std_xy_m + options_.view_std_xy_per_m * d;
+    const double s_phi = options_.view_std_phi + options_.view_std_phi_per_m * d;
+    Mat3 out = R;
+    out(0, 0) += s_xy * s_xy;
+    out(1, 1) += s_xy * s_xy;
+    out(2, 2) += s_phi * s_phi;
+    return out;
 }
 
 void ScanLandmarkMap::createLandmarks(ekf::EkfSlam& ekf, const PointSet& pts, const Vec3& sensor,

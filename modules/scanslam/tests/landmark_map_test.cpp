@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 #include <hymm/scanslam/ScanLandmarkMap.h>
 
+#include <mrpt/poses/CPosePDFGaussian.h>
+
 #include <cmath>
 #include <limits>
 
@@ -26,9 +28,8 @@ mrpt::obs::CObservation2DRangeScan::Ptr scanAt(const hymm::sim::World& w, const 
     return sim.observe(w, Eigen::Vector3d(pose.x(), pose.y(), pose.z()), 0.0, mrpt::Clock::now());
 }
 
-std::unique_ptr<ScanLandmarkMap> makeMap()
+std::unique_ptr<ScanLandmarkMap> makeMap(ScanLandmarkMap::Options o = {})
 {
-    ScanLandmarkMap::Options o;
     o.noise = {0.05, 0.5 * M_PI / 180};
     Segmenter::Options s;
     s.min_points = 10;
@@ -135,6 +136,76 @@ TEST(ScanLandmarkMap, ScanFarFromThePredictionIsCountedNotFused)
     EXPECT_EQ(s.updated, 0u);
     expectFinite(ekf);
     EXPECT_TRUE(ekf.vehiclePose().isApprox(x_before.head<3>()));
+}
+
+/** Moves the filter's vehicle by `d` (vehicle frame) with covariance diag(var_xy, var_xy, var_phi). */
+void drive(hymm::ekf::EkfSlam& ekf, const Vec3& d, double var_xy, double var_phi)
+{
+    mrpt::math::CMatrixDouble33 c;
+    c.setZero();
+    c(0, 0) = c(1, 1) = var_xy;
+    c(2, 2) = var_phi;
+    ekf.predictOdometry(mrpt::poses::CPosePDFGaussian(mrpt::poses::CPose2D(d.x(), d.y(), d.z()), c));
+}
+
+TEST(ScanLandmarkMap, ViewpointTermGrowsWithTheDisplacementSinceCreation)
+{
+    ScanLandmarkMap::Options o;
+    o.view_std_xy_m = 0.2;
+    o.view_std_xy_per_m = 0.1;
+    o.view_std_phi = 2 * M_PI / 180;
+    o.view_std_phi_per_m = 0.5 * M_PI / 180;
+    auto map = makeMap(o);
+    auto ekf = makeEkf();
+    map->processScan(ekf, *scanAt(boxes(), Vec3::Zero(), 1));
+    ASSERT_GE(map->stats().created, 1u);
+    drive(ekf, Vec3(2, 0, 0), 1e-4, 1e-6);
+    map->processScan(ekf, *scanAt(boxes(), Vec3(2, 0, 0), 8));
+    ASSERT_FALSE(map->lastAligned().empty());
+    for (const auto& a : map->lastAligned())
+    {
+        const Vec3& made = map->templates().at(a.id).frame_in_sensor;
+        const double d = (a.z_hat.head<2>() - made.head<2>()).norm();
+        EXPECT_NEAR(d, 2.0, 0.05);  // the vehicle drove 2 m straight on
+        const double s_xy = 0.2 + 0.1 * d, s_phi = (2 + 0.5 * d) * M_PI / 180;
+        // R = the matcher's (positive definite) plus the viewpoint term.
+        EXPECT_GT(a.R(0, 0), s_xy * s_xy);
+        EXPECT_GT(a.R(1, 1), s_xy * s_xy);
+        EXPECT_GT(a.R(2, 2), s_phi * s_phi);
+        EXPECT_LT(a.R(0, 0), s_xy * s_xy + 0.05);
+    }
+    EXPECT_GE(map->stats().updated, 1u);
+    expectFinite(ekf);
+}
+
+TEST(ScanLandmarkMap, UncertainPredictionsAndLargeViewChangesAreNotAligned)
+{
+    ScanLandmarkMap::Options o;
+    o.max_prediction_std_m = 0.5;
+    auto map = makeMap(o);
+    auto ekf = makeEkf();
+    map->processScan(ekf, *scanAt(boxes(), Vec3::Zero(), 5));
+    const size_t created = map->stats().created;
+    ASSERT_GE(created, 1u);
+    // Odometry that knows little (std 2 m): every template's predicted position is
+    // that uncertain relative to the sensor, beyond the matcher's local basin.
+    drive(ekf, Vec3::Zero(), 4.0, 1e-6);
+    map->processScan(ekf, *scanAt(boxes(), Vec3::Zero(), 10));
+    EXPECT_GE(map->stats().prediction_uncertain, created);
+    EXPECT_EQ(map->stats().aligned, 0u);
+    EXPECT_EQ(map->stats().updated, 0u);
+
+    o.max_prediction_std_m = 0;
+    o.max_view_change_m = 1.0;
+    auto far = makeMap(o);
+    auto ekf2 = makeEkf();
+    far->processScan(ekf2, *scanAt(boxes(), Vec3::Zero(), 1));
+    ASSERT_GE(far->stats().created, 1u);
+    drive(ekf2, Vec3(2, 0, 0), 1e-4, 1e-6);
+    far->processScan(ekf2, *scanAt(boxes(), Vec3(2, 0, 0), 12));
+    EXPECT_GE(far->stats().view_changed, 1u);
+    EXPECT_EQ(far->stats().aligned, 0u);
+    expectFinite(ekf2);
 }
 
 }  // namespace

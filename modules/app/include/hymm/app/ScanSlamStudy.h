@@ -43,7 +43,20 @@ struct ScanSlamRun
         double rmse_phi = 0;      //!< [rad] orientation
         double mean_nees = 0;     //!< 3-DOF NEES averaged over the landmarks
     };
+    /** A converged alignment scored against the truth: z_true = (x_v,true (+) s)^-1 (+) x_L,true. */
+    struct Observation
+    {
+        double t = 0;
+        double travel_m = 0;     //!< true sensor displacement since the landmark was made
+        double view_change = 0;  //!< [rad] change of the landmark-to-sensor direction since then
+        double range_m = 0;      //!< true distance from the sensor to the landmark frame
+        Eigen::Vector3d error = Eigen::Vector3d::Zero();  //!< z - z_true, angle wrapped
+        Eigen::Vector3d pred_error = Eigen::Vector3d::Zero();  //!< z_hat - z_true
+        Eigen::Matrix3d R = Eigen::Matrix3d::Zero();      //!< the covariance fused with z
+        bool updated = false;    //!< fused (false: gated)
+    };
     std::vector<Step> steps;
+    std::vector<Observation> observations;  //!< every converged alignment of the run
     double duration_s = 0;          //!< simulated time of the run
     double closure_t = -1;          //!< time of the loop closure (-1: none)
     size_t closure_step = 0;        //!< index of the frame of the closure

@@ -62,6 +62,24 @@ public:
          *  vantage points (high-level landmarks) are not. (ini: visible_bin_deg) */
         double visible_bin = 0;
         double visible_depth_tol_m = 0.3;  //!< depth tolerance of visiblePart [m]
+        /** Viewpoint model of the alignment covariance (measured, see the README):
+         *  R = R_matcher + diag(s_xy^2, s_xy^2, s_phi^2) with s = floor + rate * d, d the
+         *  distance between the template frame's position in the sensor frame now
+         *  (predicted) and when it was made. The matcher's covariance holds the sensor
+         *  noise only; a template re-observed from elsewhere meets another sampling of
+         *  the object, other segment ends and occlusions, whose error grows with d. */
+        double view_std_xy_m = 0;        //!< floor of s_xy [m] (ini: view_std_xy_m)
+        double view_std_xy_per_m = 0;    //!< growth of s_xy per metre of d (ini: view_std_xy_per_m)
+        double view_std_phi = 0;         //!< floor of s_phi [rad] (ini: view_std_phi_deg)
+        double view_std_phi_per_m = 0;   //!< growth of s_phi per metre of d [rad/m] (ini: view_std_phi_deg_per_m)
+        /** > 0: a template whose d exceeds this is not aligned (`view_changed`) [m]. */
+        double max_view_change_m = 0;
+        /** > 0: a template whose predicted position in the sensor frame has a standard
+         *  deviation (largest axis of H P H^T) above this is not aligned
+         *  (`prediction_uncertain`) [m]. The matchers search locally (about 1 m): from a
+         *  prediction this uncertain they lock onto whatever object lies near it, and the
+         *  gate, as wide as the prediction, lets the wrong object in. */
+        double max_prediction_std_m = 0;
 
         /** Reads [section]; unknown keys and bad values throw naming the key. */
         void load(const mrpt::config::CConfigFileBase& cfg, const std::string& section);
@@ -75,6 +93,8 @@ public:
         size_t beams_invalid = 0;      //!< invalid, NaN/inf or out-of-range readings skipped
         size_t predicted = 0;          //!< template predictions (landmark, scan)
         size_t out_of_view = 0;        //!< in-view fraction below in_view_fraction
+        size_t view_changed = 0;       //!< viewpoint moved more than max_view_change_m
+        size_t prediction_uncertain = 0;  //!< predicted position std above max_prediction_std_m
         size_t aligned = 0;            //!< alignments that converged
         std::map<std::string, size_t> align_failed;  //!< by the matcher's failure reason
         size_t updated = 0;            //!< EKF updates applied
@@ -92,6 +112,16 @@ public:
 
         /** (name, count) of every counter, failure reasons as align_failed.<reason>. */
         std::vector<std::pair<std::string, size_t>> list() const;
+    };
+
+    /** An alignment of the last scan that converged (for scoring against a truth). */
+    struct AlignedObservation
+    {
+        long id = 0;
+        Vec3 z = Vec3::Zero();      //!< template frame in the sensor frame, aligned
+        Mat3 R = Mat3::Zero();      //!< its covariance as fused (inflation included)
+        Vec3 z_hat = Vec3::Zero();  //!< the prediction the alignment started from
+        bool updated = false;       //!< fused (false: gated or refused by the EKF)
     };
 
     /** Reads [ScanLandmarks], [ScanSegmentation], [ScanAcceptance] and the matcher's
@@ -119,6 +149,8 @@ public:
     /** Templates by landmark id (landmarks the filter removed are dropped on the next scan). */
     const std::map<long, ScanTemplate>& templates() const { return templates_; }
     const Stats& stats() const { return stats_; }
+    /** The converged alignments of the last processScan call. */
+    const std::vector<AlignedObservation>& lastAligned() const { return last_aligned_; }
     const Options& options() const { return options_; }
     const ScanMatcher& matcher() const { return *matcher_; }
 
@@ -126,6 +158,12 @@ private:
     /** Observes landmark `id` in `pts`; marks the returns it explains. */
     void observe(ekf::EkfSlam& ekf, long id, const ScanTemplate& tpl, const PointSet& pts,
                  const Vec3& sensor, double max_range, double fov, std::vector<char>& explained);
+    /** Largest standard deviation of the predicted template position (x, y of H P H^T
+     *  for landmark `id` seen from `sensor`) [m]. */
+    double predictionStd(const ekf::EkfSlam& ekf, long id, const Vec3& sensor) const;
+    /** The matcher's covariance `R` plus the viewpoint term of Options (view_std_*) for
+     *  a template made at `made` (frame in the sensor frame) predicted at `z_hat`. */
+    Mat3 viewCovariance(const Mat3& R, const Vec3& made, const Vec3& z_hat) const;
     /** Segments the unexplained returns and adds the accepted ones as landmarks. */
     void createLandmarks(ekf::EkfSlam& ekf, const PointSet& pts, const Vec3& sensor,
                          const std::vector<char>& explained);
@@ -136,6 +174,7 @@ private:
     SegmentAcceptance acceptance_;
     std::map<long, ScanTemplate> templates_;
     Stats stats_;
+    std::vector<AlignedObservation> last_aligned_;
 };
 
 /** Whether the points of `set` span two dimensions: the smaller standard deviation of
