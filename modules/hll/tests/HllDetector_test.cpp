@@ -13,6 +13,13 @@ namespace
 {
 using namespace hymm::hll;
 
+/** How many candidates ended with `o`. */
+size_t countOutcome(const std::vector<HllDetector::Candidate>& cands, HllDetector::Outcome o)
+{
+    return static_cast<size_t>(
+        std::count_if(cands.begin(), cands.end(), [o](const HllDetector::Candidate& c) { return c.outcome == o; }));
+}
+
 /** A rectangle object: corners counter-clockwise. */
 struct Box
 {
@@ -214,14 +221,8 @@ TEST(HllDetector, AcceptsRectanglesWithEnoughGaussiansAndNoOverlap)
     existing.centre = Vec2(3, 1.5);
     existing.half = Vec2(1, 1);
     const auto again = det.evaluate(corners, gaussians, {existing});
-    size_t acc2 = 0, dup = 0;
-    for (const auto& c : again)
-    {
-        acc2 += c.outcome == HllDetector::Outcome::accepted;
-        dup += c.outcome == HllDetector::Outcome::overlaps_landmark;
-    }
-    EXPECT_EQ(acc2, 1u);
-    EXPECT_EQ(dup, 2u);
+    EXPECT_EQ(countOutcome(again, HllDetector::Outcome::accepted), 1u);
+    EXPECT_EQ(countOutcome(again, HllDetector::Outcome::overlaps_landmark), 2u);
 
     // The threshold is the rule: at 10 per metre nothing reaches 200.
     const auto sparse = det.evaluate(corners, outlineGaussians(boxes, 0.1), {});
@@ -330,14 +331,8 @@ TEST(HllDetector, OutlineLengthDoesNotDependOnTheGaussianDensity)
     // A's and C's rectangles hold more than 12 m, B's (7 m of outline) less.
     for (const auto& run : runs)
     {
-        size_t accepted = 0, short_outline = 0;
-        for (const auto& c : run)
-        {
-            accepted += c.outcome == HllDetector::Outcome::accepted;
-            short_outline += c.outcome == HllDetector::Outcome::outline_too_short;
-        }
-        EXPECT_EQ(accepted, 2u);
-        EXPECT_EQ(short_outline, 2u);
+        EXPECT_EQ(countOutcome(run, HllDetector::Outcome::accepted), 2u);
+        EXPECT_EQ(countOutcome(run, HllDetector::Outcome::outline_too_short), 2u);
     }
 }
 
