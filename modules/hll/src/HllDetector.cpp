@@ -219,6 +219,15 @@ std::vector<Vec2> HllDetector::detectCorners(const mrpt::maps::COccupancyGridMap
     const cv::Mat img = objectImage(grid, options_.occupied_prob, options_.min_object_extent_m / grid.getResolution(),
                                     stats ? &stats->components_dropped : nullptr);
     if (cv::countNonZero(img) == 0) return out;
+    // Only the point landmarks that can lie within the clearance of a corner of this patch:
+    // the map's landmarks are read once, and the per-corner test below then costs the
+    // landmarks near the vehicle, not the whole map.
+    const double r = options_.landmark_clearance_m;
+    std::vector<Vec2> near;
+    for (const Vec2& l : point_landmarks)
+        if (l.x() > grid.getXMin() - r && l.x() < grid.getXMax() + r && l.y() > grid.getYMin() - r &&
+            l.y() < grid.getYMax() + r)
+            near.push_back(l);
     // Smoothing first: a wall that is not aligned with the grid is a staircase of cells
     // whose steps are corners at the scale of a cell, not of the object.
     cv::Mat smooth = img;
@@ -240,8 +249,8 @@ std::vector<Vec2> HllDetector::detectCorners(const mrpt::maps::COccupancyGridMap
                      grid.getYMin() + (p.y + 0.5) * grid.getResolution());
         // A corner on a point landmark would make an HLL that duplicates it (6.1: a new
         // landmark must be new); a pole next to a wall joins the wall's component.
-        const bool on_landmark = std::any_of(point_landmarks.begin(), point_landmarks.end(), [&](const Vec2& l)
-                                             { return (l - c).norm() < options_.landmark_clearance_m; });
+        const bool on_landmark =
+            std::any_of(near.begin(), near.end(), [&](const Vec2& l) { return (l - c).norm() < r; });
         if (on_landmark)
         {
             if (stats) ++stats->near_landmark;
