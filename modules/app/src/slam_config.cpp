@@ -9,6 +9,7 @@
 #include <hymm/scanslam/CorrelativeMatcher.h>
 #include <hymm/scanslam/IcpMatcher.h>
 #include <hymm/scanslam/SogMatcher.h>
+#include <hymm/sim/Scenario.h>
 
 #include <fstream>
 #include <memory>
@@ -82,6 +83,13 @@ const std::vector<OptionSection>& optionSections()
         declared<datasets::MrclamImporter::Options>("datasets", "MrclamImporter"),
         declared<datasets::NoiseCalibrationOptions>("datasets", "NoiseCalibration"),
         declared<hll::HighLevelLandmarks::Options>("hll", "HighLevelLandmarks"),
+        declared<sim::Scenario::Options>("sim", "Scenario"),
+        declared<sim::Vehicle::Options>("sim", "Vehicle"),
+        declared<sim::PathFollower::Options>("sim", "PathFollower"),
+        declared<sim::World::Options>("sim", "World"),
+        declared<sim::LaserSimulator::Options>("sim", "LaserSimulator"),
+        declared<sim::LandmarkDetector::Options>("sim", "LandmarkDetector"),
+        declared<sim::WorldPlot::Options>("sim", "WorldPlot"),
     };
     return all;
 }

@@ -95,7 +95,20 @@ OptionTable& OptionTable::realConverted(const std::string& name, double& member,
         if (!range.contains(d)) throwConfigError(s, name, raw, "out of range, must be " + range.text());
         member = to_member ? to_member(d) : d;
     };
-    k.format = [&member, to_file]() { return formatReal(to_file ? to_file(member) : member); };
+    k.format = [&member, to_file, to_member]() {
+        if (!to_file) return formatReal(member);
+        // The shortest text that reads back to the member through the conversion: a
+        // value given as 30 deg is written as 30, not 29.999999999999996.
+        const double v = to_file(member);
+        for (int prec = 15; prec < 17; ++prec)
+        {
+            std::ostringstream os;
+            os.precision(prec);
+            os << v;
+            if (to_member(std::strtod(os.str().c_str(), nullptr)) == member) return os.str();
+        }
+        return formatReal(v);
+    };
     return add(std::move(k));
 }
 

@@ -12,28 +12,30 @@ namespace hymm::sim
 {
 LandmarkDetector::Options::Options() { sensor_label = "LANDMARKS"; }
 
+hymm::core::OptionTable LandmarkDetector::Options::table()
+{
+    using namespace hymm::core;
+    OptionTable t = commonTable();
+    t.real("min_range_m", min_range_m, "m", between(0, 1e4), "closer landmarks are not reported");
+    t.flag("known_ids", known_ids, "report the true landmark id (else -1)");
+    t.flag("occlusion", occlusion, "objects and trunks hide what is behind them");
+    return t;
+}
+
 void LandmarkDetector::Options::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
                                                    const std::string& s)
 {
-    auto keys = commonKeys();
-    keys.insert(keys.end(), {"min_range_m", "known_ids", "occlusion"});
-    hymm::core::checkKnownKeys(cfg, s, keys);
-    loadCommon(cfg, s);
-    min_range_m = hymm::core::readDoubleMin(cfg, s, "min_range_m", min_range_m, 0.0, false);
+    table().load(cfg, s);
     if (min_range_m >= max_range_m)
         hymm::core::throwConfigError(s, "min_range_m", detail::formatNumber(min_range_m),
                                      "must be below max_range_m");
-    known_ids = hymm::core::readBool(cfg, s, "known_ids", known_ids);
-    occlusion = hymm::core::readBool(cfg, s, "occlusion", occlusion);
 }
 
 void LandmarkDetector::Options::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
                                                  const std::string& s) const
 {
-    saveCommon(cfg, s);
-    detail::writeNumber(cfg, s, "min_range_m", min_range_m);
-    cfg.write(s, "known_ids", std::string(known_ids ? "true" : "false"));
-    cfg.write(s, "occlusion", std::string(occlusion ? "true" : "false"));
+    auto copy = *this;
+    copy.table().save(cfg, s);
 }
 
 LandmarkDetector::LandmarkDetector(const Options& options, uint32_t seed)

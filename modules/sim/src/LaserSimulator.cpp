@@ -24,34 +24,36 @@ size_t LaserSimulator::Options::beamCount() const
     return static_cast<size_t>(std::lround(fov / resolution)) + 1;
 }
 
+hymm::core::OptionTable LaserSimulator::Options::table()
+{
+    using namespace hymm::core;
+    OptionTable t = commonTable();
+    t.degrees("resolution_deg", resolution, above(0, 360), "angle between beams");
+    t.flag("intensity", intensity,
+           "report each return's surface property as its intensity (saved only when true)");
+    t.real("std_intensity", std_intensity, "", between(0, 1e9),
+           "intensity noise, 1 sigma, in intensity units (saved only with intensity = true)");
+    return t;
+}
+
 void LaserSimulator::Options::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
                                                  const std::string& s)
 {
-    auto keys = commonKeys();
-    keys.insert(keys.end(), {"resolution_deg", "intensity", "std_intensity"});
-    hymm::core::checkKnownKeys(cfg, s, keys);
-    loadCommon(cfg, s);
-    resolution = mrpt::DEG2RAD(
-        hymm::core::readDoubleMin(cfg, s, "resolution_deg", mrpt::RAD2DEG(resolution), 0.0, true));
+    table().load(cfg, s);
     constexpr size_t kMaxBeams = 100000;  // guards against a resolution typed in radians
     if (beamCount() > kMaxBeams)
         hymm::core::throwConfigError(s, "resolution_deg",
                                      detail::formatNumber(mrpt::RAD2DEG(resolution)),
                                      "gives more than 100000 beams");
-    intensity = hymm::core::readBool(cfg, s, "intensity", intensity);
-    std_intensity = hymm::core::readDoubleMin(cfg, s, "std_intensity", std_intensity, 0.0, false);
 }
 
 void LaserSimulator::Options::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
                                                const std::string& s) const
 {
-    saveCommon(cfg, s);
-    detail::writeNumber(cfg, s, "resolution_deg", mrpt::RAD2DEG(resolution));
-    if (intensity)
-    {
-        cfg.write(s, "intensity", std::string("true"));
-        detail::writeNumber(cfg, s, "std_intensity", std_intensity);
-    }
+    // Only scenarios with intensities write their keys, so the others keep their saved text.
+    auto copy = *this;
+    detail::saveTable(cfg, s, copy.table(),
+                      intensity ? std::vector<std::string>{} : std::vector<std::string>{"intensity", "std_intensity"});
 }
 
 LaserSimulator::LaserSimulator(const Options& options, uint32_t seed, uint32_t intensity_seed)

@@ -17,29 +17,41 @@ constexpr double kSearchBack = 2.0;
 constexpr double kSearchAhead = 5.0;
 }  // namespace
 
+hymm::core::OptionTable PathFollower::Options::table()
+{
+    using namespace hymm::core;
+    OptionTable t;
+    t.custom(detail::groupsKey(
+        "waypoints", "m", 2, 1, 1e6, "the loop's corners `x y x y ...` (1 point: parked; else at least 3)",
+        [this](const std::vector<double>& v, const std::string& s, const std::string& raw) {
+            if (v.size() == 4)
+                throwConfigError(s, "waypoints", raw, "give 1 point (parked) or at least 3 (a loop)");
+            waypoints.clear();
+            for (size_t i = 0; i < v.size(); i += 2) waypoints.emplace_back(v[i], v[i + 1]);
+        },
+        [this]() {
+            std::vector<double> v;
+            for (const auto& p : waypoints) v.insert(v.end(), {p.x(), p.y()});
+            return v;
+        }));
+    t.real("corner_radius_m", corner_radius_m, "m", between(0, 1e4), "corners rounded with arcs of this radius");
+    t.real("lookahead_m", lookahead_m, "m", above(0, 1e4), "pure-pursuit look-ahead distance");
+    return t;
+}
+
 void PathFollower::Options::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
                                                const std::string& s)
 {
-    hymm::core::checkKnownKeys(cfg, s, {"waypoints", "corner_radius_m", "lookahead_m"});
-    const auto v = detail::readGroups(cfg, s, "waypoints", 2, 1, true);
-    waypoints.clear();
-    for (size_t i = 0; i < v.size(); i += 2) waypoints.emplace_back(v[i], v[i + 1]);
-    if (waypoints.size() == 2)
-        hymm::core::throwConfigError(s, "waypoints", detail::formatNumbers(v),
-                                     "give 1 point (parked) or at least 3 (a loop)");
-    corner_radius_m =
-        hymm::core::readDoubleMin(cfg, s, "corner_radius_m", corner_radius_m, 0, false);
-    lookahead_m = hymm::core::readDoubleMin(cfg, s, "lookahead_m", lookahead_m, 0, true);
+    if (!cfg.keyExists(s, "waypoints"))
+        hymm::core::throwConfigError(s, "waypoints", "", "required: the loop's corners x y x y ...");
+    table().load(cfg, s);
 }
 
 void PathFollower::Options::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
                                              const std::string& s) const
 {
-    std::vector<double> v;
-    for (const auto& p : waypoints) v.insert(v.end(), {p.x(), p.y()});
-    detail::writeNumbers(cfg, s, "waypoints", v);
-    detail::writeNumber(cfg, s, "corner_radius_m", corner_radius_m);
-    detail::writeNumber(cfg, s, "lookahead_m", lookahead_m);
+    auto copy = *this;
+    copy.table().save(cfg, s);
 }
 
 PathFollower::PathFollower(const Options& options, const hymm::core::UteParams& ute,

@@ -1,7 +1,6 @@
 #include "hymm/sim/Scenario.h"
 
 #include <hymm/core/StrictConfigFile.h>
-#include <hymm/core/config_utils.h>
 #include <mrpt/config/CConfigFileMemory.h>
 
 #include <algorithm>
@@ -55,35 +54,35 @@ void checkSections(const mrpt::config::CConfigFileBase& cfg)
 }
 }  // namespace
 
+hymm::core::OptionTable Scenario::Options::table()
+{
+    using namespace hymm::core;
+    OptionTable t;
+    t.text("name", name, "base name of the output files", "letters, digits, `_`, `.`, `-`");
+    t.integer("seed", seed, "", 0, 0xFFFFFFFFLL, "seed of the noise (the world has its own, [World] seed)");
+    t.real("dt_s", dt_s, "s", above(0, 10), "dead-reckoning step (thesis: 0.025 s)");
+    t.real("duration_s", duration_s, "s", between(0, 1e7), "run length; 0: drive `laps` laps");
+    t.integer("laps", laps, "", 1, 10000, "laps of the loop when duration_s = 0");
+    t.real("start_time_s", start_time_s, "s", between(0, 4e9),
+           "timestamp of the first frame, seconds since 1970 (MRPT tools take 0 for no time)");
+    return t;
+}
+
 void Scenario::Options::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
                                            const std::string& s)
 {
-    hymm::core::checkKnownKeys(cfg, s,
-                               {"name", "seed", "dt_s", "duration_s", "laps", "start_time_s"});
-    name = hymm::core::readString(cfg, s, "name", name);
+    table().load(cfg, s);
     if (name.empty() ||
         name.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz"
                                "0123456789_.-") != std::string::npos)
         throwConfigError(s, "name", name, "use letters, digits, '_', '.' or '-' (a file name)");
-    seed = hymm::core::readInt(cfg, s, "seed", seed);
-    if (seed < 0 || seed > 0xFFFFFFFFL)
-        throwConfigError(s, "seed", std::to_string(seed), "must be in [0, 2^32)");
-    dt_s = hymm::core::readDoubleMin(cfg, s, "dt_s", dt_s, 0.0, true);
-    duration_s = hymm::core::readDoubleMin(cfg, s, "duration_s", duration_s, 0.0, false);
-    laps = hymm::core::readInt(cfg, s, "laps", laps);
-    if (laps < 1) throwConfigError(s, "laps", std::to_string(laps), "must be >= 1");
-    start_time_s = hymm::core::readDoubleMin(cfg, s, "start_time_s", start_time_s, 0.0, false);
 }
 
 void Scenario::Options::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
                                          const std::string& s) const
 {
-    cfg.write(s, "name", name);
-    cfg.write(s, "seed", std::to_string(seed));
-    detail::writeNumber(cfg, s, "dt_s", dt_s);
-    detail::writeNumber(cfg, s, "duration_s", duration_s);
-    cfg.write(s, "laps", std::to_string(laps));
-    detail::writeNumber(cfg, s, "start_time_s", start_time_s);
+    auto copy = *this;
+    copy.table().save(cfg, s);
 }
 
 long Scenario::stepsPerPeriod(double period_s) const

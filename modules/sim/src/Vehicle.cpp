@@ -9,8 +9,6 @@
 
 namespace hymm::sim
 {
-using hymm::core::readDoubleMin;
-
 hymm::core::UteParams Vehicle::Options::ute() const
 {
     hymm::core::UteParams p;
@@ -21,23 +19,25 @@ hymm::core::UteParams Vehicle::Options::ute() const
     return p;
 }
 
+hymm::core::OptionTable Vehicle::Options::table()
+{
+    using namespace hymm::core;
+    OptionTable t;
+    t.real("wheelbase_m", wheelbase_m, "m", above(0, 100), "L (Appendix A)");
+    t.real("encoder_offset_m", encoder_offset_m, "m", between(-50, 50), "H: lateral offset of the speed encoder");
+    t.real("offset_a_m", offset_a_m, "m", between(-100, 100), "a: tracked point forward of the rear axle");
+    t.real("offset_b_m", offset_b_m, "m", between(-100, 100), "b: tracked point left of the rear axle");
+    t.real("speed_mps", speed_mps, "m/s", between(0, 100), "encoder speed driven (0: parked)");
+    t.degrees("max_steering_deg", max_steering, openInterval(0, 90), "steering limit");
+    t.real("std_speed_mps", std_speed_mps, "m/s", between(0, 100), "noise of one speed reading, 1 sigma");
+    t.degrees("std_steering_deg", std_steering, between(0, 90), "noise of one steering reading, 1 sigma");
+    return t;
+}
+
 void Vehicle::Options::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
                                           const std::string& s)
 {
-    hymm::core::checkKnownKeys(
-        cfg, s,
-        {"wheelbase_m", "encoder_offset_m", "offset_a_m", "offset_b_m", "speed_mps",
-         "max_steering_deg", "std_speed_mps", "std_steering_deg"});
-    wheelbase_m = readDoubleMin(cfg, s, "wheelbase_m", wheelbase_m, 0.0, true);
-    encoder_offset_m = hymm::core::readDouble(cfg, s, "encoder_offset_m", encoder_offset_m);
-    offset_a_m = hymm::core::readDouble(cfg, s, "offset_a_m", offset_a_m);
-    offset_b_m = hymm::core::readDouble(cfg, s, "offset_b_m", offset_b_m);
-    speed_mps = readDoubleMin(cfg, s, "speed_mps", speed_mps, 0.0, false);
-    max_steering = mrpt::DEG2RAD(
-        readDoubleMin(cfg, s, "max_steering_deg", mrpt::RAD2DEG(max_steering), 0.0, true));
-    std_speed_mps = readDoubleMin(cfg, s, "std_speed_mps", std_speed_mps, 0.0, false);
-    std_steering = mrpt::DEG2RAD(
-        readDoubleMin(cfg, s, "std_steering_deg", mrpt::RAD2DEG(std_steering), 0.0, false));
+    table().load(cfg, s);
     // Eq. A.3 needs 1 - tan(alpha) H / L away from zero; leave room for the noise too.
     constexpr double kSteeringNoiseSigmas = 6.0;
     const double worst = max_steering + kSteeringNoiseSigmas * std_steering;
@@ -52,14 +52,8 @@ void Vehicle::Options::loadFromConfigFile(const mrpt::config::CConfigFileBase& c
 void Vehicle::Options::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
                                         const std::string& s) const
 {
-    detail::writeNumber(cfg, s, "wheelbase_m", wheelbase_m);
-    detail::writeNumber(cfg, s, "encoder_offset_m", encoder_offset_m);
-    detail::writeNumber(cfg, s, "offset_a_m", offset_a_m);
-    detail::writeNumber(cfg, s, "offset_b_m", offset_b_m);
-    detail::writeNumber(cfg, s, "speed_mps", speed_mps);
-    detail::writeNumber(cfg, s, "max_steering_deg", mrpt::RAD2DEG(max_steering));
-    detail::writeNumber(cfg, s, "std_speed_mps", std_speed_mps);
-    detail::writeNumber(cfg, s, "std_steering_deg", mrpt::RAD2DEG(std_steering));
+    auto copy = *this;
+    copy.table().save(cfg, s);
 }
 
 Vehicle::Vehicle(const Options& options, const Eigen::Vector3d& start_pose)

@@ -11,7 +11,6 @@
 
 namespace hymm::sim
 {
-using hymm::core::readDoubleMin;
 using hymm::core::throwConfigError;
 
 namespace
@@ -144,51 +143,67 @@ void WorldObject::toConfig(mrpt::config::CConfigFileBase& cfg, const std::string
     if (!v.empty()) detail::writeNumbers(cfg, sec, "landmarks", v);
 }
 
+hymm::core::OptionTable World::Options::table()
+{
+    using namespace hymm::core;
+    OptionTable t;
+    t.custom(detail::groupsKey(
+        "landmarks", "m", 3, 1, 1e6, "explicit landmarks `x y radius ...` (ids 0, 1, ... in this order)",
+        [this](const std::vector<double>& v, const std::string& s, const std::string& raw) {
+            landmarks.clear();
+            for (size_t i = 0; i < v.size(); i += 3)
+            {
+                if (!(v[i + 2] > 0)) throwConfigError(s, "landmarks", raw, "landmark radius must be > 0");
+                landmarks.push_back(Landmark{static_cast<long>(i / 3), Vec2(v[i], v[i + 1]), v[i + 2]});
+            }
+        },
+        [this]() {
+            std::vector<double> v;
+            for (const auto& l : landmarks) v.insert(v.end(), {l.position.x(), l.position.y(), l.radius});
+            return v;
+        }));
+    const Range length = between(0, 1e5);
+    t.real("landmark_spacing_m", landmark_spacing_m, "m", length, "along-path spacing of generated landmarks (0: none)");
+    t.real("landmark_offset_min_m", landmark_offset_min_m, "m", length, "lateral distance of a generated landmark from the path, least");
+    t.real("landmark_offset_max_m", landmark_offset_max_m, "m", length, "... and most");
+    t.real("landmark_radius_min_m", landmark_radius_min_m, "m", above(0, 100), "generated trunk radius, least");
+    t.real("landmark_radius_max_m", landmark_radius_max_m, "m", above(0, 100), "... and most");
+    t.real("landmark_separation_m", landmark_separation_m, "m", length, "least distance between generated landmarks and from them to any object");
+    t.real("object_spacing_m", object_spacing_m, "m", length, "along-path spacing of generated objects (0: none)");
+    t.real("object_offset_min_m", object_offset_min_m, "m", length, "lateral distance of a generated object's centre from the path, least");
+    t.real("object_offset_max_m", object_offset_max_m, "m", length, "... and most");
+    t.real("object_size_min_m", object_size_min_m, "m", above(0, 1e4), "generated object diameter, least");
+    t.real("object_size_max_m", object_size_max_m, "m", above(0, 1e4), "... and most");
+    t.real("object_separation_m", object_separation_m, "m", length, "least gap between objects");
+    t.real("clearance_m", clearance_m, "m", length, "least gap between generated items and the path");
+    t.integer("seed", seed, "", 0, 0xFFFFFFFFLL, "seed of the generation (not of the noise)");
+    t.custom(detail::groupsKey(
+        "landmark_property", "", 1, 1, 1e12, "surface property of every landmark trunk (default: the field's value)",
+        [this](const std::vector<double>& v, const std::string& s, const std::string& raw) {
+            if (v.size() != 1) throwConfigError(s, "landmark_property", raw, "expected one number");
+            landmark_property = v[0];
+        },
+        [this]() { return landmark_property ? std::vector<double>{*landmark_property} : std::vector<double>{}; }));
+    t.custom(detail::groupsKey(
+        "property_field", "", 3, 1, 1e12, "`v0 gx gy`: property v0 + gx x + gy y of surfaces without their own (default: 0)",
+        [this](const std::vector<double>& v, const std::string& s, const std::string& raw) {
+            if (v.size() != 3) throwConfigError(s, "property_field", raw, "expected three finite numbers: v0 gx gy");
+            property_field = PropertyField{v[0], v[1], v[2]};
+        },
+        [this]() {
+            if (!property_field) return std::vector<double>{};
+            return std::vector<double>{property_field->v0, property_field->gx, property_field->gy};
+        }));
+    return t;
+}
+
 void World::Options::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
                                         const std::string& s)
 {
-    hymm::core::checkKnownKeys(
-        cfg, s,
-        {"landmarks", "landmark_spacing_m", "landmark_offset_min_m", "landmark_offset_max_m",
-         "landmark_radius_min_m", "landmark_radius_max_m", "landmark_separation_m",
-         "object_spacing_m", "object_offset_min_m", "object_offset_max_m", "object_size_min_m",
-         "object_size_max_m", "object_separation_m", "clearance_m", "seed", "landmark_property",
-         "property_field"});
     landmarks.clear();
-    const auto lm = detail::readGroups(cfg, s, "landmarks", 3, 1);
-    for (size_t i = 0; i < lm.size(); i += 3)
-    {
-        if (!(lm[i + 2] > 0))
-            throwConfigError(s, "landmarks", detail::formatNumber(lm[i + 2]),
-                             "landmark radius must be > 0");
-        landmarks.push_back(Landmark{static_cast<long>(i / 3), Vec2(lm[i], lm[i + 1]), lm[i + 2]});
-    }
-    const auto rd = [&](const char* key, double& v, bool strict = false)
-    { v = readDoubleMin(cfg, s, key, v, 0.0, strict); };
-    rd("landmark_spacing_m", landmark_spacing_m);
-    rd("landmark_offset_min_m", landmark_offset_min_m);
-    rd("landmark_offset_max_m", landmark_offset_max_m);
-    rd("landmark_radius_min_m", landmark_radius_min_m, true);
-    rd("landmark_radius_max_m", landmark_radius_max_m, true);
-    rd("landmark_separation_m", landmark_separation_m);
-    rd("object_spacing_m", object_spacing_m);
-    rd("object_offset_min_m", object_offset_min_m);
-    rd("object_offset_max_m", object_offset_max_m);
-    rd("object_size_min_m", object_size_min_m, true);
-    rd("object_size_max_m", object_size_max_m, true);
-    rd("object_separation_m", object_separation_m);
-    rd("clearance_m", clearance_m);
-    seed = hymm::core::readInt(cfg, s, "seed", seed);
-    landmark_property = optionalFinite(cfg, s, "landmark_property");
+    landmark_property.reset();
     property_field.reset();
-    if (cfg.keyExists(s, "property_field"))
-    {
-        const auto f = detail::readGroups(cfg, s, "property_field", 3, 1);
-        if (f.size() != 3 || !std::isfinite(f[0] + f[1] + f[2]))
-            throwConfigError(s, "property_field", detail::formatNumbers(f),
-                             "expected three finite numbers: v0 gx gy");
-        property_field = PropertyField{f[0], f[1], f[2]};
-    }
+    table().load(cfg, s);
     const auto checkRange = [&](const char* lo_key, double lo, const char* hi_key, double hi)
     {
         if (hi < lo)
@@ -218,29 +233,13 @@ void World::Options::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg
 void World::Options::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
                                       const std::string& s) const
 {
-    std::vector<double> lm;
-    for (const auto& l : landmarks) lm.insert(lm.end(), {l.position.x(), l.position.y(), l.radius});
-    if (!lm.empty()) detail::writeNumbers(cfg, s, "landmarks", lm);
-    const auto wr = [&](const char* key, double v) { detail::writeNumber(cfg, s, key, v); };
-    wr("landmark_spacing_m", landmark_spacing_m);
-    wr("landmark_offset_min_m", landmark_offset_min_m);
-    wr("landmark_offset_max_m", landmark_offset_max_m);
-    wr("landmark_radius_min_m", landmark_radius_min_m);
-    wr("landmark_radius_max_m", landmark_radius_max_m);
-    wr("landmark_separation_m", landmark_separation_m);
-    wr("object_spacing_m", object_spacing_m);
-    wr("object_offset_min_m", object_offset_min_m);
-    wr("object_offset_max_m", object_offset_max_m);
-    wr("object_size_min_m", object_size_min_m);
-    wr("object_size_max_m", object_size_max_m);
-    wr("object_separation_m", object_separation_m);
-    wr("clearance_m", clearance_m);
-    cfg.write(s, "seed", std::to_string(seed));
-    // The property keys only when set: scenarios without them keep their saved text.
-    if (landmark_property) detail::writeNumber(cfg, s, "landmark_property", *landmark_property);
-    if (property_field)
-        detail::writeNumbers(cfg, s, "property_field",
-                             {property_field->v0, property_field->gx, property_field->gy});
+    // The optional keys only when set: scenarios without them keep their saved text.
+    std::vector<std::string> unset;
+    if (landmarks.empty()) unset.push_back("landmarks");
+    if (!landmark_property) unset.push_back("landmark_property");
+    if (!property_field) unset.push_back("property_field");
+    auto copy = *this;
+    detail::saveTable(cfg, s, copy.table(), unset);
     for (const auto& obj : objects) obj.toConfig(cfg, kObjectSectionPrefix + obj.name);
 }
 

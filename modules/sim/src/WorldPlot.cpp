@@ -43,23 +43,27 @@ struct Canvas
 };
 }  // namespace
 
+hymm::core::OptionTable WorldPlot::Options::table()
+{
+    using namespace hymm::core;
+    OptionTable t;
+    t.real("resolution_m", resolution_m, "m", above(0, 100), "metres per pixel (coarsened for huge worlds)");
+    t.integer("scan_stride", scan_stride, "", 1, 1000000, "plot the returns of every n-th scan");
+    t.real("margin_m", margin_m, "m", between(0, 1e4), "white border around everything drawn");
+    return t;
+}
+
 void WorldPlot::Options::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
                                             const std::string& s)
 {
-    hymm::core::checkKnownKeys(cfg, s, {"resolution_m", "scan_stride", "margin_m"});
-    resolution_m = hymm::core::readDoubleMin(cfg, s, "resolution_m", resolution_m, 0.0, true);
-    scan_stride = hymm::core::readInt(cfg, s, "scan_stride", scan_stride);
-    if (scan_stride < 1)
-        hymm::core::throwConfigError(s, "scan_stride", std::to_string(scan_stride), "must be >= 1");
-    margin_m = hymm::core::readDoubleMin(cfg, s, "margin_m", margin_m, 0.0, false);
+    table().load(cfg, s);
 }
 
 void WorldPlot::Options::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
                                           const std::string& s) const
 {
-    detail::writeNumber(cfg, s, "resolution_m", resolution_m);
-    cfg.write(s, "scan_stride", std::to_string(scan_stride));
-    detail::writeNumber(cfg, s, "margin_m", margin_m);
+    auto copy = *this;
+    copy.table().save(cfg, s);
 }
 
 WorldPlot::WorldPlot(const Options& options) : options_(options) {}

@@ -5,7 +5,10 @@
  */
 #pragma once
 
+#include <hymm/core/OptionTable.h>
 #include <mrpt/config/CConfigFileBase.h>
+
+#include <functional>
 
 #include <string>
 #include <vector>
@@ -26,5 +29,26 @@ void writeNumbers(mrpt::config::CConfigFileBase& cfg, const std::string& section
 std::vector<double> readGroups(const mrpt::config::CConfigFileBase& cfg, const std::string& section,
                                const std::string& key, size_t group, size_t min_groups,
                                bool required = false);
+
+/** A list of numbers as written in a file (spaces or commas between them), in groups of
+ *  `group`, at least `min_groups` groups, each finite and within [-limit, limit]; throws
+ *  core::ConfigError naming section, key and the value as written. */
+std::vector<double> parseGroups(const std::string& section, const std::string& key,
+                                const std::string& raw, size_t group, size_t min_groups,
+                                double limit);
+
+/** An OptionTable key holding such a list: `set` receives the parsed numbers (and may
+ *  check more, throwing core::ConfigError), `get` gives them back for saving (an empty
+ *  list for an optional key that is not set). */
+hymm::core::OptionKey groupsKey(
+    const std::string& name, const std::string& unit, size_t group, size_t min_groups, double limit,
+    const std::string& doc,
+    std::function<void(const std::vector<double>&, const std::string& section, const std::string& raw)> set,
+    std::function<std::vector<double>()> get);
+
+/** Writes every key of `table` but those named in `skip` (optional keys that are not set:
+ *  a scenario without them keeps its saved text). */
+void saveTable(mrpt::config::CConfigFileBase& cfg, const std::string& section,
+               const hymm::core::OptionTable& table, const std::vector<std::string>& skip);
 
 }  // namespace hymm::sim::detail

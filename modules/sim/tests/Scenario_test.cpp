@@ -51,7 +51,18 @@ TEST(ScenarioTest, BadValuesNameSectionKeyAndValue)
               std::string::npos);
     EXPECT_NE(loadError({{"Vehicle", "std_speed_mps", "-0.1"}}).find("std_speed_mps"),
               std::string::npos);
-    EXPECT_NE(loadError({{"LandmarkDetector", "std_bearing_deg", "-1"}}).find("must be >= 0"),
+    EXPECT_NE(loadError({{"LandmarkDetector", "std_bearing_deg", "-1"}})
+                  .find("[LandmarkDetector] std_bearing_deg=-1: out of range, must be [0, 180]"),
+              std::string::npos);
+    // Absurd values are refused with the value as written, not accepted or truncated.
+    EXPECT_NE(loadError({{"Scenario", "laps", "5000000000"}}).find("[Scenario] laps=5000000000: out of range"),
+              std::string::npos);
+    EXPECT_NE(loadError({{"LaserSimulator", "max_range_m", "1e308"}}).find("max_range_m=1e308: out of range"),
+              std::string::npos);
+    EXPECT_NE(loadError({{"World", "seed", "-4"}}).find("[World] seed=-4: out of range"), std::string::npos);
+    EXPECT_NE(loadError({{"PathFollower", "waypoints", "0 0 1e300 5 3 3"}}).find("'1e300' out of range"),
+              std::string::npos);
+    EXPECT_NE(loadError({{"World", "landmarks", "1 2 0"}}).find("landmark radius must be > 0"),
               std::string::npos);
     EXPECT_NE(loadError({{"LaserSimulator", "std_range_m", "-0.01"}}).find("[LaserSimulator]"),
               std::string::npos);

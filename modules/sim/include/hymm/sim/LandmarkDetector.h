@@ -13,6 +13,8 @@
  */
 #pragma once
 
+#include <hymm/core/OptionTable.h>
+
 #include <mrpt/obs/CObservationBearingRange.h>
 #include <mrpt/random/RandomGenerators.h>
 
@@ -31,6 +33,9 @@ public:
         double min_range_m = 0;  //!< closer landmarks are not reported [m]
         bool known_ids = false;  //!< report the true landmark id (else -1)
         bool occlusion = true;   //!< objects and trunks hide what is behind them
+
+        /** Every ini key, declared once: loader, saver and README table come from it. */
+        hymm::core::OptionTable table();
 
         void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
                                 const std::string& section) override;

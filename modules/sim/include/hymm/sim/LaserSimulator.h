@@ -21,6 +21,8 @@
  */
 #pragma once
 
+#include <hymm/core/OptionTable.h>
+
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/random/RandomGenerators.h>
 
@@ -42,6 +44,9 @@ public:
 
         /** Number of beams: fov / resolution + 1, rounded. */
         size_t beamCount() const;
+
+        /** Every ini key, declared once: loader, saver and README table come from it. */
+        hymm::core::OptionTable table();
 
         void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
                                 const std::string& section) override;

@@ -16,6 +16,7 @@
 #pragma once
 
 #include <hymm/core/UteVehicleModel.h>
+#include <hymm/core/OptionTable.h>
 #include <mrpt/config/CLoadableOptions.h>
 
 #include <Eigen/Core>
@@ -34,6 +35,9 @@ public:
         std::vector<Vec2> waypoints;  //!< `waypoints = x y x y ...` [m], the loop's corners
         double corner_radius_m = 0;   //!< corners rounded with arcs of this radius [m]
         double lookahead_m = 6;       //!< pure-pursuit look-ahead distance [m]
+
+        /** Every ini key, declared once: loader, saver and README table come from it. */
+        hymm::core::OptionTable table();
 
         void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
                                 const std::string& section) override;

@@ -15,6 +15,7 @@
  */
 #pragma once
 
+#include <hymm/core/OptionTable.h>
 #include <mrpt/config/CLoadableOptions.h>
 
 #include <string>
@@ -42,6 +43,9 @@ struct Scenario
          *  is non-zero (MRPT tools take 0 for "no time") and small enough for the 12
          *  significant digits of the TUM files to keep sub-microsecond steps. */
         double start_time_s = 86400;
+
+        /** Every ini key, declared once: loader, saver and README table come from it. */
+        hymm::core::OptionTable table();
 
         void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
                                 const std::string& section) override;

@@ -8,6 +8,7 @@
  */
 #pragma once
 
+#include <hymm/core/OptionTable.h>
 #include <mrpt/config/CLoadableOptions.h>
 #include <mrpt/poses/CPose3D.h>
 
@@ -36,10 +37,8 @@ struct SensorOptions : public mrpt::config::CLoadableOptions
     mrpt::poses::CPose3D mountPose3D() const;
 
 protected:
-    /** Keys read by loadCommon(). */
-    static std::vector<std::string> commonKeys();
-    void loadCommon(const mrpt::config::CConfigFileBase& cfg, const std::string& section);
-    void saveCommon(mrpt::config::CConfigFileBase& cfg, const std::string& section) const;
+    /** The keys every sensor section has, in the order they are saved. */
+    hymm::core::OptionTable commonTable();
 };
 
 }  // namespace hymm::sim

@@ -13,6 +13,7 @@
 #pragma once
 
 #include <hymm/core/UteVehicleModel.h>
+#include <hymm/core/OptionTable.h>
 #include <mrpt/config/CLoadableOptions.h>
 #include <mrpt/random/RandomGenerators.h>
 
@@ -38,6 +39,9 @@ public:
             3.0 * M_PI / 180;  //!< noise of one steering reading [rad] (ini: _deg)
 
         hymm::core::UteParams ute() const;
+
+        /** Every ini key, declared once: loader, saver and README table come from it. */
+        hymm::core::OptionTable table();
 
         void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
                                 const std::string& section) override;

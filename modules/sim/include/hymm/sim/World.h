@@ -11,6 +11,7 @@
  */
 #pragma once
 
+#include <hymm/core/OptionTable.h>
 #include <mrpt/config/CLoadableOptions.h>
 
 #include <Eigen/Core>
@@ -171,6 +172,9 @@ public:
         /** `property_field = v0 gx gy` for surfaces without their own value; nullopt
          *  (the default): 0 everywhere. Written back only when set. */
         std::optional<PropertyField> property_field;
+
+        /** Every ini key, declared once: loader, saver and README table come from it. */
+        hymm::core::OptionTable table();
 
         /** Reads [World] and every [Object_<name>] section (ids in name order). */
         void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,

@@ -6,6 +6,7 @@
  */
 #pragma once
 
+#include <hymm/core/OptionTable.h>
 #include <mrpt/config/CLoadableOptions.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 
@@ -26,6 +27,9 @@ public:
         double resolution_m = 0.1;  //!< metres per pixel (coarsened for huge worlds)
         long scan_stride = 5;       //!< plot the returns of every n-th scan
         double margin_m = 5;        //!< white border around everything drawn [m]
+
+        /** Every ini key, declared once: loader, saver and README table come from it. */
+        hymm::core::OptionTable table();
 
         void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
                                 const std::string& section) override;
