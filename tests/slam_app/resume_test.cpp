@@ -1,6 +1,6 @@
 // hymm-slam --save-state / --resume (SlamApp, slam_state.h) on the bundled chapter-3
-// rawlog with every dense layer, the classic grid, virtual landmarks, the delayed store
-// and the fallback tiles (resume_layers.ini): a run cut in two and resumed writes the
+// rawlog with every dense layer, the classic grid, virtual landmarks, the delayed store,
+// the fallback tiles and the motion layers (resume_layers.ini): a run cut in two and resumed writes the
 // uninterrupted run's files byte for byte (timing lines aside, as scripts/check-outputs
 // compares), from the same rawlog and from a second rawlog holding the rest; a foreign,
 // other-version, truncated or corrupt state, another config, and a component the state
@@ -156,15 +156,19 @@ protected:
         tiles_at_cut_ = slam.hybridMap()->fallbackTiles();
         regions_at_cut_ = slam.partition()->size();
         virtual_at_cut_ = slam.virtualLandmarkIds().size();
+        motion_regions_at_cut_ = slam.motionHook()->detector().size();
+        slow_differencings_at_cut_ = slam.motionHook()->stats().slow_differencings;
     }
     static void TearDownTestSuite() { delete dir_; }
 
     static TempDir* dir_;
     static size_t stored_at_cut_, tiles_at_cut_, regions_at_cut_, virtual_at_cut_;
+    static size_t motion_regions_at_cut_, slow_differencings_at_cut_;
 };
 TempDir* Resume::dir_ = nullptr;
 size_t Resume::stored_at_cut_ = 0, Resume::tiles_at_cut_ = 0, Resume::regions_at_cut_ = 0,
-       Resume::virtual_at_cut_ = 0;
+       Resume::virtual_at_cut_ = 0, Resume::motion_regions_at_cut_ = 0,
+       Resume::slow_differencings_at_cut_ = 0;
 
 TEST_F(Resume, StateAtTheCutHoldsEveryDenseComponent)
 {
@@ -172,6 +176,8 @@ TEST_F(Resume, StateAtTheCutHoldsEveryDenseComponent)
     EXPECT_GT(tiles_at_cut_, 0u);
     EXPECT_GT(regions_at_cut_, 0u);
     EXPECT_GT(virtual_at_cut_, 0u);
+    EXPECT_GT(motion_regions_at_cut_, 0u);
+    EXPECT_GT(slow_differencings_at_cut_, 0u);
     // The first part's results are not the whole run's: the comparison below means something.
     EXPECT_NE(readFile(fs::path(*dir_ / "first") / "path.tum"), readFile(fs::path(*dir_ / "full") / "path.tum"));
 }
@@ -270,8 +276,6 @@ TEST_F(Resume, ComponentsTheStateCannotHoldAreRefused)
     a.config = kSrc + "/configs/ch5_scanslam.ini";
     a.save_state = *dir_ / "scan.state";
     expectRefused(a, "--save-state: the run state cannot hold the scan landmarks");
-    a.config = kSrc + "/configs/ch6_dynamic_fast.ini";
-    expectRefused(a, "the run state cannot hold the motion layers");
     a.config = kSrc + "/configs/ch4_hll.ini";
     expectRefused(a, "the run state cannot hold the high-level landmarks");
     EXPECT_FALSE(fs::exists(a.save_state));

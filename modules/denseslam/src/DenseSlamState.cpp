@@ -69,7 +69,6 @@ const char* registeredClassName(const std::string& name)
 
 std::string DenseSlam::stateUnsupported() const
 {
-    if (motion_) return "the motion layers ([DynamicSlam] enabled)";
     if (hll_) return "the high-level landmarks ([HighLevelLandmarks] enabled)";
     if (!sources_.empty()) return "the scan landmarks (landmark_source = " + options_.scan_sources.front() + ")";
     return {};
@@ -126,6 +125,8 @@ void DenseSlam::saveDenseState(mrpt::serialization::CArchive& out) const
     if (hybrid_) hybrid_->saveState(out);
     if (store_) store_->saveState(out);
     if (classic_) classic_->saveState(out);
+    out << bool(motion_);
+    if (motion_) motion_->saveState(out);
     writeTag(out, "DenseSlam end");
 }
 
@@ -211,6 +212,9 @@ void DenseSlam::loadDenseState(mrpt::serialization::CArchive& in)
     if (hybrid_) hybrid_->loadState(in);
     if (store_) store_->loadState(in);
     if (classic_) classic_->loadState(in);
+    if (readBool(in) != bool(motion_))
+        throw std::runtime_error("the state's motion layers differ from the config's ([DynamicSlam] enabled)");
+    if (motion_) motion_->loadState(in);
     expectTag(in, "DenseSlam end");
 }
 

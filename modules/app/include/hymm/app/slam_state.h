@@ -28,7 +28,7 @@
 namespace hymm::app
 {
 /** Format version of the state file; a reader accepts this one only. */
-constexpr std::uint32_t kRunStateVersion = 1;
+constexpr std::uint32_t kRunStateVersion = 2;  // 2: the motion layers ([DynamicSlam])
 
 /** What hymm-slam keeps beside the pipeline. */
 struct RunInfo

@@ -90,6 +90,8 @@ struct OccupancySnapshot
 
     static OccupancySnapshot take(const dense::OccupancyLayer& occ, double t);
     bool sameGeometry(const OccupancySnapshot& o) const;
+    void saveState(mrpt::serialization::CArchive& out) const;
+    void loadState(mrpt::serialization::CArchive& in);
 };
 
 /** D, G * D and the threshold mask between two snapshots of the same geometry
@@ -189,6 +191,11 @@ public:
     {
         return kind == MotionKind::Slow ? last_slow_ : last_fast_;
     }
+
+    /** Layers, snapshots, schedule and last differences bit for bit, for a saved run
+     *  (hymm-slam --save-state / --resume). The options are the config's, not saved. */
+    void saveState(mrpt::serialization::CArchive& out) const;
+    void loadState(mrpt::serialization::CArchive& in);
 
 private:
     struct RegionState

@@ -13,6 +13,8 @@
 #include <hymm/ltr/AffineRegionMap.h>
 #include <hymm/ltr/TriangleFrame.h>
 
+#include <mrpt/serialization/CArchive.h>
+
 #include <Eigen/Core>
 #include <cstdint>
 #include <optional>
@@ -46,6 +48,10 @@ public:
         return origin_ + Eigen::Vector2d((ix + 0.5) * cell_, (iy + 0.5) * cell_);
     }
     size_t memoryBytes() const { return sizeof(*this) + bits_.capacity(); }
+
+    /** The layer bit for bit, for a saved run (core/state_archive.h). */
+    void saveState(mrpt::serialization::CArchive& out) const;
+    void loadState(mrpt::serialization::CArchive& in);
 
 private:
     Eigen::Vector2d origin_ = Eigen::Vector2d::Zero();

@@ -101,6 +101,11 @@ public:
     /** The partition removed these regions (with their dense content): their motion
      *  layers go too, in O(removed) (HybridMetricMap::removeRegions, same ids). */
     void removeRegions(const std::vector<long>& region_ids) { detector_.removeRegions(region_ids); }
+    /** The detector's state, the counters and the flagged landmarks bit for bit, for a
+     *  saved run (hymm-slam --save-state / --resume). */
+    void saveState(mrpt::serialization::CArchive& out) const;
+    void loadState(mrpt::serialization::CArchive& in);
+
     /** Point 2. May remove landmarks from `ekf` (prune_flagged); returns their ids. */
     std::vector<long> afterFrame(const dense::HybridMetricMap& map, const ltr::RegionPartition& partition,
                                  ekf::EkfSlam& ekf, double t);
