@@ -3,13 +3,15 @@
 // the fallback tiles and the motion layers (resume_layers.ini): a run cut in two and resumed writes the
 // uninterrupted run's files byte for byte (timing lines aside, as scripts/check-outputs
 // compares), from the same rawlog and from a second rawlog holding the rest; a foreign,
-// other-version, truncated or corrupt state, another config, and a component the state
-// cannot hold are clear errors before anything is written.
+// other-version, truncated or corrupt state and another config are clear errors before
+// anything is written. Scan landmarks and high-level landmarks resume too.
 #include "ch3_sample.h"
 
 #include <gtest/gtest.h>
 #include <hymm/app/SlamApp.h>
 #include <hymm/app/slam_state.h>
+#include <hymm/denseslam/LandmarkSources.h>
+#include <hymm/hll/HighLevelLandmarks.h>
 #include <hymm/io/RawlogReader.h>
 #include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/serialization/CArchive.h>
@@ -17,6 +19,7 @@
 #include <cctype>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -161,6 +164,30 @@ protected:
     }
     static void TearDownTestSuite() { delete dir_; }
 
+    /** Runs the sample under `config` to entry `end`, then cut after `cut` with a saved
+     *  state (`at_cut` checks what the first part holds) and resumed to `end`: the
+     *  outputs must be the uninterrupted run's. */
+    static void expectCutResumes(const std::string& config, size_t cut, size_t end, const std::string& tag,
+                                 const std::function<void(const hymm::denseslam::DenseSlam&)>& at_cut)
+    {
+        SlamApp::Args full = hymm::test::ch3SampleArgs(config, *dir_ / (tag + "_full"));
+        full.stop_after = end;
+        SlamApp(full).run(std::cerr);
+        SlamApp::Args first = hymm::test::ch3SampleArgs(config, *dir_ / (tag + "_first"));
+        first.stop_after = cut;
+        first.save_state = *dir_ / (tag + ".state");
+        SlamApp app(first);
+        app.run(std::cerr);
+        at_cut(app.slam());
+        EXPECT_NE(readFile(fs::path(*dir_ / (tag + "_first")) / "path.tum"),
+                  readFile(fs::path(*dir_ / (tag + "_full")) / "path.tum"));
+        SlamApp::Args second = hymm::test::ch3SampleArgs(config, *dir_ / (tag + "_resumed"));
+        second.resume = first.save_state;
+        second.stop_after = end;
+        SlamApp(second).run(std::cerr);
+        EXPECT_GE(expectSameOutputs(*dir_ / (tag + "_full"), *dir_ / (tag + "_resumed")), 8u);
+    }
+
     static TempDir* dir_;
     static size_t stored_at_cut_, tiles_at_cut_, regions_at_cut_, virtual_at_cut_;
     static size_t motion_regions_at_cut_, slow_differencings_at_cut_;
@@ -270,15 +297,34 @@ TEST_F(Resume, StateOfAnotherConfigIsRefused)
     expectRefused(a, "saved under a different config: the state has '[ParticlesLayer] samples_per_return = 5'");
 }
 
-TEST_F(Resume, ComponentsTheStateCannotHoldAreRefused)
+// Scan landmarks (templates, counters and the acceptance test's random generator) on
+// the same sample: landmarks are created and observed on both sides of the cut.
+TEST_F(Resume, ScanLandmarksResumeToIdenticalOutputs)
 {
-    SlamApp::Args a = argsFor(*dir_ / "refused");
-    a.config = kSrc + "/configs/ch5_scanslam.ini";
-    a.save_state = *dir_ / "scan.state";
-    expectRefused(a, "--save-state: the run state cannot hold the scan landmarks");
-    a.config = kSrc + "/configs/ch4_hll.ini";
-    expectRefused(a, "the run state cannot hold the high-level landmarks");
-    EXPECT_FALSE(fs::exists(a.save_state));
+    expectCutResumes(kSrc + "/configs/ch5_scanslam.ini", 200, 400, "scan", [](const hymm::denseslam::DenseSlam& slam) {
+        ASSERT_EQ(slam.scanSources().size(), 1u);
+        const auto* src = dynamic_cast<const hymm::denseslam::ScanLandmarksSource*>(slam.scanSources()[0].get());
+        ASSERT_NE(src, nullptr);
+        EXPECT_GT(src->map().templates().size(), 0u);
+        EXPECT_GT(src->map().stats().updated, 0u);
+    });
+}
+
+// High-level landmarks (the chapter-4 HLL config searching every 20 s): the cut falls
+// where one HLL is initialised in the filter and another still pending.
+TEST_F(Resume, HighLevelLandmarksResumeToIdenticalOutputs)
+{
+    std::string ini = readFile(kSrc + "/configs/ch4_hll.ini");
+    const auto at = ini.find("period_s = 60");
+    ASSERT_NE(at, std::string::npos);
+    ini.replace(at, 13, "period_s = 20");
+    writeFile(*dir_ / "hll.ini", ini);
+    expectCutResumes(*dir_ / "hll.ini", 700, 940, "hll", [](const hymm::denseslam::DenseSlam& slam) {
+        const auto* hll = slam.highLevelLandmarks();
+        ASSERT_NE(hll, nullptr);
+        EXPECT_GE(hll->stats().initialised, 1u);
+        EXPECT_GT(hll->hlls().size(), hll->stats().initialised);
+    });
 }
 
 }  // namespace

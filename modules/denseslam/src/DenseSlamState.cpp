@@ -69,8 +69,8 @@ const char* registeredClassName(const std::string& name)
 
 std::string DenseSlam::stateUnsupported() const
 {
-    if (hll_) return "the high-level landmarks ([HighLevelLandmarks] enabled)";
-    if (!sources_.empty()) return "the scan landmarks (landmark_source = " + options_.scan_sources.front() + ")";
+    // Every component's state is saved (state version 3); kept so that a component added
+    // later without one is refused rather than silently lost.
     return {};
 }
 
@@ -127,6 +127,14 @@ void DenseSlam::saveDenseState(mrpt::serialization::CArchive& out) const
     if (classic_) classic_->saveState(out);
     out << bool(motion_);
     if (motion_) motion_->saveState(out);
+    writeSize(out, sources_.size());
+    for (const auto& s : sources_)
+    {
+        out << s->name();
+        s->saveState(out);
+    }
+    out << bool(hll_);
+    if (hll_) hll_->saveState(out);
     writeTag(out, "DenseSlam end");
 }
 
@@ -215,6 +223,20 @@ void DenseSlam::loadDenseState(mrpt::serialization::CArchive& in)
     if (readBool(in) != bool(motion_))
         throw std::runtime_error("the state's motion layers differ from the config's ([DynamicSlam] enabled)");
     if (motion_) motion_->loadState(in);
+    if (readSize(in, "landmark source") != sources_.size())
+        throw std::runtime_error("the state's landmark sources differ from the config's (landmark_source)");
+    for (const auto& s : sources_)
+    {
+        std::string name;
+        in >> name;
+        if (name != s->name())
+            throw std::runtime_error("the state's landmark source '" + name.substr(0, 40) +
+                                     "' differs from the config's '" + s->name() + "'");
+        s->loadState(in);
+    }
+    if (readBool(in) != bool(hll_))
+        throw std::runtime_error("the state's high-level landmarks differ from the config's ([HighLevelLandmarks] enabled)");
+    if (hll_) hll_->loadState(in);
     expectTag(in, "DenseSlam end");
 }
 

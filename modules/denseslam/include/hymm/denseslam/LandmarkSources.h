@@ -39,6 +39,9 @@ public:
     virtual size_t mapChanges() const = 0;
     /** What the source did and skipped, by reason: (counter, count). */
     virtual std::vector<std::pair<std::string, size_t>> counters() const = 0;
+    /** The source's state bit for bit, for a saved run (hymm-slam --save-state / --resume). */
+    virtual void saveState(mrpt::serialization::CArchive& out) const = 0;
+    virtual void loadState(mrpt::serialization::CArchive& in) = 0;
 };
 
 /** One registered kind of source. */
@@ -66,6 +69,8 @@ public:
     }
     size_t mapChanges() const override { return map_->stats().updated + map_->stats().created; }
     std::vector<std::pair<std::string, size_t>> counters() const override { return map_->stats().list(); }
+    void saveState(mrpt::serialization::CArchive& out) const override { map_->saveState(out); }
+    void loadState(mrpt::serialization::CArchive& in) override { map_->loadState(in); }
     const scanslam::ScanLandmarkMap& map() const { return *map_; }
 
 private:

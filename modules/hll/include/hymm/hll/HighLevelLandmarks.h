@@ -136,6 +136,12 @@ public:
     /** EKF updates and augmentations made so far. */
     size_t mapChanges() const { return tracker_->stats().updated + tracker_->stats().created; }
 
+    /** The HLLs (pending and initialised, with their templates), the searches behind the
+     *  figures, the counters, the last search time and the tracker's state bit for bit,
+     *  for a saved run (hymm-slam --save-state / --resume). */
+    void saveState(mrpt::serialization::CArchive& out) const;
+    void loadState(mrpt::serialization::CArchive& in);
+
     /** The template of the Gaussians of `gaussians` inside `rect`, in its frame,
      *  thinned to `max_points` by an even stride. */
     static scanslam::ScanTemplate makeTemplate(const OrientedRect& rect,

@@ -154,6 +154,12 @@ public:
     const Options& options() const { return options_; }
     const ScanMatcher& matcher() const { return *matcher_; }
 
+    /** Templates, counters, the acceptance test's generator and the last scan's
+     *  alignments bit for bit, for a saved run (hymm-slam --save-state / --resume); the
+     *  options are the config's, not saved. */
+    void saveState(mrpt::serialization::CArchive& out) const;
+    void loadState(mrpt::serialization::CArchive& in);
+
 private:
     /** Observes landmark `id` in `pts`; marks the returns it explains. */
     void observe(ekf::EkfSlam& ekf, long id, const ScanTemplate& tpl, const PointSet& pts,

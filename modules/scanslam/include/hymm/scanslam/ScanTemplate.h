@@ -10,6 +10,8 @@
 #include "hymm/scanslam/PointSet.h"
 #include "hymm/scanslam/Segmenter.h"
 
+#include <mrpt/serialization/CArchive.h>
+
 namespace hymm::scanslam
 {
 struct ScanTemplate
@@ -22,7 +24,15 @@ struct ScanTemplate
     static ScanTemplate fromSegment(const PointSet& scan, const Segmenter::Segment& segment);
     /** Template of all points of `points` (sensor frame). */
     static ScanTemplate fromPoints(const PointSet& points);
+
+    /** Bit for bit, for a saved run (core/state_archive.h). */
+    void saveState(mrpt::serialization::CArchive& out) const;
+    void loadState(mrpt::serialization::CArchive& in);
 };
+
+/** A point set bit for bit, for a saved run. */
+void savePointSet(mrpt::serialization::CArchive& out, const PointSet& p);
+void loadPointSet(mrpt::serialization::CArchive& in, PointSet& p);
 
 /** Fraction of the template's points that fall inside the sensor's view (range below
  *  `max_range_m`, |bearing| <= fov/2) when the template frame sits at `z` in the sensor

@@ -14,6 +14,7 @@
 #pragma once
 
 #include <mrpt/random/RandomGenerators.h>
+#include <mrpt/serialization/CArchive.h>
 
 #include <array>
 #include <string>
@@ -62,10 +63,24 @@ public:
 
     const Stats& stats() const { return stats_; }
 
+    /** The outcome counts and the generator's state bit for bit, for a saved run. */
+    void saveState(mrpt::serialization::CArchive& out) const;
+    void loadState(mrpt::serialization::CArchive& in);
+
 private:
+    /** MRPT's generator with its (protected) state made savable: the MT19937 words and
+     *  the normal and integer distributions, so a resumed run draws what the
+     *  uninterrupted one would have. */
+    class SavableRandom : public mrpt::random::CRandomGenerator
+    {
+    public:
+        void save(mrpt::serialization::CArchive& out) const;
+        void load(mrpt::serialization::CArchive& in);
+    };
+
     Options options_;
     const ScanMatcher& matcher_;
-    mrpt::random::CRandomGenerator rng_;
+    SavableRandom rng_;
     Stats stats_;
 };
 

@@ -1,0 +1,210 @@
+// Scan-SLAM's state for a saved run (hymm-slam --save-state / --resume): every value bit
+// for bit (core/state_archive.h), including the acceptance test's random generator, so a
+// resumed run creates and observes exactly the landmarks the uninterrupted one would.
+#include <hymm/core/state_archive.h>
+
+#include <cstring>
+#include <sstream>
+#include <stdexcept>
+#include <type_traits>
+
+#include "hymm/scanslam/ScanLandmarkMap.h"
+#include "hymm/scanslam/ScanTemplate.h"
+#include "hymm/scanslam/SegmentAcceptance.h"
+
+namespace hymm::scanslam
+{
+using namespace hymm::core::state;
+
+namespace
+{
+template <class V>
+void writeVectors(mrpt::serialization::CArchive& out, const std::vector<V>& v)
+{
+    writeSize(out, v.size());
+    for (const auto& x : v) writeMatrix(out, x);
+}
+template <class V>
+void readVectors(mrpt::serialization::CArchive& in, std::vector<V>& v, const char* what)
+{
+    v.resize(readSize(in, what));
+    for (auto& x : v) readMatrix(in, x, what);
+}
+void writeDoubles(mrpt::serialization::CArchive& out, const std::vector<double>& v)
+{
+    writeSize(out, v.size());
+    for (double x : v) out << x;
+}
+void readDoubles(mrpt::serialization::CArchive& in, std::vector<double>& v, const char* what)
+{
+    v.resize(readSize(in, what));
+    for (double& x : v) in >> x;
+}
+
+/** Every plain counter of ScanLandmarkMap::Stats, in the state's order (a new counter
+ *  goes at the end, with a new state version). */
+std::vector<size_t*> counters(ScanLandmarkMap::Stats& s)
+{
+    return {&s.scans, &s.scans_empty, &s.beams_invalid, &s.predicted, &s.out_of_view, &s.view_changed,
+            &s.prediction_uncertain, &s.aligned, &s.updated, &s.gated, &s.update_numeric,
+            &s.update_invalid, &s.returns_explained, &s.segments, &s.short_runs, &s.segments_far,
+            &s.segments_collinear, &s.creation_failed, &s.created};
+}
+
+/** A distribution's state through its standard stream form (exact for the real ones:
+ *  the library writes max_digits10 digits). */
+template <class D>
+std::string distributionText(const D& d)
+{
+    std::ostringstream os;
+    os.imbue(std::locale::classic());
+    os << d;
+    return os.str();
+}
+template <class D>
+void readDistribution(const std::string& text, D& d)
+{
+    std::istringstream is(text);
+    is.imbue(std::locale::classic());
+    is >> d;
+    if (!is) throw std::runtime_error("corrupt state: random distribution '" + text.substr(0, 40) + "'");
+}
+}  // namespace
+
+void savePointSet(mrpt::serialization::CArchive& out, const PointSet& p)
+{
+    writeVectors(out, p.points);
+    writeVectors(out, p.covs);
+    writeDoubles(out, p.range);
+    writeDoubles(out, p.bearing);
+}
+
+void loadPointSet(mrpt::serialization::CArchive& in, PointSet& p)
+{
+    readVectors(in, p.points, "template point");
+    readVectors(in, p.covs, "template covariance");
+    readDoubles(in, p.range, "template range");
+    readDoubles(in, p.bearing, "template bearing");
+    if (p.covs.size() != p.points.size() || (!p.range.empty() && p.range.size() != p.points.size()) ||
+        (!p.bearing.empty() && p.bearing.size() != p.points.size()))
+        throw std::runtime_error("corrupt state: template point lists of different sizes");
+}
+
+void ScanTemplate::saveState(mrpt::serialization::CArchive& out) const
+{
+    savePointSet(out, sog);
+    writeMatrix(out, frame_in_sensor);
+}
+
+void ScanTemplate::loadState(mrpt::serialization::CArchive& in)
+{
+    loadPointSet(in, sog);
+    readMatrix(in, frame_in_sensor, "template frame");
+}
+
+void SegmentAcceptance::SavableRandom::save(mrpt::serialization::CArchive& out) const
+{
+    // MRPT keeps the MT19937 words private in a plain class: its bytes are its state.
+    static_assert(std::is_trivially_copyable_v<mrpt::random::Generator_MT19937>);
+    std::string bytes(sizeof(m_MT19937), '\0');
+    std::memcpy(bytes.data(), &m_MT19937, sizeof(m_MT19937));
+    out << bytes << distributionText(m_normdistribution) << distributionText(m_uint32)
+        << distributionText(m_uint64);
+}
+
+void SegmentAcceptance::SavableRandom::load(mrpt::serialization::CArchive& in)
+{
+    std::string bytes, normal, u32, u64;
+    in >> bytes >> normal >> u32 >> u64;
+    if (bytes.size() != sizeof(m_MT19937))
+        throw std::runtime_error("corrupt state: random generator of " + std::to_string(bytes.size()) + " bytes");
+    std::memcpy(&m_MT19937, bytes.data(), sizeof(m_MT19937));
+    readDistribution(normal, m_normdistribution);
+    readDistribution(u32, m_uint32);
+    readDistribution(u64, m_uint64);
+}
+
+void SegmentAcceptance::saveState(mrpt::serialization::CArchive& out) const
+{
+    writeSize(out, stats_.count.size());
+    for (size_t c : stats_.count) out << static_cast<std::uint64_t>(c);
+    rng_.save(out);
+}
+
+void SegmentAcceptance::loadState(mrpt::serialization::CArchive& in)
+{
+    if (readSize(in, "acceptance outcome") != stats_.count.size())
+        throw std::runtime_error("corrupt state: acceptance outcome list");
+    for (size_t& c : stats_.count) c = readU64(in);
+    rng_.load(in);
+}
+
+void ScanLandmarkMap::saveState(mrpt::serialization::CArchive& out) const
+{
+    writeTag(out, "ScanLandmarkMap");
+    writeSize(out, templates_.size());
+    for (const auto& [id, tpl] : templates_)
+    {
+        writeLong(out, id);
+        tpl.saveState(out);
+    }
+    auto s = stats_;
+    const auto c = counters(s);
+    writeSize(out, c.size());
+    for (const size_t* v : c) out << static_cast<std::uint64_t>(*v);
+    writeSize(out, s.align_failed.size());
+    for (const auto& [why, n] : s.align_failed) out << why << static_cast<std::uint64_t>(n);
+    writeSize(out, s.acceptance.size());
+    for (size_t n : s.acceptance) out << static_cast<std::uint64_t>(n);
+    acceptance_.saveState(out);
+    writeSize(out, last_aligned_.size());
+    for (const AlignedObservation& a : last_aligned_)
+    {
+        writeLong(out, a.id);
+        writeMatrix(out, a.z);
+        writeMatrix(out, a.R);
+        writeMatrix(out, a.z_hat);
+        out << a.updated;
+    }
+    writeTag(out, "ScanLandmarkMap end");
+}
+
+void ScanLandmarkMap::loadState(mrpt::serialization::CArchive& in)
+{
+    expectTag(in, "ScanLandmarkMap");
+    templates_.clear();
+    const size_t n = readSize(in, "scan template");
+    for (size_t i = 0; i < n; ++i)
+    {
+        const long id = readLong(in);
+        templates_[id].loadState(in);
+    }
+    stats_ = Stats{};
+    const auto c = counters(stats_);
+    if (readSize(in, "scan landmark counter") != c.size())
+        throw std::runtime_error("corrupt state: scan landmark counter list");
+    for (size_t* v : c) *v = readU64(in);
+    const size_t nf = readSize(in, "alignment failure reason");
+    for (size_t i = 0; i < nf; ++i)
+    {
+        std::string why;
+        in >> why;
+        stats_.align_failed[why] = readU64(in);
+    }
+    if (readSize(in, "acceptance outcome") != stats_.acceptance.size())
+        throw std::runtime_error("corrupt state: acceptance outcome list");
+    for (size_t& v : stats_.acceptance) v = readU64(in);
+    acceptance_.loadState(in);
+    last_aligned_.resize(readSize(in, "aligned observation"));
+    for (AlignedObservation& a : last_aligned_)
+    {
+        a.id = readLong(in);
+        readMatrix(in, a.z, "aligned observation");
+        readMatrix(in, a.R, "aligned observation covariance");
+        readMatrix(in, a.z_hat, "aligned prediction");
+        a.updated = readBool(in);
+    }
+    expectTag(in, "ScanLandmarkMap end");
+}
+
+}  // namespace hymm::scanslam
