@@ -426,16 +426,27 @@ void DenseSlam::fuseDelayed()
     stats_.delayed_lost += rep.lost_points;
 }
 
-void DenseSlam::storeUnassigned(const dense::ScanPoints& pts,
-                                const std::vector<Eigen::Vector2d>& unassigned, double t)
+void DenseSlam::storeUnassigned(const dense::ScanPoints& pts, const dense::HybridMetricMap::InsertStats& st,
+                                double t)
 {
-    // Step 5b: what no region holds waits in the store as passive states.
+    // Step 5b: what no region holds waits in the store as passive states, kept as the
+    // sensor measured it (range, bearing in the scan's sensor frame, Eq. 3.25); the tag
+    // is the return's index in the scan.
+    std::vector<Eigen::Vector2d> z;
+    std::vector<long> tags;
+    for (size_t i = 0; i < st.unassigned_source.size(); ++i)
+        if (!st.unassigned_kept[i])
+        {
+            z.push_back(pts.rangeBearing(st.unassigned_source[i]));
+            tags.push_back(static_cast<long>(st.unassigned_source[i]));
+        }
+    stats_.returns_dropped += z.size();
+    if (!store_ || z.empty()) return;
     const Eigen::Matrix2d R = Eigen::Vector2d(options_.laser_std_range * options_.laser_std_range,
                                               options_.laser_std_bearing * options_.laser_std_bearing)
                                   .asDiagonal();
     const auto& sv = pts.sensor_on_vehicle;
-    const auto rep = store_->addGlobalPoints(ekf_, *partition_, unassigned, R,
-                                             Eigen::Vector3d(sv.x, sv.y, sv.phi), t);
+    const auto rep = store_->addScan(ekf_, *partition_, z, R, Eigen::Vector3d(sv.x, sv.y, sv.phi), t, &tags);
     stats_.delayed_stored += rep.stored;
     stats_.returns_dropped -= rep.stored;
     stats_.delayed_outside_potential += rep.outside_potential;
@@ -473,11 +484,7 @@ void DenseSlam::insertDenseScan(const mrpt::obs::CObservation2DRangeScan& scan,
         }
         if (virtual_options_.enabled) createVirtualLandmarks(st.unassigned, t);
         // What the fallback kept is in a dense layer; the rest may wait in the store.
-        std::vector<Eigen::Vector2d> dropped;
-        for (size_t i = 0; i < st.unassigned.size(); ++i)
-            if (!st.unassigned_kept[i]) dropped.push_back(st.unassigned[i]);
-        stats_.returns_dropped += dropped.size();
-        if (store_ && !dropped.empty()) storeUnassigned(pts, dropped, t);
+        storeUnassigned(pts, st, t);
     }
     if (classic_) classic_->insertScan(pts, vehicle);
 }

@@ -408,9 +408,10 @@ private:
                          const dense::HybridMetricMap::RegionFilter& accept, double t);
     /** Step 5a: stored returns into the regions that exist now (Sec. 3.7.3). */
     void fuseDelayed();
-    /** Step 5b: returns no region holds into the delayed store as passive states. */
-    void storeUnassigned(const dense::ScanPoints& pts,
-                         const std::vector<Eigen::Vector2d>& unassigned, double t);
+    /** Step 5b: returns no region holds and the fallback did not keep (counted as
+     *  dropped) into the delayed store as passive states, as raw (range, bearing). */
+    void storeUnassigned(const dense::ScanPoints& pts, const dense::HybridMetricMap::InsertStats& st,
+                         double t);
     /** Step 6 (Sec. 6.3): motion layers by differencing the regions in view (fast) and
      *  the regions due (slow); landmarks on moving objects flagged, pruned once gone. */
     void updateMotionLayers(double t);
