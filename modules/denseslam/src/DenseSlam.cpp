@@ -5,6 +5,7 @@
 #include <hymm/uif/DelayedDenseStore.h>
 
 #include <hymm/core/config_utils.h>
+#include <hymm/dense/LayerRegistry.h>
 #include <hymm/dense/ScanPoints.h>
 #include <hymm/dense/geometry.h>
 #include <hymm/denseslam/EkfCovarianceView.h>
@@ -65,8 +66,6 @@ bool sameObject(const extract::ScanFeature& tree, const extract::ScanFeature& re
     return (featurePoint(tree) - featurePoint(reflector)).norm() <= distance;
 }
 
-// dense_layers = none | comma-separated list of points, occupancy, particles, sog,
-// property (any order, each at most once, spaces allowed).
 }  // namespace
 
 DenseSlam::DenseSlam(const Options& opts, const ekf::EkfSlam::Options& ekf_opts,
@@ -87,11 +86,11 @@ DenseSlam::DenseSlam(const Options& opts, const ekf::EkfSlam::Options& ekf_opts,
     {
         partition_ = std::make_unique<ltr::RegionPartition>(dense_opts.partition);
         auto h = dense_opts.hybrid;
-        h.enable_points = options_.dense_points;
-        h.enable_occupancy = options_.dense_occupancy;
-        h.enable_particles = options_.dense_particles;
-        h.enable_sog = options_.dense_sog;
-        h.enable_property = options_.dense_property;
+        for (const auto& name : options_.dense_layers)
+            if (!dense::findLayerKind(name))
+                throw std::invalid_argument("[DenseSlam] dense_layers: unknown layer kind '" + name +
+                                            "' (known: " + dense::layerKindNames() + ")");
+        for (const auto& kind : dense::layerKinds()) h.*(kind.enabled) = options_.denseLayer(kind.name);
         hybrid_ = std::make_unique<dense::HybridMetricMap>(h);
     }
     if (options_.classic_grid)
@@ -99,14 +98,14 @@ DenseSlam::DenseSlam(const Options& opts, const ekf::EkfSlam::Options& ekf_opts,
                                                                  dense_opts.hybrid.occupancy);
     if (dense_opts.dynamic.enabled)
     {
-        if (!options_.dense_occupancy)
+        if (!options_.denseLayer(dense::OccupancyLayer::kKind))
             throw std::invalid_argument(
                 "[DynamicSlam] enabled = true needs the occupancy layer ([DenseSlam] dense_layers)");
         motion_ = std::make_unique<dynamic::SlamMotionHook>(dense_opts.dynamic);
     }
     if (dense_opts.hll.enabled)
     {
-        if (!options_.dense_occupancy || !options_.dense_sog)
+        if (!options_.denseLayer(dense::OccupancyLayer::kKind) || !options_.denseLayer(dense::SogLayer::kKind))
             throw std::invalid_argument(
                 "[HighLevelLandmarks] enabled = true needs the occupancy and sog layers "
                 "([DenseSlam] dense_layers)");
