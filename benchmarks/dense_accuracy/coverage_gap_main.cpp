@@ -80,7 +80,7 @@ int run(int argc, char** argv)
 
     const auto cfg = hymm::core::openConfigFile(config.getValue());
     auto slam = hymm::denseslam::DenseSlam::fromConfig(*cfg);
-    if (!slam.options().dense_points || !slam.hybridMap()->options().enable_occupancy || !slam.classicGrid())
+    if (!slam.options().denseLayer("points") || !slam.hybridMap()->options().enable_occupancy || !slam.classicGrid())
         throw std::invalid_argument("the config must enable the points and occupancy layers and the classic grid");
     std::vector<hymm::eval::TimedScan> scans;
     hymm::io::RawlogReader reader(rawlog.getValue());

@@ -50,7 +50,7 @@ int run(int argc, char** argv)
 
     const auto cfg = hymm::core::openConfigFile(config.getValue());
     auto slam = hymm::denseslam::DenseSlam::fromConfig(*cfg);
-    if (!slam.options().dense_points) throw std::invalid_argument("the config must enable the points layer");
+    if (!slam.options().denseLayer("points")) throw std::invalid_argument("the config must enable the points layer");
     hymm::io::RawlogReader reader(rawlog.getValue());
     hymm::io::RawlogEntry e;
     while (reader.next(e)) slam.processEntry(e);

@@ -1,5 +1,7 @@
 #include "hymm/dense/HybridMetricMap.h"
 
+#include "hymm/dense/LayerRegistry.h"
+
 #include <algorithm>
 #include <cmath>
 #include <istream>
@@ -26,27 +28,15 @@ HybridMetricMap::HybridMetricMap(const Options& options)
 std::unique_ptr<DenseLayer> HybridMetricMap::makeLayer(
     const std::string& kind, const Vertices& reference) const
 {
-    if (kind == PointsLayer::kKind && options_.enable_points)
-        return std::make_unique<PointsLayer>(options_.points, reference);
-    if (kind == OccupancyLayer::kKind && options_.enable_occupancy)
-        return std::make_unique<OccupancyLayer>(options_.occupancy, reference);
-    if (kind == ParticlesLayer::kKind && options_.enable_particles)
-        return std::make_unique<ParticlesLayer>(options_.particles, reference);
-    if (kind == SogLayer::kKind && options_.enable_sog) return std::make_unique<SogLayer>(options_.sog);
-    if (kind == PropertyLayer::kKind && options_.enable_property)
-        return std::make_unique<PropertyLayer>(options_.property, reference);
-    return nullptr;
+    const LayerKind* k = findLayerKind(kind);
+    return k && options_.*(k->enabled) ? k->make(options_, reference) : nullptr;
 }
 
 std::vector<std::string> HybridMetricMap::enabledKinds() const
 {
     std::vector<std::string> out;
-    const std::pair<const char*, bool> all[] = {
-        {PointsLayer::kKind, options_.enable_points},       {OccupancyLayer::kKind, options_.enable_occupancy},
-        {ParticlesLayer::kKind, options_.enable_particles}, {SogLayer::kKind, options_.enable_sog},
-        {PropertyLayer::kKind, options_.enable_property}};
-    for (const auto& [kind, on] : all)
-        if (on) out.emplace_back(kind);
+    for (const LayerKind& k : layerKinds())
+        if (options_.*(k.enabled)) out.emplace_back(k.name);
     return out;
 }
 

@@ -146,6 +146,7 @@ class ScanOwners
             {
                 ++st.returns_outside;
                 st.unassigned.push_back(b.end);
+                st.unassigned_source.push_back(b.source);
                 const bool kept = keepInFallback(b, scan, fb_dist, tile_m);
                 st.returns_fallback += kept;
                 st.unassigned_kept.push_back(kept);

@@ -1,8 +1,12 @@
 #include "hymm/dense/HybridMetricMap.h"
 
+#include "hymm/dense/LayerRegistry.h"
+
 #include <hymm/core/config_utils.h>
 
+#include <algorithm>
 #include <cmath>
+#include <string>
 
 namespace hymm::dense
 {
@@ -10,11 +14,9 @@ hymm::core::OptionTable HybridMetricMap::Options::table()
 {
     using namespace hymm::core;
     OptionTable t;
-    t.flag("enable_points", enable_points, "keep raw returns (Sec. 3.9); `[DenseSlam] dense_layers` overrides");
-    t.flag("enable_occupancy", enable_occupancy, "keep occupancy grids (Sec. 4.1); `[DenseSlam] dense_layers` overrides");
-    t.flag("enable_particles", enable_particles, "keep particle sets (Sec. 4.2); `[DenseSlam] dense_layers` overrides");
-    t.flag("enable_sog", enable_sog, "keep sums of Gaussians (Sec. 4.3); `[DenseSlam] dense_layers` overrides");
-    t.flag("enable_property", enable_property, "keep scalar property grids; `[DenseSlam] dense_layers` overrides");
+    for (const LayerKind& k : layerKinds())
+        t.flag(std::string("enable_") + k.name, this->*(k.enabled),
+               std::string(k.doc) + "; `[DenseSlam] dense_layers` overrides");
     t.real("max_range_m", max_range_m, "m", above(0, 1000), "returns beyond are free space only (Table 4.1)");
     t.real("no_return_free_range_m", no_return_free_range_m, "m", atLeast(0, 1000),
            "beams with no return are free space up to min(this, `max_range_m`); 0 = off");
@@ -45,32 +47,27 @@ void HybridMetricMap::Options::saveToConfigFile(
 void HybridMetricMap::Options::loadAll(const mrpt::config::CConfigFileBase& cfg)
 {
     loadFromConfigFile(cfg, "HybridMetricMap");
-    occupancy.loadFromConfigFile(cfg, "OccupancyLayer");
-    points.loadFromConfigFile(cfg, "PointsLayer");
-    particles.loadFromConfigFile(cfg, "ParticlesLayer");
-    sog.loadFromConfigFile(cfg, "SogLayer");
-    property.loadFromConfigFile(cfg, "PropertyLayer");
+    for (const LayerKind& k : layerKinds()) k.load(*this, cfg);
 }
 
 void HybridMetricMap::Options::saveAll(mrpt::config::CConfigFileBase& cfg) const
 {
     saveToConfigFile(cfg, "HybridMetricMap");
-    occupancy.saveToConfigFile(cfg, "OccupancyLayer");
-    points.saveToConfigFile(cfg, "PointsLayer");
-    particles.saveToConfigFile(cfg, "ParticlesLayer");
-    sog.saveToConfigFile(cfg, "SogLayer");
-    property.saveToConfigFile(cfg, "PropertyLayer");
+    for (const LayerKind& k : layerKinds()) k.save(*this, cfg);
 }
 
 void HybridMetricMap::Options::validate(const std::string& s) const
 {
     if (!(max_range_m > 0))
         hymm::core::throwConfigError(s, "max_range_m", std::to_string(max_range_m), "must be > 0");
-    if (!enable_points && !enable_occupancy && !enable_particles && !enable_sog && !enable_property)
-        hymm::core::throwConfigError(
-            s, "enable_points", "false",
-            "at least one of enable_points, enable_occupancy, enable_particles, enable_sog, enable_property "
-            "must be true");
+    const auto& kinds = layerKinds();
+    if (std::none_of(kinds.begin(), kinds.end(), [this](const LayerKind& k) { return this->*(k.enabled); }))
+    {
+        std::string flags;
+        for (const LayerKind& k : kinds) flags += (flags.empty() ? "" : ", ") + std::string("enable_") + k.name;
+        hymm::core::throwConfigError(s, std::string("enable_") + kinds.front().name, "false",
+                                     "at least one of " + flags + " must be true");
+    }
     if (!(no_return_free_range_m >= 0) || !std::isfinite(no_return_free_range_m))
         hymm::core::throwConfigError(
             s, "no_return_free_range_m", std::to_string(no_return_free_range_m),
@@ -83,11 +80,7 @@ void HybridMetricMap::Options::validate(const std::string& s) const
             s, "fallback_max_distance_m", std::to_string(fallback_max_distance_m), "must be finite and >= 0 (0 = off)");
     if (!(fallback_tile_m > 0) || !std::isfinite(fallback_tile_m))
         hymm::core::throwConfigError(s, "fallback_tile_m", std::to_string(fallback_tile_m), "must be finite and > 0");
-    occupancy.validate();
-    points.validate();
-    particles.validate();
-    sog.validate();
-    property.validate();
+    for (const LayerKind& k : kinds) k.validate(*this);
 }
 
 }  // namespace hymm::dense

@@ -18,6 +18,7 @@ ScanPoints ScanPoints::fromRangeScan(
     s.bearing_std_rad = bearing_std_rad;
     const bool with_intensity = obs.hasIntensity();
     s.points.reserve(obs.getScanSize());
+    s.range_bearing.reserve(obs.getScanSize());
     for (size_t i = 0; i < obs.getScanSize(); ++i)
     {
         const double a = obs.getScanAngle(i);
@@ -33,10 +34,18 @@ ScanPoints ScanPoints::fromRangeScan(
             continue;
         }
         s.points.emplace_back(r * std::cos(a), r * std::sin(a));
+        s.range_bearing.emplace_back(r, a);
         if (with_intensity) s.values.push_back(static_cast<double>(obs.getScanIntensity(i)));
     }
     s.validate();
     return s;
+}
+
+Eigen::Vector2d ScanPoints::rangeBearing(size_t i) const
+{
+    if (!range_bearing.empty()) return range_bearing.at(i);
+    const Eigen::Vector2d& p = points.at(i);
+    return {p.norm(), std::atan2(p.y(), p.x())};
 }
 
 void ScanPoints::validate() const
@@ -46,6 +55,9 @@ void ScanPoints::validate() const
     };
     if (!values.empty() && values.size() != points.size())
         fail("values has " + std::to_string(values.size()) + " entries for " +
+             std::to_string(points.size()) + " returns (need 0 or one per return)");
+    if (!range_bearing.empty() && range_bearing.size() != points.size())
+        fail("range_bearing has " + std::to_string(range_bearing.size()) + " entries for " +
              std::to_string(points.size()) + " returns (need 0 or one per return)");
     if (!value_stds.empty() && value_stds.size() != values.size())
         fail("value_stds has " + std::to_string(value_stds.size()) + " entries for " +

@@ -80,10 +80,17 @@ TEST(HybridMetricMapTest, WallScanIsStoredOnTheWallAcrossRegions)
     EXPECT_EQ(st.returns_outside, expected_outside);
     EXPECT_EQ(st.returns_stored, kBeams - expected_outside);
     ASSERT_EQ(st.unassigned.size(), expected_outside);
-    for (const V2& p : st.unassigned)
+    ASSERT_EQ(st.unassigned_source.size(), expected_outside);
+    const mrpt::math::TPose2D sensor = kVehicle + scan.sensor_on_vehicle;
+    for (size_t i = 0; i < st.unassigned.size(); ++i)
     {
+        const V2& p = st.unassigned[i];
         EXPECT_NEAR(p.x(), kWallX, 1e-9);
         EXPECT_TRUE(p.y() < 0 || p.y() > 15);
+        // The source names the return whose measurement lands there.
+        const V2 z = scan.rangeBearing(st.unassigned_source[i]);
+        const V2 g(sensor.x + z[0] * std::cos(sensor.phi + z[1]), sensor.y + z[0] * std::sin(sensor.phi + z[1]));
+        EXPECT_NEAR((g - p).norm(), 0.0, 1e-9);
     }
     EXPECT_GE(st.regions_updated, 8u);  // the beams cross many triangles
     EXPECT_LE(st.regions_visited, 24u);

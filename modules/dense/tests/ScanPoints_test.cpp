@@ -71,10 +71,17 @@ TEST(ScanPointsTest, FromRangeScanKeepsNoReturnBearingsAndCountsFailedReadingsAp
         if (i % 5 == 0 || (i >= 11 && i <= 14)) continue;
         const double r = static_cast<double>(obs.getScanRange(i)), a = obs.getScanAngle(i);
         EXPECT_EQ(s.points[k], V2(r * std::cos(a), r * std::sin(a))) << i;  // bit for bit
+        EXPECT_EQ(s.rangeBearing(k), V2(r, a)) << i;  // the raw measurement, not re-derived
         EXPECT_EQ(s.values[k], static_cast<double>(i));
         ++k;
     }
     EXPECT_EQ(k, s.points.size());
+    // Without the raw measurement, the polar form of the point; a wrong size is an error.
+    ScanPoints cartesian = s;
+    cartesian.range_bearing.clear();
+    EXPECT_NEAR((cartesian.rangeBearing(3) - s.rangeBearing(3)).norm(), 0.0, 1e-12);
+    cartesian.range_bearing.resize(2);
+    EXPECT_THROW(cartesian.validate(), std::invalid_argument);
 }
 
 TEST(ScanPointsTest, ToWorldMakesNoReturnBeamsFreeUpToTheirRange)

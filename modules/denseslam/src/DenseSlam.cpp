@@ -5,6 +5,7 @@
 #include <hymm/uif/DelayedDenseStore.h>
 
 #include <hymm/core/config_utils.h>
+#include <hymm/dense/LayerRegistry.h>
 #include <hymm/dense/ScanPoints.h>
 #include <hymm/dense/geometry.h>
 #include <hymm/denseslam/EkfCovarianceView.h>
@@ -65,8 +66,6 @@ bool sameObject(const extract::ScanFeature& tree, const extract::ScanFeature& re
     return (featurePoint(tree) - featurePoint(reflector)).norm() <= distance;
 }
 
-// dense_layers = none | comma-separated list of points, occupancy, particles, sog,
-// property (any order, each at most once, spaces allowed).
 }  // namespace
 
 DenseSlam::DenseSlam(const Options& opts, const ekf::EkfSlam::Options& ekf_opts,
@@ -87,11 +86,11 @@ DenseSlam::DenseSlam(const Options& opts, const ekf::EkfSlam::Options& ekf_opts,
     {
         partition_ = std::make_unique<ltr::RegionPartition>(dense_opts.partition);
         auto h = dense_opts.hybrid;
-        h.enable_points = options_.dense_points;
-        h.enable_occupancy = options_.dense_occupancy;
-        h.enable_particles = options_.dense_particles;
-        h.enable_sog = options_.dense_sog;
-        h.enable_property = options_.dense_property;
+        for (const auto& name : options_.dense_layers)
+            if (!dense::findLayerKind(name))
+                throw std::invalid_argument("[DenseSlam] dense_layers: unknown layer kind '" + name +
+                                            "' (known: " + dense::layerKindNames() + ")");
+        for (const auto& kind : dense::layerKinds()) h.*(kind.enabled) = options_.denseLayer(kind.name);
         hybrid_ = std::make_unique<dense::HybridMetricMap>(h);
     }
     if (options_.classic_grid)
@@ -99,14 +98,14 @@ DenseSlam::DenseSlam(const Options& opts, const ekf::EkfSlam::Options& ekf_opts,
                                                                  dense_opts.hybrid.occupancy);
     if (dense_opts.dynamic.enabled)
     {
-        if (!options_.dense_occupancy)
+        if (!options_.denseLayer(dense::OccupancyLayer::kKind))
             throw std::invalid_argument(
                 "[DynamicSlam] enabled = true needs the occupancy layer ([DenseSlam] dense_layers)");
         motion_ = std::make_unique<dynamic::SlamMotionHook>(dense_opts.dynamic);
     }
     if (dense_opts.hll.enabled)
     {
-        if (!options_.dense_occupancy || !options_.dense_sog)
+        if (!options_.denseLayer(dense::OccupancyLayer::kKind) || !options_.denseLayer(dense::SogLayer::kKind))
             throw std::invalid_argument(
                 "[HighLevelLandmarks] enabled = true needs the occupancy and sog layers "
                 "([DenseSlam] dense_layers)");
@@ -426,16 +425,27 @@ void DenseSlam::fuseDelayed()
     stats_.delayed_lost += rep.lost_points;
 }
 
-void DenseSlam::storeUnassigned(const dense::ScanPoints& pts,
-                                const std::vector<Eigen::Vector2d>& unassigned, double t)
+void DenseSlam::storeUnassigned(const dense::ScanPoints& pts, const dense::HybridMetricMap::InsertStats& st,
+                                double t)
 {
-    // Step 5b: what no region holds waits in the store as passive states.
+    // Step 5b: what no region holds waits in the store as passive states, kept as the
+    // sensor measured it (range, bearing in the scan's sensor frame, Eq. 3.25); the tag
+    // is the return's index in the scan.
+    std::vector<Eigen::Vector2d> z;
+    std::vector<long> tags;
+    for (size_t i = 0; i < st.unassigned_source.size(); ++i)
+        if (!st.unassigned_kept[i])
+        {
+            z.push_back(pts.rangeBearing(st.unassigned_source[i]));
+            tags.push_back(static_cast<long>(st.unassigned_source[i]));
+        }
+    stats_.returns_dropped += z.size();
+    if (!store_ || z.empty()) return;
     const Eigen::Matrix2d R = Eigen::Vector2d(options_.laser_std_range * options_.laser_std_range,
                                               options_.laser_std_bearing * options_.laser_std_bearing)
                                   .asDiagonal();
     const auto& sv = pts.sensor_on_vehicle;
-    const auto rep = store_->addGlobalPoints(ekf_, *partition_, unassigned, R,
-                                             Eigen::Vector3d(sv.x, sv.y, sv.phi), t);
+    const auto rep = store_->addScan(ekf_, *partition_, z, R, Eigen::Vector3d(sv.x, sv.y, sv.phi), t, &tags);
     stats_.delayed_stored += rep.stored;
     stats_.returns_dropped -= rep.stored;
     stats_.delayed_outside_potential += rep.outside_potential;
@@ -473,11 +483,7 @@ void DenseSlam::insertDenseScan(const mrpt::obs::CObservation2DRangeScan& scan,
         }
         if (virtual_options_.enabled) createVirtualLandmarks(st.unassigned, t);
         // What the fallback kept is in a dense layer; the rest may wait in the store.
-        std::vector<Eigen::Vector2d> dropped;
-        for (size_t i = 0; i < st.unassigned.size(); ++i)
-            if (!st.unassigned_kept[i]) dropped.push_back(st.unassigned[i]);
-        stats_.returns_dropped += dropped.size();
-        if (store_ && !dropped.empty()) storeUnassigned(pts, dropped, t);
+        storeUnassigned(pts, st, t);
     }
     if (classic_) classic_->insertScan(pts, vehicle);
 }

@@ -3,6 +3,7 @@
 #include "hymm/denseslam/DenseSlam.h"
 
 #include <hymm/core/OptionTable.h>
+#include <hymm/dense/LayerRegistry.h>
 
 #include <algorithm>
 #include <cmath>
@@ -66,46 +67,46 @@ std::string sourceName(const DenseSlam::Options& o)
     return out;
 }
 
-const char* const kDenseLayersHelp =
-    "must be none, or a comma-separated list of points, occupancy, particles, sog, property "
-    "(each at most once)";
-
-void parseDenseLayers(const std::string& value, const std::string& section,
-                      DenseSlam::Options& o)
+std::string denseLayersHelp()
 {
-    bool* flags[] = {&o.dense_points, &o.dense_occupancy, &o.dense_particles, &o.dense_sog,
-                     &o.dense_property};
-    const char* names[] = {"points", "occupancy", "particles", "sog", "property"};
-    for (bool* f : flags) *f = false;
+    return "must be none, or a comma-separated list of " + dense::layerKindNames() + " (each at most once)";
+}
+
+// dense_layers = none | comma-separated kinds of dense::layerKinds() (any order, each at
+// most once, spaces allowed); kept in the table's order.
+void parseDenseLayers(const std::string& value, const std::string& section, DenseSlam::Options& o)
+{
     std::string v;
     for (char c : value)
         if (c != ' ' && c != '\t') v += c;
+    o.dense_layers.clear();
     if (v == "none") return;
     std::stringstream ss(v);
     std::string item;
-    bool any = false;
+    std::vector<std::string> items;
     while (std::getline(ss, item, ','))
     {
-        bool known = false;
-        for (size_t k = 0; k < 5; ++k)
-            if (item == names[k] && !*flags[k]) *flags[k] = known = true;
-        if (!known) core::throwConfigError(section, "dense_layers", value, kDenseLayersHelp);
-        any = true;
+        if (!dense::findLayerKind(item) || std::find(items.begin(), items.end(), item) != items.end())
+            core::throwConfigError(section, "dense_layers", value, denseLayersHelp());
+        items.push_back(item);
     }
-    if (!any) core::throwConfigError(section, "dense_layers", value, kDenseLayersHelp);
+    if (items.empty()) core::throwConfigError(section, "dense_layers", value, denseLayersHelp());
+    for (const auto& kind : dense::layerKinds())
+        if (std::find(items.begin(), items.end(), kind.name) != items.end()) o.dense_layers.emplace_back(kind.name);
 }
 
 std::string denseLayersName(const DenseSlam::Options& o)
 {
     std::string out;
-    const std::pair<bool, const char*> items[] = {{o.dense_points, "points"},
-                                                  {o.dense_occupancy, "occupancy"},
-                                                  {o.dense_particles, "particles"},
-                                                  {o.dense_sog, "sog"},
-                                                  {o.dense_property, "property"}};
-    for (const auto& [on, name] : items)
-        if (on) out += (out.empty() ? "" : ",") + std::string(name);
+    for (const auto& name : o.dense_layers) out += (out.empty() ? "" : ",") + name;
     return out.empty() ? "none" : out;
+}
+
+std::string denseLayersRange()
+{
+    std::string out;
+    for (const auto& kind : dense::layerKinds()) out += (out.empty() ? "`" : ", `") + std::string(kind.name) + "`";
+    return "`none` or a list of " + out;
 }
 }  // namespace
 
@@ -151,7 +152,7 @@ core::OptionTable DenseSlam::Options::table()
     t.flag("enable_profiler", enable_profiler, "CTimeLogger sections `denseslam.*`");
     OptionKey layers;
     layers.name = "dense_layers";
-    layers.range = "`none` or a list of `points`, `occupancy`, `particles`, `sog`, `property`";
+    layers.range = denseLayersRange();
     layers.doc = "layers of the HybridMetricMap; overrides `[HybridMetricMap] enable_*`";
     layers.parse = [this](const std::string& s, const std::string& raw) { parseDenseLayers(raw, s, *this); };
     layers.format = [this]() { return denseLayersName(*this); };
@@ -170,6 +171,11 @@ core::OptionTable DenseSlam::Options::table()
            "laser_reflectors_and_trees: a tree this close to a reflector of the same scan is the same object; "
            "0 = beam overlap only");
     return t;
+}
+
+bool DenseSlam::Options::denseLayer(const std::string& kind) const
+{
+    return std::find(dense_layers.begin(), dense_layers.end(), kind) != dense_layers.end();
 }
 
 void DenseSlam::Options::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,

@@ -29,8 +29,9 @@ DenseSlam makeSlam(bool points, bool occupancy, bool classic, double fallback_m 
     DenseSlam::Options o;
     o.loadFromConfigFile(cfg, "DenseSlam");
     EXPECT_EQ(o.landmark_source, DenseSlam::LandmarkSource::BearingRange);
-    o.dense_points = points;
-    o.dense_occupancy = occupancy;
+    o.dense_layers.clear();
+    if (points) o.dense_layers.emplace_back("points");
+    if (occupancy) o.dense_layers.emplace_back("occupancy");
     o.classic_grid = classic;
     hymm::ekf::EkfSlam::Options e;
     e.loadFromConfigFile(cfg, "EkfSlam");
@@ -120,7 +121,7 @@ TEST(DenseSlamDense, DenseLayersKey)
         cfg.write("DenseSlam", "dense_layers", value);
         DenseSlam::Options o;
         o.loadFromConfigFile(cfg, "DenseSlam");
-        return std::make_pair(o.dense_points, o.dense_occupancy);
+        return std::make_pair(o.denseLayer("points"), o.denseLayer("occupancy"));
     };
     EXPECT_EQ(parse("none"), std::make_pair(false, false));
     EXPECT_EQ(parse("points"), std::make_pair(true, false));
@@ -144,8 +145,8 @@ TEST(DenseSlamDense, DenseLayersKey)
         cfg.write("DenseSlam", "dense_layers", "property, sog,particles");
         DenseSlam::Options p;
         p.loadFromConfigFile(cfg, "DenseSlam");
-        EXPECT_TRUE(p.dense_particles && p.dense_sog && p.dense_property);
-        EXPECT_FALSE(p.dense_points || p.dense_occupancy);
+        EXPECT_EQ(p.dense_layers, (std::vector<std::string>{"particles", "sog", "property"}));
+        EXPECT_FALSE(p.denseLayer("points") || p.denseLayer("occupancy"));
         EXPECT_TRUE(p.denseLayers());
         mrpt::config::CConfigFileMemory back;
         p.saveToConfigFile(back, "DenseSlam");
@@ -157,12 +158,17 @@ TEST(DenseSlamDense, DenseLayersKey)
 
     // Only the layers named in [DenseSlam] are built.
     DenseSlam::Options only_points;
-    only_points.dense_points = true;
+    only_points.dense_layers = {"points"};
     const DenseSlam s(only_points, hymm::ekf::EkfSlam::Options(), hymm::extract::TreeExtractor::Options());
     ASSERT_NE(s.hybridMap(), nullptr);
     EXPECT_TRUE(s.hybridMap()->options().enable_points);
     EXPECT_FALSE(s.hybridMap()->options().enable_occupancy);
     EXPECT_EQ(s.classicGrid(), nullptr);
+    // A kind no layer table row names is refused when the options are set in code.
+    DenseSlam::Options unknown;
+    unknown.dense_layers = {"voxels"};
+    EXPECT_THROW(DenseSlam(unknown, hymm::ekf::EkfSlam::Options(), hymm::extract::TreeExtractor::Options()),
+                 std::invalid_argument);
 }
 
 // max_local_std_m (Sec. 3.6, 3.7.3): scans are fused into a region only while the vehicle
@@ -176,8 +182,8 @@ TEST(DenseSlamDense, LocalUncertaintyGateWithholdsPoorlyLocalisedReturns)
     mrpt::config::CConfigFile cfg(kConfig);
     DenseSlam::Options o;
     o.loadFromConfigFile(cfg, "DenseSlam");
-    o.dense_points = true;
-    o.dense_occupancy = o.classic_grid = false;
+    o.dense_layers = {"points"};
+    o.classic_grid = false;
     o.max_local_std_m = 0.0;
     hymm::ekf::EkfSlam::Options e;
     e.loadFromConfigFile(cfg, "EkfSlam");

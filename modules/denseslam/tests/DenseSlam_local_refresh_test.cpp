@@ -20,7 +20,7 @@ DenseSlam makeSlam(bool local_refresh)
     mrpt::config::CConfigFile cfg(kConfig);
     DenseSlam::Options o;
     o.loadFromConfigFile(cfg, "DenseSlam");
-    o.dense_points = o.dense_occupancy = true;
+    o.dense_layers = {"points", "occupancy"};
     hymm::ekf::EkfSlam::Options e;
     e.loadFromConfigFile(cfg, "EkfSlam");
     hymm::extract::TreeExtractor::Options t;

@@ -246,33 +246,6 @@ DelayedDenseStore::AddReport DelayedDenseStore::addScan(
     return rep;
 }
 
-DelayedDenseStore::AddReport DelayedDenseStore::addGlobalPoints(
-    hymm::ekf::EkfSlam& ekf, const hymm::ltr::RegionPartition& partition,
-    const std::vector<Eigen::Vector2d>& global_points, const Eigen::Matrix2d& R,
-    const Eigen::Vector3d& sensor_on_vehicle, double time, const std::vector<long>* tags)
-{
-    if (!options_.enabled)
-    {
-        AddReport rep;
-        rep.offered = global_points.size();
-        return rep;
-    }
-    // The points were placed with the current estimate: observing them from it gives back
-    // the raw (range, bearing) exactly (up to rounding).
-    const Eigen::Vector3d vehicle = ekf.vehiclePose();
-    std::vector<Eigen::Vector2d> z;
-    z.reserve(global_points.size());
-    const Eigen::Vector3d s = hymm::core::sensorGlobalPose(vehicle, sensor_on_vehicle);
-    for (const auto& g : global_points)
-    {
-        if (!g.allFinite() || (g - s.head<2>()).norm() < 1e-9)
-            z.emplace_back(std::nan(""), 0.0);  // skipped by addScan
-        else
-            z.push_back(hymm::core::observeRangeBearing(vehicle, sensor_on_vehicle, g));
-    }
-    return addScan(ekf, partition, z, R, sensor_on_vehicle, time, tags);
-}
-
 void DelayedDenseStore::clear(hymm::ekf::EkfSlam& ekf)
 {
     while (!scans_.empty()) dropFront(ekf);

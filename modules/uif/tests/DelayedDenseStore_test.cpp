@@ -74,12 +74,21 @@ DelayedDenseStore::Options enabled()
 const Eigen::Matrix2d kR = Eigen::Vector2d(0.01 * 0.01, 0.002 * 0.002).asDiagonal();
 const Eigen::Vector3d kSensor(0.3, 0.0, 0.1);
 
+/** The raw (range, bearing) a sensor at kSensor on the vehicle estimate of `ekf` measures
+ *  for returns at the global positions `pts` (the scan the tests hand to the store). */
+std::vector<Eigen::Vector2d> observe(const hymm::ekf::EkfSlam& ekf, const std::vector<Eigen::Vector2d>& pts)
+{
+    std::vector<Eigen::Vector2d> z;
+    for (const auto& g : pts) z.push_back(hymm::core::observeRangeBearing(ekf.vehiclePose(), kSensor, g));
+    return z;
+}
+
 TEST(DelayedDenseStoreTest, StoresReturnsInPotentialRegionsAsOnePassivePoseBlock)
 {
     Fixture f;
     DelayedDenseStore store(enabled());
     const std::vector<Eigen::Vector2d> pts{{12, 0}, {13, 1}, {15, -1}, {-40, 0}};
-    const auto rep = store.addGlobalPoints(f.ekf, *f.partition, pts, kR, kSensor, 1.0);
+    const auto rep = store.addScan(f.ekf, *f.partition, observe(f.ekf, pts), kR, kSensor, 1.0);
     EXPECT_EQ(rep.offered, 4u);
     EXPECT_EQ(rep.stored, 3u);
     EXPECT_EQ(rep.outside_potential, 1u);
@@ -112,7 +121,7 @@ TEST(DelayedDenseStoreTest, FusesCoveredReturnsIntoTheRegionAndReleasesThePassiv
         Fixture f;
         DelayedDenseStore store(enabled());
         const std::vector<Eigen::Vector2d> pts{{12, 0}, {13, 1}, {15, -1}};
-        store.addGlobalPoints(f.ekf, *f.partition, pts, kR, kSensor, 1.0);
+        store.addScan(f.ekf, *f.partition, observe(f.ekf, pts), kR, kSensor, 1.0);
         // Nothing covers them yet: fuse() keeps everything.
         hymm::dense::LocalDenseMap map(0, {{f.lm[10], f.lm[11], f.lm[12]}});
         map.addLayer(std::make_unique<hymm::dense::PointsLayer>(hymm::dense::PointsLayer::Options()));
@@ -158,7 +167,7 @@ TEST(DelayedDenseStoreTest, FusedRegionScansCarryTheScanNoiseAndTheRegionMap)
 {
     Fixture f;
     DelayedDenseStore store(enabled());
-    store.addGlobalPoints(f.ekf, *f.partition, {{12, 0}, {13, 1}, {15, -1}}, kR, kSensor, 1.0);
+    store.addScan(f.ekf, *f.partition, observe(f.ekf, {{12, 0}, {13, 1}, {15, -1}}), kR, kSensor, 1.0);
     long rid = -1;
     ASSERT_TRUE(f.partition->tryAddRegion({10, 11, 12}, f.view(), 2.0, &rid).accepted());
     // An observation of landmark 12 away from its estimate moves and deforms the triangle
@@ -246,7 +255,7 @@ TEST(DelayedDenseStoreTest, ReturnsAlreadyInARegionOrOutsidePotentialRegionsCanW
     ASSERT_TRUE(f.partition->tryAddRegion({10, 11, 12}, f.view(), 1.0).accepted());
     DelayedDenseStore store(enabled());
     const std::vector<Eigen::Vector2d> pts{{12, 0}, {-40, 0}};
-    auto rep = store.addGlobalPoints(f.ekf, *f.partition, pts, kR, kSensor, 1.0);
+    auto rep = store.addScan(f.ekf, *f.partition, observe(f.ekf, pts), kR, kSensor, 1.0);
     EXPECT_EQ(rep.stored, 1u);
     EXPECT_EQ(rep.in_region, 1u);
     EXPECT_EQ(rep.outside_potential, 1u);  // (-40, 0): no landmark triangle near it
@@ -257,7 +266,7 @@ TEST(DelayedDenseStoreTest, ReturnsAlreadyInARegionOrOutsidePotentialRegionsCanW
     o.require_potential_region = false;
     DelayedDenseStore all(o);
     Fixture g;
-    rep = all.addGlobalPoints(g.ekf, *g.partition, pts, kR, kSensor, 1.0);
+    rep = all.addScan(g.ekf, *g.partition, observe(g.ekf, pts), kR, kSensor, 1.0);
     EXPECT_EQ(rep.stored, 2u);
     EXPECT_EQ(rep.without_potential, 2u);
     EXPECT_EQ(rep.outside_potential, 0u);
@@ -275,7 +284,7 @@ TEST(DelayedDenseStoreTest, ReturnsInNoRegionGoToTheOutsideSinkWhenItTakesThem)
     DelayedDenseStore store(o);
     Fixture f;
     const std::vector<Eigen::Vector2d> pts{{12, 0}, {-40, 0}};
-    ASSERT_EQ(store.addGlobalPoints(f.ekf, *f.partition, pts, kR, kSensor, 1.0).stored, 2u);
+    ASSERT_EQ(store.addScan(f.ekf, *f.partition, observe(f.ekf, pts), kR, kSensor, 1.0).stored, 2u);
     const auto noop = [](long, const hymm::dense::RegionScan&) {};
     // A sink that refuses leaves it waiting.
     size_t offered = 0;
@@ -310,7 +319,7 @@ TEST(DelayedDenseStoreTest, BudgetDropsOldestScansFirstAndThinsOversizedScans)
     o.max_stored_points = 10;
     DelayedDenseStore store(o);
     const std::vector<Eigen::Vector2d> four{{12, 0}, {13, 1}, {15, -1}, {14, 0.5}};
-    for (int k = 0; k < 5; ++k) store.addGlobalPoints(f.ekf, *f.partition, four, kR, kSensor, k);
+    for (int k = 0; k < 5; ++k) store.addScan(f.ekf, *f.partition, observe(f.ekf, four), kR, kSensor, k);
     // 4 returns per scan, 10 at most: two scans fit; the newest two are kept.
     ASSERT_EQ(store.numStoredScans(), 2u);
     EXPECT_EQ(store.scans()[0].scan_id, 3);
@@ -320,7 +329,7 @@ TEST(DelayedDenseStoreTest, BudgetDropsOldestScansFirstAndThinsOversizedScans)
 
     std::vector<Eigen::Vector2d> many;
     for (int i = 0; i < 25; ++i) many.emplace_back(12 + 0.2 * i, 0.1 * (i % 3));
-    const auto rep = store.addGlobalPoints(f.ekf, *f.partition, many, kR, kSensor, 6);
+    const auto rep = store.addScan(f.ekf, *f.partition, observe(f.ekf, many), kR, kSensor, 6);
     EXPECT_EQ(rep.thinned, 15u);
     EXPECT_EQ(rep.stored, 10u);
     EXPECT_EQ(rep.evicted_scans, 2u);
@@ -331,7 +340,7 @@ TEST(DelayedDenseStoreTest, BudgetDropsOldestScansFirstAndThinsOversizedScans)
     aged.max_age_s = 2.5;
     DelayedDenseStore young(aged);
     Fixture g;
-    for (int k = 0; k < 6; ++k) young.addGlobalPoints(g.ekf, *g.partition, four, kR, kSensor, k);
+    for (int k = 0; k < 6; ++k) young.addScan(g.ekf, *g.partition, observe(g.ekf, four), kR, kSensor, k);
     EXPECT_EQ(young.scans().front().time, 3.0);
     EXPECT_EQ(g.ekf.passive().numBlocks(), young.numStoredScans());
 }
@@ -340,7 +349,7 @@ TEST(DelayedDenseStoreTest, DisabledStoreLeavesTheFilterAlone)
 {
     Fixture f;
     DelayedDenseStore store{DelayedDenseStore::Options()};
-    const auto rep = store.addGlobalPoints(f.ekf, *f.partition, {{12, 0}}, kR, kSensor, 1.0);
+    const auto rep = store.addScan(f.ekf, *f.partition, observe(f.ekf, {{12, 0}}), kR, kSensor, 1.0);
     EXPECT_EQ(rep.offered, 1u);
     EXPECT_EQ(rep.stored, 0u);
     EXPECT_EQ(f.ekf.passive().numBlocks(), 0u);
@@ -351,7 +360,7 @@ TEST(DelayedDenseStoreTest, ScansWhosePassiveBlockVanishedAreDropped)
 {
     Fixture f;
     DelayedDenseStore store(enabled());
-    store.addGlobalPoints(f.ekf, *f.partition, {{12, 0}, {13, 1}}, kR, kSensor, 1.0);
+    store.addScan(f.ekf, *f.partition, observe(f.ekf, {{12, 0}, {13, 1}}), kR, kSensor, 1.0);
     ASSERT_EQ(store.numStoredPoints(), 2u);
     const Eigen::VectorXd x = f.ekf.mean();
     const Eigen::MatrixXd P = f.ekf.cov();

@@ -134,6 +134,9 @@ public:
         size_t regions_updated = 0;   //!< regions that received rays or returns
         size_t regions_degenerate = 0;  //!< skipped: current triangle no longer a valid frame
         std::vector<Eigen::Vector2d> unassigned;  //!< global positions of returns in no region
+        /** Parallel to `unassigned`: index of the return in ScanPoints::points (its raw
+         *  measurement is ScanPoints::rangeBearing(index), what the delayed store keeps). */
+        std::vector<size_t> unassigned_source;
         /** Parallel to `unassigned`: 1 if the fallback kept the return (in the frame of
          *  the nearest region), 0 if it is in no dense layer. */
         std::vector<char> unassigned_kept;

@@ -55,6 +55,10 @@ struct ScanPoints
 {
     mrpt::math::TPose2D sensor_on_vehicle{0, 0, 0};  //!< sensor pose in the vehicle frame
     std::vector<Eigen::Vector2d> points;             //!< returns in the sensor frame [m]
+    /** The raw (range [m], bearing [rad]) of each return, parallel to `points`, as the
+     *  sensor gave it (fromRangeScan() fills it); empty = derived from `points` (see
+     *  rangeBearing()). The delayed store keeps returns as this measurement (Eq. 3.25). */
+    std::vector<Eigen::Vector2d> range_bearing;
     /** Optional per-return scalar (laser intensity, elevation, another sensor's value),
      *  parallel to `points`; empty = none. Read by PropertyLayer. */
     std::vector<double> values;
@@ -86,8 +90,12 @@ struct ScanPoints
         const mrpt::obs::CObservation2DRangeScan& obs, double range_std_m = 0.0,
         double bearing_std_rad = 0.0);
 
-    /** Throws std::invalid_argument if values / value_stds have a size other than 0 or
-     *  points.size(), a value is not finite, a value std is not finite and > 0, a noise
+    /** (range, bearing) of return `i` in the sensor frame: range_bearing[i] when given,
+     *  else the polar form of points[i]. */
+    Eigen::Vector2d rangeBearing(size_t i) const;
+
+    /** Throws std::invalid_argument if values / value_stds / range_bearing have a size
+     *  other than 0 or points.size(), a value is not finite, a value std is not finite and > 0, a noise
      *  std is negative or NaN, or a no-return bearing is not finite. */
     void validate() const;
 

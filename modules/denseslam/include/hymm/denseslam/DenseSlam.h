@@ -132,11 +132,10 @@ public:
          *  overlap only. (ini: same_object_distance_m) */
         double same_object_distance = 1.0;
         bool enable_profiler = false;
-        bool dense_points = false;     //!< raw-returns layer (ini: dense_layers)
-        bool dense_occupancy = false;  //!< occupancy layer (ini: dense_layers)
-        bool dense_particles = false;  //!< particle layer, Sec. 4.2 (ini: dense_layers)
-        bool dense_sog = false;        //!< sum-of-Gaussians layer, Sec. 4.3 (ini: dense_layers)
-        bool dense_property = false;   //!< scalar property grid (ini: dense_layers)
+        /** Kinds of the HYMM's dense layers to keep (ini: dense_layers), names of
+         *  dense::layerKinds() (points, occupancy, particles Sec. 4.2, sog Sec. 4.3,
+         *  property), each at most once; empty = none. */
+        std::vector<std::string> dense_layers;
         bool classic_grid = false;     //!< also build the classic occupancy-grid baseline
         double laser_std_range = 0.1;    //!< [m] laser range noise (delayed store covariances)
         double laser_std_bearing = 0.017453292519943295;  //!< [rad] (ini: laser_std_bearing_deg)
@@ -151,10 +150,9 @@ public:
 
         /** True if a layer of the HYMM is on (regions are grown only then; the classic
          *  grid does not need them). */
-        bool denseLayers() const
-        {
-            return dense_points || dense_occupancy || dense_particles || dense_sog || dense_property;
-        }
+        bool denseLayers() const { return !dense_layers.empty(); }
+        /** True if `kind` is in dense_layers. */
+        bool denseLayer(const std::string& kind) const;
 
         /** Every ini key of [DenseSlam], declared once (loader, saver, README table). */
         core::OptionTable table();
@@ -408,9 +406,10 @@ private:
                          const dense::HybridMetricMap::RegionFilter& accept, double t);
     /** Step 5a: stored returns into the regions that exist now (Sec. 3.7.3). */
     void fuseDelayed();
-    /** Step 5b: returns no region holds into the delayed store as passive states. */
-    void storeUnassigned(const dense::ScanPoints& pts,
-                         const std::vector<Eigen::Vector2d>& unassigned, double t);
+    /** Step 5b: returns no region holds and the fallback did not keep (counted as
+     *  dropped) into the delayed store as passive states, as raw (range, bearing). */
+    void storeUnassigned(const dense::ScanPoints& pts, const dense::HybridMetricMap::InsertStats& st,
+                         double t);
     /** Step 6 (Sec. 6.3): motion layers by differencing the regions in view (fast) and
      *  the regions due (slow); landmarks on moving objects flagged, pruned once gone. */
     void updateMotionLayers(double t);

@@ -41,7 +41,9 @@
  * Per-frame use (pipeline, after the EKF update and partition.update(view, t)):
  *     store.fuse(ekf, partition, sink);            // fuse what a region now covers
  *     st = hybrid.insertScan(scan, pose, partition);
- *     store.addGlobalPoints(ekf, partition, st.unassigned, R, sensor_on_vehicle, t);
+ *     // the raw (range, bearing) of the returns in no region, scan.rangeBearing(i) for
+ *     // i in st.unassigned_source: the measurement itself, never a global point
+ *     store.addScan(ekf, partition, z, R, sensor_on_vehicle, t, &tags);
  * `sink(region_id, region_scan)` receives reference-frame content for one region (see
  * fuse()); with HybridMetricMap it forwards to that region's LocalDenseMap::insert.
  *
@@ -227,13 +229,6 @@ public:
     AddReport addScan(
         hymm::ekf::EkfSlam& ekf, const hymm::ltr::RegionPartition& partition,
         const std::vector<Eigen::Vector2d>& z, const Eigen::Matrix2d& R,
-        const Eigen::Vector3d& sensor_on_vehicle, double time, const std::vector<long>* tags = nullptr);
-
-    /** As addScan() from GLOBAL positions computed at the current vehicle estimate (e.g.
-     *  HybridMetricMap::InsertStats::unassigned): converted back to (range, bearing). */
-    AddReport addGlobalPoints(
-        hymm::ekf::EkfSlam& ekf, const hymm::ltr::RegionPartition& partition,
-        const std::vector<Eigen::Vector2d>& global_points, const Eigen::Matrix2d& R,
         const Eigen::Vector3d& sensor_on_vehicle, double time, const std::vector<long>* tags = nullptr);
 
     /**
