@@ -22,7 +22,7 @@ hymm::core::OptionTable PathFollower::Options::table()
     using namespace hymm::core;
     OptionTable t;
     t.custom(detail::groupsKey(
-        "waypoints", "m", 2, 1, 1e6, "the loop's corners `x y x y ...` (1 point: parked; else at least 3)",
+        "waypoints", "m", 2, 0, 1e6, "the loop's corners `x y x y ...` (1 point: parked; else at least 3)",
         [this](const std::vector<double>& v, const std::string& s, const std::string& raw) {
             if (v.size() == 4)
                 throwConfigError(s, "waypoints", raw, "give 1 point (parked) or at least 3 (a loop)");
@@ -42,9 +42,10 @@ hymm::core::OptionTable PathFollower::Options::table()
 void PathFollower::Options::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
                                                const std::string& s)
 {
-    if (!cfg.keyExists(s, "waypoints"))
-        hymm::core::throwConfigError(s, "waypoints", "", "required: the loop's corners x y x y ...");
     table().load(cfg, s);
+    if (waypoints.empty())
+        hymm::core::throwConfigError(s, "waypoints", hymm::core::readString(cfg, s, "waypoints", ""),
+                                     "required: the loop's corners x y x y ...");
 }
 
 void PathFollower::Options::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,

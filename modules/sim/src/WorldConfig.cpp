@@ -148,7 +148,7 @@ hymm::core::OptionTable World::Options::table()
     using namespace hymm::core;
     OptionTable t;
     t.custom(detail::groupsKey(
-        "landmarks", "m", 3, 1, 1e6, "explicit landmarks `x y radius ...` (ids 0, 1, ... in this order)",
+        "landmarks", "m", 3, 0, 1e6, "explicit landmarks `x y radius ...` (ids 0, 1, ... in this order)",
         [this](const std::vector<double>& v, const std::string& s, const std::string& raw) {
             landmarks.clear();
             for (size_t i = 0; i < v.size(); i += 3)
@@ -178,17 +178,19 @@ hymm::core::OptionTable World::Options::table()
     t.real("clearance_m", clearance_m, "m", length, "least gap between generated items and the path");
     t.integer("seed", seed, "", 0, 0xFFFFFFFFLL, "seed of the generation (not of the noise)");
     t.custom(detail::groupsKey(
-        "landmark_property", "", 1, 1, 1e12, "surface property of every landmark trunk (default: the field's value)",
+        "landmark_property", "", 1, 0, 1e12, "surface property of every landmark trunk (default: the field's value)",
         [this](const std::vector<double>& v, const std::string& s, const std::string& raw) {
-            if (v.size() != 1) throwConfigError(s, "landmark_property", raw, "expected one number");
-            landmark_property = v[0];
+            if (v.size() > 1) throwConfigError(s, "landmark_property", raw, "expected one number");
+            landmark_property.reset();  // empty: unset, as a scenario that does not name it
+            if (!v.empty()) landmark_property = v[0];
         },
         [this]() { return landmark_property ? std::vector<double>{*landmark_property} : std::vector<double>{}; }));
     t.custom(detail::groupsKey(
-        "property_field", "", 3, 1, 1e12, "`v0 gx gy`: property v0 + gx x + gy y of surfaces without their own (default: 0)",
+        "property_field", "", 3, 0, 1e12, "`v0 gx gy`: property v0 + gx x + gy y of surfaces without their own (default: 0)",
         [this](const std::vector<double>& v, const std::string& s, const std::string& raw) {
-            if (v.size() != 3) throwConfigError(s, "property_field", raw, "expected three finite numbers: v0 gx gy");
-            property_field = PropertyField{v[0], v[1], v[2]};
+            if (v.size() > 3) throwConfigError(s, "property_field", raw, "expected three finite numbers: v0 gx gy");
+            property_field.reset();  // empty: unset, as a scenario that does not name it
+            if (!v.empty()) property_field = PropertyField{v[0], v[1], v[2]};
         },
         [this]() {
             if (!property_field) return std::vector<double>{};
