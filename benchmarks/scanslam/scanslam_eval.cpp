@@ -217,6 +217,17 @@ int main(int argc, char** argv)
         std::cout << "| wide-search alignments fused per run (loop closures) / of them wrong (> 1 m or > 3 sigma) | "
                   << fmt(col([](const R& r) { return double(wideCounts(r)[0]); }), 1, 0) << " / "
                   << fmt(col([](const R& r) { return double(wideCounts(r)[1]); }), 1, 0) << " |\n";
+        {
+            // The wide-search alignments against the truth: NEES with the fused R, xy error.
+            std::vector<double> nees, err;
+            for (const auto& r : runs)
+                for (const auto& o : r.observations)
+                    if (o.wide) nees.push_back(o.error.dot(o.R.ldlt().solve(o.error))), err.push_back(o.error.head<2>().norm());
+            if (!nees.empty())
+                std::cout << "| wide-search alignments (all runs): count / NEES (3 DOF) median, 10th-90th / xy error [m] median, max | "
+                          << nees.size() << " / " << fmt(spread(nees), 1, 2) << " / " << fmt(spread(err), 1, 3) << ", "
+                          << *std::max_element(err.begin(), err.end()) << " |\n";
+        }
         // Outcomes of the wide search summed over the runs (ScanLandmarkMap::Stats::wide).
         std::map<std::string, size_t> wide;
         for (const auto& r : runs)
