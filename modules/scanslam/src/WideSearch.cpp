@@ -148,6 +148,30 @@ std::pair<double, double> goodness(const LikelihoodGrid& g, const std::vector<Ve
     const double n = static_cast<double>(std::max<size_t>(pts.size(), 1));
     return {sum / n, static_cast<double>(matched) / n};
 }
+/** The best separate level-A peaks (two level-A steps apart) refined at level B, then
+ *  once more at a quarter of its step (separate peaks are compared at the same, fine,
+ *  accuracy); their score: the goodness over all template points. */
+std::vector<Pose> refinePeaks(const std::vector<Pose>& peaks, const LikelihoodGrid& gb, const std::vector<Vec2>& pts,
+                              const std::vector<Vec2>& all, double radius, const WideSearchOptions& o, size_t& poses)
+{
+    const double dphiA = o.coarse_step_m / radius, dphiB = o.fine_step_m / radius;
+    std::vector<Pose> refined;
+    std::vector<Vec3> taken;
+    for (const Pose& p : peaks)
+    {
+        if (static_cast<int>(taken.size()) >= o.candidates) break;
+        if (std::any_of(taken.begin(), taken.end(),
+                        [&](const Vec3& t) { return poseDistance(t, p.z, radius) < 2 * o.coarse_step_m; }))
+            continue;
+        taken.push_back(p.z);
+        Pose b = levelB(gb, pts, p.z, o.coarse_step_m, dphiA, o.fine_step_m, dphiB, poses);
+        b = levelB(gb, pts, b.z, o.fine_step_m, dphiB, 0.25 * o.fine_step_m, 0.25 * dphiB, poses);
+        b.score = goodness(gb, all, b.z).first;
+        refined.push_back(b);
+    }
+    std::sort(refined.begin(), refined.end(), [](const Pose& p, const Pose& q) { return p.score > q.score; });
+    return refined;
+}
 }  // namespace
 
 WideResult wideSearch(const PointSet& tpl, const PointSet& scan, const Vec3& z0, const Vec3& half,
@@ -177,32 +201,13 @@ WideResult wideSearch(const PointSet& tpl, const PointSet& scan, const Vec3& z0,
     const LikelihoodGrid ga(lo, hi, 0.5 * o.coarse_step_m, o.coarse_step_m, o.gate_sigma, scan);
     const LikelihoodGrid gb(lo, hi, 0.5 * o.fine_step_m, o.fine_sigma_m, o.gate_sigma, surface);
     const auto pts = subsample(tpl.points, o.max_points);
-    const double dphiA = o.coarse_step_m / radius, dphiB = o.fine_step_m / radius;
-
-    const auto peaks = levelA(ga, pts, z0, half, o.coarse_step_m, dphiA, res.poses);
-    // The best separate level-A peaks (two level-A steps apart), refined at level B.
-    std::vector<Pose> refined;
-    std::vector<Vec3> taken;
-    for (const Pose& p : peaks)
-    {
-        if (static_cast<int>(taken.size()) >= o.candidates) break;
-        if (std::any_of(taken.begin(), taken.end(),
-                        [&](const Vec3& t) { return poseDistance(t, p.z, radius) < 2 * o.coarse_step_m; }))
-            continue;
-        taken.push_back(p.z);
-        Pose b = levelB(gb, pts, p.z, o.coarse_step_m, dphiA, o.fine_step_m, dphiB, res.poses);
-        // ... and once more at a quarter of the level-B step: the goodness of separate
-        // peaks is compared at the same (fine) accuracy.
-        b = levelB(gb, pts, b.z, o.fine_step_m, dphiB, 0.25 * o.fine_step_m, 0.25 * dphiB, res.poses);
-        b.score = goodness(gb, tpl.points, b.z).first;
-        refined.push_back(b);
-    }
+    const auto peaks = levelA(ga, pts, z0, half, o.coarse_step_m, o.coarse_step_m / radius, res.poses);
+    const auto refined = refinePeaks(peaks, gb, pts, tpl.points, radius, o, res.poses);
     if (refined.empty())
     {
         res.failure = "no_overlap";
         return res;
     }
-    std::sort(refined.begin(), refined.end(), [](const Pose& p, const Pose& q) { return p.score > q.score; });
     res.z = refined.front().z;
     res.z.z() = mrpt::math::wrapToPi(res.z.z());
     const auto [g, matched] = goodness(gb, tpl.points, res.z);

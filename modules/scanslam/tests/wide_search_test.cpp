@@ -48,7 +48,7 @@ ScanTemplate templateNear(const hymm::sim::World& w, const Vec3& pose, const Vec
     return best;
 }
 
-TEST(WideSearch, FindsTheTruePoseFromAPredictionMetresOff)
+TEST(ScanWideSearch, FindsTheTruePoseFromAPredictionMetresOff)
 {
     const auto w = scene();
     const Vec3 a(0, 0, 0), b(3, 1, 0.15);
@@ -74,7 +74,7 @@ TEST(WideSearch, FindsTheTruePoseFromAPredictionMetresOff)
     }
 }
 
-TEST(WideSearch, CorridorIsRefusedAsAmbiguous)
+TEST(ScanWideSearch, CorridorIsRefusedAsAmbiguous)
 {
     // Two long parallel walls: a piece of the corridor fits anywhere along it.
     std::vector<hymm::sim::WorldObject> objs;
@@ -96,7 +96,7 @@ TEST(WideSearch, CorridorIsRefusedAsAmbiguous)
     EXPECT_GT(r.second, 0.85 * r.goodness);
 }
 
-TEST(WideSearch, ClosesTheLoopOfADriftedFilter)
+TEST(ScanWideSearch, ClosesTheLoopOfADriftedFilter)
 {
     ScanLandmarkMap::Options o;
     o.noise = {0.1, 1.0 * kDeg};
