@@ -13,6 +13,8 @@
 #include <Eigen/Dense>
 
 #include <algorithm>
+#include <array>
+#include <map>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -42,6 +44,22 @@ std::string fmt(const Spread& s, double scale, int prec)
     std::snprintf(buf, sizeof buf, "%.*f (%.*f-%.*f)", prec, s.median * scale, prec, s.lo * scale,
                   prec, s.hi * scale);
     return buf;
+}
+
+/** A wide-search alignment is wrong when its error against the truth exceeds 1 m or
+ *  3 sigma (Mahalanobis distance with the fused R). */
+bool wrong(const hymm::app::ScanSlamRun::Observation& o)
+{
+    return o.error.head<2>().norm() > 1.0 || o.error.dot(o.R.ldlt().solve(o.error)) > 9.0;
+}
+
+/** (wide alignments fused, of them wrong, wide alignments gated). */
+std::array<size_t, 3> wideCounts(const hymm::app::ScanSlamRun& r)
+{
+    std::array<size_t, 3> c{};
+    for (const auto& o : r.observations)
+        if (o.wide) o.updated ? (++c[0], c[1] += wrong(o)) : ++c[2];
+    return c;
 }
 
 size_t counter(const hymm::app::ScanSlamRun& r, const std::string& key)
@@ -128,7 +146,7 @@ int main(int argc, char** argv)
         std::cout << "seed,steps,closure_t,dr_rmse,path_rmse,path_rmse_before,path_rmse_after,lm_before,lm_xy_before,"
                      "lm_phi_deg_before,lm_after,lm_xy_after,lm_phi_deg_after,lm_nees_after,"
                      "template_outline_m,created,updated,gated,out_of_view,align_failed,"
-                     "ms_per_step,x_real_time,view_changed,prediction_uncertain\n";
+                     "ms_per_step,x_real_time,view_changed,prediction_uncertain,wide_fused,wide_wrong,wide_gated\n";
         for (int k = 0; k < seeds.getValue(); ++k)
         {
             sc.run.seed = first.getValue() + k;
@@ -138,7 +156,8 @@ int main(int argc, char** argv)
             size_t failed = 0;
             for (const auto& [key, n] : r.counters)
                 if (key.find("align_failed") != std::string::npos) failed += n;
-            std::printf("%ld,%zu,%.1f,%.4f,%.4f,%.4f,%.4f,%zu,%.4f,%.4f,%zu,%.4f,%.4f,%.3f,%.4f,%zu,%zu,%zu,%zu,%zu,%.3f,%.1f,%zu,%zu\n",
+            const auto wc = wideCounts(r);
+            std::printf("%ld,%zu,%.1f,%.4f,%.4f,%.4f,%.4f,%zu,%.4f,%.4f,%zu,%.4f,%.4f,%.3f,%.4f,%zu,%zu,%zu,%zu,%zu,%.3f,%.1f,%zu,%zu,%zu,%zu,%zu\n",
                         sc.run.seed, r.steps.size(), r.closure_t, r.dead_reckoning_rmse_m,
                         r.path_rmse_m, r.path_rmse_before_m,
                         r.path_rmse_after_m, r.before_closure.landmarks, r.before_closure.rmse_xy_m,
@@ -149,7 +168,7 @@ int main(int argc, char** argv)
                         counter(r, "scan_landmarks.gated"), counter(r, "scan_landmarks.out_of_view"),
                         failed, 1e3 * secs / static_cast<double>(r.steps.size()),
                         r.duration_s / secs, counter(r, "scan_landmarks.view_changed"),
-                        counter(r, "scan_landmarks.prediction_uncertain"));
+                        counter(r, "scan_landmarks.prediction_uncertain"), wc[0], wc[1], wc[2]);
             std::fflush(stdout);
             runs.push_back(std::move(r));
         }
@@ -195,6 +214,31 @@ int main(int argc, char** argv)
                          for (const auto& st : r.steps) s += st.seconds;
                          return r.duration_s / s;
                      }), 1, 1) << " |\n";
+        std::cout << "| wide-search alignments fused per run (loop closures) / of them wrong (> 1 m or > 3 sigma) | "
+                  << fmt(col([](const R& r) { return double(wideCounts(r)[0]); }), 1, 0) << " / "
+                  << fmt(col([](const R& r) { return double(wideCounts(r)[1]); }), 1, 0) << " |\n";
+        {
+            // The wide-search alignments against the truth: NEES with the fused R, xy error.
+            std::vector<double> nees, err;
+            for (const auto& r : runs)
+                for (const auto& o : r.observations)
+                    if (o.wide) nees.push_back(o.error.dot(o.R.ldlt().solve(o.error))), err.push_back(o.error.head<2>().norm());
+            if (!nees.empty())
+                std::cout << "| wide-search alignments (all runs): count / NEES (3 DOF) median, 10th-90th / xy error [m] median, max | "
+                          << nees.size() << " / " << fmt(spread(nees), 1, 2) << " / " << fmt(spread(err), 1, 3) << ", "
+                          << *std::max_element(err.begin(), err.end()) << " |\n";
+        }
+        // Outcomes of the wide search summed over the runs (ScanLandmarkMap::Stats::wide).
+        std::map<std::string, size_t> wide;
+        for (const auto& r : runs)
+            for (const auto& [k, n] : r.counters)
+                if (k.rfind("scan_landmarks.wide.", 0) == 0) wide[k.substr(20)] += n;
+        if (!wide.empty())
+        {
+            std::cout << "\nwide-search outcomes (sum over the runs):";
+            for (const auto& [k, n] : wide) std::cout << " " << k << "=" << n;
+            std::cout << "\n";
+        }
         if (obs_table.getValue()) observationTables(runs);
         return 0;
     }

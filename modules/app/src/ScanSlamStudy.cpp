@@ -79,6 +79,7 @@ void scoreObservations(const scanslam::ScanLandmarkMap& map, double t, const Eig
         o.pred_error = poseError(a.z_hat, z_true);
         o.R = a.R;
         o.updated = a.updated;
+        o.wide = a.wide;
         run.observations.push_back(o);
     }
 }

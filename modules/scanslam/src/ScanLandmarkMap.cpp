@@ -18,6 +18,36 @@
 
 namespace hymm::scanslam
 {
+namespace
+{
+/** The wide-search keys of [ScanLandmarks] (README: "Loop closure by a wide search"). */
+void declareWideKeys(hymm::core::OptionTable& t, ScanLandmarkMap::Options& o)
+{
+    using namespace hymm::core;
+    t.flag("wide_search", o.wide_search,
+           "templates refused by max_prediction_std_m are searched over their +-3 sigma window");
+    t.real("wide_coarse_step_m", o.wide.coarse_step_m, "m", above(0), "wide search: level-A step and likelihood std");
+    t.real("wide_fine_step_m", o.wide.fine_step_m, "m", above(0), "wide search: level-B step");
+    t.real("wide_fine_sigma_m", o.wide.fine_sigma_m, "m", above(0), "wide search: level-B likelihood std");
+    t.integer("wide_candidates", o.wide.candidates, "", 1, 1000, "wide search: level-A peaks refined");
+    t.integer("wide_max_points", o.wide.max_points, "", 3, 100000, "wide search: template points scored (subsample)");
+    t.real("wide_peak_separation_m", o.wide.peak_separation_m, "m", above(0),
+           "wide search: peaks moving the template less than this are one");
+    t.real("wide_max_ambiguity", o.wide.max_ambiguity, "", between(0, 1),
+           "wide search: second separate peak's goodness / best's below this");
+    t.real("wide_min_matched_fraction", o.wide.min_matched_fraction, "", between(0, 1),
+           "wide search: template points within the gate at the best pose");
+    t.real("wide_max_xy_m", o.wide_max_xy_m, "m", above(0), "wide search: largest +-3 sigma half window in x, y");
+    t.real("wide_max_phi_deg", o.wide_max_phi, "deg", above(0), "wide search: largest half window in angle", M_PI / 180);
+    t.integer("wide_max_per_scan", o.wide_max_per_scan, "", 1, 1000, "wide searches per scan");
+    t.integer("wide_retry_scans", o.wide_retry_scans, "", 1, 1000000, "scans between wide searches of one template");
+    t.integer("wide_confirm_scans", o.wide_confirm_scans, "", 0, 1000000,
+              "wide answers fused only when another template's within this many scans agrees (0: at once)");
+    t.real("wide_confirm_xy_m", o.wide_confirm_xy_m, "m", above(0), "agreement of the implied vehicle corrections in x, y");
+    t.real("wide_confirm_phi_deg", o.wide_confirm_phi, "deg", above(0), "and in heading", M_PI / 180);
+}
+}  // namespace
+
 void ScanLandmarkMap::Options::load(const mrpt::config::CConfigFileBase& cfg,
                                     const std::string& s)
 {
@@ -59,6 +89,7 @@ void ScanLandmarkMap::Options::load(const mrpt::config::CConfigFileBase& cfg,
            "> 0: templates whose frame moved more than this in the sensor frame are not aligned");
     t.real("max_prediction_std_m", max_prediction_std_m, "m", atLeast(0),
            "> 0: templates whose predicted position has a larger std are not aligned");
+    declareWideKeys(t, *this);
     t.integer("seed", seed, "", 0, std::numeric_limits<uint32_t>::max(), "acceptance test's random seed");
     t.load(cfg, s);
 }
@@ -92,6 +123,7 @@ std::vector<std::pair<std::string, size_t>> ScanLandmarkMap::Stats::list() const
                          acceptance[k]);
     out.emplace_back("creation_failed", creation_failed);
     out.emplace_back("created", created);
+    for (const auto& [reason, n] : wide) out.emplace_back("wide." + reason, n);
     return out;
 }
 
@@ -174,6 +206,7 @@ void ScanLandmarkMap::processScan(ekf::EkfSlam& ekf, const mrpt::obs::CObservati
 {
     ++stats_.scans;
     last_aligned_.clear();
+    wide_this_scan_ = 0;
     ScanReadStats rs;
     const PointSet pts = fromScan(scan, options_.noise, &rs);
     stats_.beams_invalid += rs.invalid + rs.non_finite + rs.out_of_range;
@@ -219,12 +252,22 @@ void ScanLandmarkMap::observe(ekf::EkfSlam& ekf, long id, const ScanTemplate& tp
     ++stats_.predicted;
     Vec3 placed = z_hat;
     const double view_change = (z_hat.head<2>() - tpl.frame_in_sensor.head<2>()).norm();
+    // The uncertainty test comes before the view change: z_hat, hence the view change
+    // measured from it, is meaningless when the prediction is metres off.
+    const Mat3 S = options_.max_prediction_std_m > 0 ? predictionCov(ekf, id, sensor) : Mat3::Zero();
+    const Eigen::SelfAdjointEigenSolver<Mat2> es(Mat2(S.topLeftCorner<2, 2>()));
     if (fractionInView(tpl, z_hat, max_range, fov) <= options_.in_view_fraction)
         ++stats_.out_of_view;
+    else if (options_.max_prediction_std_m > 0 &&
+             std::sqrt(std::max(es.eigenvalues()[1], 0.0)) > options_.max_prediction_std_m)
+    {
+        if (options_.wide_search)
+            placed = observeWide(ekf, id, tpl, pts, sensor, z_hat, S);
+        else
+            ++stats_.prediction_uncertain;
+    }
     else if (options_.max_view_change_m > 0 && view_change > options_.max_view_change_m)
         ++stats_.view_changed;
-    else if (options_.max_prediction_std_m > 0 && predictionStd(ekf, id, sensor) > options_.max_prediction_std_m)
-        ++stats_.prediction_uncertain;
     else if (const AlignResult res =
                  matcher_->align(options_.visible_bin > 0
                                      ? visiblePart(tpl.sog, z_hat, max_range, fov, options_.visible_bin,
@@ -256,7 +299,7 @@ void ScanLandmarkMap::observe(ekf::EkfSlam& ekf, long id, const ScanTemplate& tp
     stats_.returns_explained += markExplained(tpl, placed, pts, options_.explain_distance_m, explained);
 }
 
-double ScanLandmarkMap::predictionStd(const ekf::EkfSlam& ekf, long id, const Vec3& sensor) const
+Mat3 ScanLandmarkMap::predictionCov(const ekf::EkfSlam& ekf, long id, const Vec3& sensor) const
 {
     Mat3 Hv, Hl;
     ekf::poseLandmarkObservation(ekf.vehiclePose(), ekf.landmarkBlockMean(id).head<3>(), sensor, &Hv, &Hl);
@@ -265,8 +308,7 @@ double ScanLandmarkMap::predictionStd(const ekf::EkfSlam& ekf, long id, const Ve
     const Mat3 Pvl = P.block<3, 3>(0, o);
     const Mat3 S = Hv * P.topLeftCorner<3, 3>() * Hv.transpose() + Hl * P.block<3, 3>(o, o) * Hl.transpose() +
                    Hv * Pvl * Hl.transpose() + Hl * Pvl.transpose() * Hv.transpose();
-    const Eigen::SelfAdjointEigenSolver<Mat2> es(Mat2(0.5 * (S.topLeftCorner<2, 2>() + S.topLeftCorner<2, 2>().transpose())));
-    return std::sqrt(std::max(es.eigenvalues()[1], 0.0));
+    return 0.5 * (S + S.transpose());
 }
 
 Mat3 ScanLandmarkMap::viewCovariance(const Mat3& R, const Vec3& made, const Vec3& z_hat) const

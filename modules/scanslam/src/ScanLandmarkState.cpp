@@ -156,7 +156,21 @@ void ScanLandmarkMap::saveState(mrpt::serialization::CArchive& out) const
     for (const auto& [why, n] : s.align_failed) out << why << static_cast<std::uint64_t>(n);
     writeSize(out, s.acceptance.size());
     for (size_t n : s.acceptance) out << static_cast<std::uint64_t>(n);
+    writeSize(out, s.wide.size());
+    for (const auto& [why, n] : s.wide) out << why << static_cast<std::uint64_t>(n);
     acceptance_.saveState(out);
+    // The wide search's bookkeeping: per-scan budget, last search per landmark, and the
+    // answer waiting for a second template's confirmation.
+    out << static_cast<std::uint64_t>(wide_this_scan_);
+    writeSize(out, wide_last_.size());
+    for (const auto& [id, scan] : wide_last_)
+    {
+        writeLong(out, id);
+        out << static_cast<std::uint64_t>(scan);
+    }
+    writeLong(out, wide_pending_.id);
+    out << static_cast<std::uint64_t>(wide_pending_.scan);
+    writeMatrix(out, wide_pending_.correction);
     writeSize(out, last_aligned_.size());
     for (const AlignedObservation& a : last_aligned_)
     {
@@ -164,7 +178,7 @@ void ScanLandmarkMap::saveState(mrpt::serialization::CArchive& out) const
         writeMatrix(out, a.z);
         writeMatrix(out, a.R);
         writeMatrix(out, a.z_hat);
-        out << a.updated;
+        out << a.updated << a.wide;
     }
     writeTag(out, "ScanLandmarkMap end");
 }
@@ -194,7 +208,25 @@ void ScanLandmarkMap::loadState(mrpt::serialization::CArchive& in)
     if (readSize(in, "acceptance outcome") != stats_.acceptance.size())
         throw std::runtime_error("corrupt state: acceptance outcome list");
     for (size_t& v : stats_.acceptance) v = readU64(in);
+    const size_t nw = readSize(in, "wide search outcome");
+    for (size_t i = 0; i < nw; ++i)
+    {
+        std::string why;
+        in >> why;
+        stats_.wide[why] = readU64(in);
+    }
     acceptance_.loadState(in);
+    wide_this_scan_ = readU64(in);
+    wide_last_.clear();
+    const size_t nl = readSize(in, "wide search landmark");
+    for (size_t i = 0; i < nl; ++i)
+    {
+        const long id = readLong(in);
+        wide_last_[id] = readU64(in);
+    }
+    wide_pending_.id = readLong(in);
+    wide_pending_.scan = readU64(in);
+    readMatrix(in, wide_pending_.correction, "pending wide correction");
     last_aligned_.resize(readSize(in, "aligned observation"));
     for (AlignedObservation& a : last_aligned_)
     {
@@ -203,6 +235,7 @@ void ScanLandmarkMap::loadState(mrpt::serialization::CArchive& in)
         readMatrix(in, a.R, "aligned observation covariance");
         readMatrix(in, a.z_hat, "aligned prediction");
         a.updated = readBool(in);
+        a.wide = readBool(in);
     }
     expectTag(in, "ScanLandmarkMap end");
 }

@@ -54,6 +54,7 @@ struct ScanSlamRun
         Eigen::Vector3d pred_error = Eigen::Vector3d::Zero();  //!< z_hat - z_true
         Eigen::Matrix3d R = Eigen::Matrix3d::Zero();      //!< the covariance fused with z
         bool updated = false;    //!< fused (false: gated)
+        bool wide = false;       //!< found by the wide search (ScanLandmarkMap::observeWide)
     };
     std::vector<Step> steps;
     std::vector<Observation> observations;  //!< every converged alignment of the run

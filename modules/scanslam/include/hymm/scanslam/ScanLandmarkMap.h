@@ -32,6 +32,7 @@
 #include "hymm/scanslam/ScanTemplate.h"
 #include "hymm/scanslam/SegmentAcceptance.h"
 #include "hymm/scanslam/Segmenter.h"
+#include "hymm/scanslam/WideSearch.h"
 
 namespace hymm::scanslam
 {
@@ -80,6 +81,22 @@ public:
          *  prediction this uncertain they lock onto whatever object lies near it, and the
          *  gate, as wide as the prediction, lets the wrong object in. */
         double max_prediction_std_m = 0;
+        /** A template refused by max_prediction_std_m is searched wide instead (loop
+         *  closure after drift): wideSearch over the prediction's +-3 sigma window, the
+         *  answer refined by the matcher from there, the view-change guard applied to
+         *  the refined pose, then the usual gate with S = H P H^T + R. */
+        bool wide_search = false;
+        WideSearchOptions wide{};          //!< ini: wide_* keys (README)
+        double wide_max_xy_m = 40;         //!< a +-3 sigma window wider than this in x or y is refused [m]
+        double wide_max_phi = 45 * M_PI / 180;  //!< or in angle [rad] (ini: wide_max_phi_deg)
+        size_t wide_max_per_scan = 1;      //!< wide searches per scan (CPU bound); the rest `deferred`
+        size_t wide_retry_scans = 5;       //!< a template is searched wide at most once in this many scans
+        /** > 0: a wide answer is fused only when another template's wide answer within
+         *  this many scans implies the same vehicle correction (a lookalike object rarely
+         *  implies the same one twice); 0: fused at once. */
+        size_t wide_confirm_scans = 10;
+        double wide_confirm_xy_m = 1.5;    //!< corrections agree within this in x, y [m]
+        double wide_confirm_phi = 4 * M_PI / 180;  //!< and this in heading [rad] (ini: wide_confirm_phi_deg)
 
         /** Reads [section]; unknown keys and bad values throw naming the key. */
         void load(const mrpt::config::CConfigFileBase& cfg, const std::string& section);
@@ -109,6 +126,9 @@ public:
         std::array<size_t, SegmentAcceptance::kOutcomes> acceptance{};  //!< by outcome
         size_t creation_failed = 0;    //!< accepted, but its own alignment gave no covariance
         size_t created = 0;            //!< new pose landmarks
+        /** Wide searches by outcome: closed (fused), window_too_large, deferred,
+         *  no_overlap, ambiguous, refine.<matcher reason>, view_changed, gated, numeric. */
+        std::map<std::string, size_t> wide;
 
         /** (name, count) of every counter, failure reasons as align_failed.<reason>. */
         std::vector<std::pair<std::string, size_t>> list() const;
@@ -122,6 +142,7 @@ public:
         Mat3 R = Mat3::Zero();      //!< its covariance as fused (inflation included)
         Vec3 z_hat = Vec3::Zero();  //!< the prediction the alignment started from
         bool updated = false;       //!< fused (false: gated or refused by the EKF)
+        bool wide = false;          //!< found by the wide search (a re-observation after drift)
     };
 
     /** Reads [ScanLandmarks], [ScanSegmentation], [ScanAcceptance] and the matcher's
@@ -164,9 +185,16 @@ private:
     /** Observes landmark `id` in `pts`; marks the returns it explains. */
     void observe(ekf::EkfSlam& ekf, long id, const ScanTemplate& tpl, const PointSet& pts,
                  const Vec3& sensor, double max_range, double fov, std::vector<char>& explained);
-    /** Largest standard deviation of the predicted template position (x, y of H P H^T
-     *  for landmark `id` seen from `sensor`) [m]. */
-    double predictionStd(const ekf::EkfSlam& ekf, long id, const Vec3& sensor) const;
+    /** H P H^T of landmark `id` seen from `sensor`: the predicted template pose's
+     *  covariance in the sensor frame. */
+    Mat3 predictionCov(const ekf::EkfSlam& ekf, long id, const Vec3& sensor) const;
+    /** The wide search of a template whose prediction `S` is too uncertain; returns
+     *  where its returns are (z_hat unless fused). ScanLandmarkWide.cpp. */
+    Vec3 observeWide(ekf::EkfSlam& ekf, long id, const ScanTemplate& tpl, const PointSet& pts,
+                     const Vec3& sensor, const Vec3& z_hat, const Mat3& S);
+    /** Whether the wide answer z of landmark `id` agrees with the pending one of another
+     *  landmark (same implied vehicle correction); else it becomes the pending one. */
+    bool confirmWide(const ekf::EkfSlam& ekf, long id, const Vec3& z, const Vec3& sensor);
     /** The matcher's covariance `R` plus the viewpoint term of Options (view_std_*) for
      *  a template made at `made` (frame in the sensor frame) predicted at `z_hat`. */
     Mat3 viewCovariance(const Mat3& R, const Vec3& made, const Vec3& z_hat) const;
@@ -181,6 +209,16 @@ private:
     std::map<long, ScanTemplate> templates_;
     Stats stats_;
     std::vector<AlignedObservation> last_aligned_;
+    size_t wide_this_scan_ = 0;
+    std::map<long, size_t> wide_last_;  //!< landmark -> scan of its last wide search
+    /** The last unconfirmed wide answer: its landmark, scan and implied vehicle correction. */
+    struct WidePending
+    {
+        long id = -1;
+        size_t scan = 0;
+        Vec3 correction = Vec3::Zero();
+    };
+    WidePending wide_pending_;
 };
 
 /** Whether the points of `set` span two dimensions: the smaller standard deviation of
