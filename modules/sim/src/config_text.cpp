@@ -2,12 +2,8 @@
 
 #include <hymm/core/config_utils.h>
 
-#include <algorithm>
-#include <cerrno>
 #include <charconv>
-#include <cmath>
-#include <cstdlib>
-#include <sstream>
+#include <memory>
 
 namespace hymm::sim::detail
 {
@@ -40,47 +36,28 @@ void writeNumbers(mrpt::config::CConfigFileBase& cfg, const std::string& section
     cfg.write(section, key, formatNumbers(v));
 }
 
+namespace
+{
+/** Throws unless `count` numbers make at least `min_groups` whole groups of `group`. */
+void checkGroups(const std::string& section, const std::string& key, const std::string& shown,
+                 size_t count, size_t group, size_t min_groups)
+{
+    if (count % group != 0 || count < group * min_groups)
+        hymm::core::throwConfigError(
+            section, key, shown,
+            "expected " + (min_groups > 1 ? "at least " + std::to_string(min_groups) + " " : "") +
+                "group(s) of " + std::to_string(group) + " numbers");
+}
+}  // namespace
+
 std::vector<double> readGroups(const mrpt::config::CConfigFileBase& cfg, const std::string& section,
                                const std::string& key, size_t group, size_t min_groups,
                                bool required)
 {
     const auto v = hymm::core::readDoubleList(cfg, section, key, {}, required);
     if (!cfg.keyExists(section, key)) return v;
-    if (v.size() % group != 0 || v.size() < group * min_groups)
-        hymm::core::throwConfigError(
-            section, key, formatNumbers(v),
-            "expected " + (min_groups > 1 ? "at least " + std::to_string(min_groups) + " " : "") +
-                "group(s) of " + std::to_string(group) + " numbers");
+    checkGroups(section, key, formatNumbers(v), v.size(), group, min_groups);
     return v;
-}
-
-std::vector<double> parseGroups(const std::string& section, const std::string& key,
-                                const std::string& raw, size_t group, size_t min_groups,
-                                double limit)
-{
-    std::string text = raw;
-    std::replace(text.begin(), text.end(), ',', ' ');
-    std::istringstream is(text);
-    std::vector<double> out;
-    for (std::string tok; is >> tok;)
-    {
-        char* end = nullptr;
-        errno = 0;
-        const double d = std::strtod(tok.c_str(), &end);
-        if (end == tok.c_str() || *end != '\0' || errno == ERANGE)
-            hymm::core::throwConfigError(section, key, raw, "'" + tok + "' is not a number");
-        if (!std::isfinite(d) || std::abs(d) > limit)
-            hymm::core::throwConfigError(section, key, raw,
-                                         "'" + tok + "' out of range, must be in [-" +
-                                             formatNumber(limit) + ", " + formatNumber(limit) + "]");
-        out.push_back(d);
-    }
-    if (out.size() % group != 0 || out.size() < group * min_groups)
-        hymm::core::throwConfigError(
-            section, key, raw,
-            "expected " + (min_groups > 1 ? "at least " + std::to_string(min_groups) + " " : "") +
-                "group(s) of " + std::to_string(group) + " numbers");
-    return out;
 }
 
 hymm::core::OptionKey groupsKey(
@@ -89,16 +66,21 @@ hymm::core::OptionKey groupsKey(
     std::function<void(const std::vector<double>&, const std::string& section, const std::string& raw)> set,
     std::function<std::vector<double>()> get)
 {
-    hymm::core::OptionKey k;
-    k.name = name;
-    k.unit = unit;
+    // The numbers are parsed by OptionTable's own list key (separators, finiteness, range,
+    // errors with the value as written) into a buffer this key owns; the grouping and the
+    // member's shape are checked here.
+    auto numbers = std::make_shared<std::vector<double>>();
+    hymm::core::OptionTable list;
+    list.reals(name, *numbers, unit, hymm::core::between(-limit, limit), 0, doc);
+    hymm::core::OptionKey k = list.keys().front();
     const std::string each = "each in [-" + formatNumber(limit) + ", " + formatNumber(limit) + "]";
     k.range = group == 1 ? "numbers, " + each
                          : (min_groups > 1 ? std::to_string(min_groups) + "+ " : std::string()) + "groups of " +
                                std::to_string(group) + " numbers, " + each;
-    k.doc = doc;
-    k.parse = [name, group, min_groups, limit, set](const std::string& s, const std::string& raw) {
-        set(parseGroups(s, name, raw, group, min_groups, limit), s, raw);
+    k.parse = [parse = k.parse, numbers, name, group, min_groups, set](const std::string& s, const std::string& raw) {
+        parse(s, raw);
+        checkGroups(s, name, raw, numbers->size(), group, min_groups);
+        set(*numbers, s, raw);
     };
     k.format = [get]() { return formatNumbers(get()); };
     return k;

@@ -30,14 +30,9 @@ std::vector<double> readGroups(const mrpt::config::CConfigFileBase& cfg, const s
                                const std::string& key, size_t group, size_t min_groups,
                                bool required = false);
 
-/** A list of numbers as written in a file (spaces or commas between them), in groups of
- *  `group`, at least `min_groups` groups, each finite and within [-limit, limit]; throws
- *  core::ConfigError naming section, key and the value as written. */
-std::vector<double> parseGroups(const std::string& section, const std::string& key,
-                                const std::string& raw, size_t group, size_t min_groups,
-                                double limit);
-
-/** An OptionTable key holding such a list: `set` receives the parsed numbers (and may
+/** An OptionTable key holding a list of numbers as written in a file (spaces or commas
+ *  between them), in groups of `group`, at least `min_groups` groups, each finite and
+ *  within [-limit, limit]: `set` receives the parsed numbers (and may
  *  check more, throwing core::ConfigError), `get` gives them back for saving (an empty
  *  list for an optional key that is not set). */
 hymm::core::OptionKey groupsKey(
