@@ -35,26 +35,15 @@ std::vector<size_t*> counters(DenseSlam::Stats& s)
 void writeStats(mrpt::serialization::CArchive& out, const DenseSlam::Stats& stats)
 {
     auto s = stats;
-    const auto c = counters(s);
-    writeSize(out, c.size());
-    for (const size_t* v : c) out << static_cast<std::uint64_t>(*v);
-    writeSize(out, s.unsupported.size());
-    for (const auto& [name, n] : s.unsupported) out << name << static_cast<std::uint64_t>(n);
+    writeCounters(out, counters(s));
+    writeCounts(out, s.unsupported);
 }
 
 DenseSlam::Stats readStats(mrpt::serialization::CArchive& in)
 {
     DenseSlam::Stats s;
-    const auto c = counters(s);
-    if (readSize(in, "counter") != c.size()) throw std::runtime_error("corrupt state: counter list");
-    for (size_t* v : c) *v = readU64(in);
-    const size_t n = readSize(in, "unsupported class");
-    for (size_t i = 0; i < n; ++i)
-    {
-        std::string name;
-        in >> name;
-        s.unsupported[name] = readU64(in);
-    }
+    readCounters(in, counters(s), "counter");
+    readCounts(in, s.unsupported, "unsupported class");
     return s;
 }
 

@@ -15,19 +15,6 @@ using namespace hymm::core::state;
 
 namespace
 {
-template <class T>
-void writeVector(mrpt::serialization::CArchive& out, const std::vector<T>& v)
-{
-    writeSize(out, v.size());
-    for (const T& x : v) out << x;
-}
-template <class T>
-void readVector(mrpt::serialization::CArchive& in, std::vector<T>& v, const char* what)
-{
-    v.resize(readSize(in, what));
-    for (T& x : v) in >> x;
-}
-
 /** A grid's cell count from its saved sizes, checked against the saved cells. */
 void checkGrid(int nx, int ny, size_t cells, const char* what)
 {
@@ -39,9 +26,9 @@ void checkGrid(int nx, int ny, size_t cells, const char* what)
 void writeDifference(mrpt::serialization::CArchive& out, const Difference& d)
 {
     out << static_cast<std::int32_t>(d.nx) << static_cast<std::int32_t>(d.ny);
-    writeVector(out, d.raw);
-    writeVector(out, d.filtered);
-    writeVector(out, d.mask);
+    writeValues(out, d.raw);
+    writeValues(out, d.filtered);
+    writeValues(out, d.mask);
 }
 
 void readDifference(mrpt::serialization::CArchive& in, Difference& d)
@@ -50,9 +37,9 @@ void readDifference(mrpt::serialization::CArchive& in, Difference& d)
     in >> nx >> ny;
     d.nx = nx;
     d.ny = ny;
-    readVector(in, d.raw, "difference cell");
-    readVector(in, d.filtered, "difference cell");
-    readVector(in, d.mask, "difference cell");
+    readValues(in, d.raw, "difference cell");
+    readValues(in, d.filtered, "difference cell");
+    readValues(in, d.mask, "difference cell");
     if (!d.raw.empty() || !d.filtered.empty() || !d.mask.empty())
     {
         checkGrid(nx, ny, d.raw.size(), "difference");
@@ -79,7 +66,7 @@ void MotionLayer::saveState(mrpt::serialization::CArchive& out) const
 {
     out << origin_.x() << origin_.y() << cell_ << static_cast<std::int32_t>(nx_)
         << static_cast<std::int32_t>(ny_) << static_cast<std::uint64_t>(count_);
-    writeVector(out, bits_);
+    writeValues(out, bits_);
 }
 
 void MotionLayer::loadState(mrpt::serialization::CArchive& in)
@@ -87,7 +74,7 @@ void MotionLayer::loadState(mrpt::serialization::CArchive& in)
     std::int32_t nx = 0, ny = 0;
     in >> origin_.x() >> origin_.y() >> cell_ >> nx >> ny;
     count_ = readU64(in);
-    readVector(in, bits_, "motion cell");
+    readValues(in, bits_, "motion cell");
     checkGrid(nx, ny, bits_.size(), "motion layer");
     nx_ = nx;
     ny_ = ny;
@@ -97,8 +84,8 @@ void OccupancySnapshot::saveState(mrpt::serialization::CArchive& out) const
 {
     out << t << origin.x() << origin.y() << cell_size << static_cast<std::int32_t>(nx)
         << static_cast<std::int32_t>(ny);
-    writeVector(out, p);
-    writeVector(out, inside);
+    writeValues(out, p);
+    writeValues(out, inside);
 }
 
 void OccupancySnapshot::loadState(mrpt::serialization::CArchive& in)
@@ -107,8 +94,8 @@ void OccupancySnapshot::loadState(mrpt::serialization::CArchive& in)
     in >> t >> origin.x() >> origin.y() >> cell_size >> sx >> sy;
     nx = sx;
     ny = sy;
-    readVector(in, p, "snapshot cell");
-    readVector(in, inside, "snapshot cell");
+    readValues(in, p, "snapshot cell");
+    readValues(in, inside, "snapshot cell");
     checkGrid(nx, ny, p.size(), "snapshot");
     checkGrid(nx, ny, inside.size(), "snapshot");
 }

@@ -111,9 +111,7 @@ void HighLevelLandmarks::saveState(mrpt::serialization::CArchive& out) const
     writeSize(out, searches_.size());
     for (const auto& s : searches_) writeSearch(out, s);
     auto st = stats_;
-    const auto c = counters(st);
-    writeSize(out, c.size());
-    for (const size_t* v : c) out << static_cast<std::uint64_t>(*v);
+    writeCounters(out, counters(st));
     out << last_search_t_;
     tracker_->saveState(out);
     writeTag(out, "HighLevelLandmarks end");
@@ -136,10 +134,7 @@ void HighLevelLandmarks::loadState(mrpt::serialization::CArchive& in)
     searches_.resize(readSize(in, "search"));
     for (auto& s : searches_) readSearch(in, s);
     stats_ = Stats{};
-    const auto c = counters(stats_);
-    if (readSize(in, "high-level landmark counter") != c.size())
-        throw std::runtime_error("corrupt state: high-level landmark counter list");
-    for (size_t* v : c) *v = readU64(in);
+    readCounters(in, counters(stats_), "high-level landmark counter");
     in >> last_search_t_;
     tracker_->loadState(in);
     expectTag(in, "HighLevelLandmarks end");

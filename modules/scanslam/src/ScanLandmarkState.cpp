@@ -30,17 +30,6 @@ void readVectors(mrpt::serialization::CArchive& in, std::vector<V>& v, const cha
     v.resize(readSize(in, what));
     for (auto& x : v) readMatrix(in, x, what);
 }
-void writeDoubles(mrpt::serialization::CArchive& out, const std::vector<double>& v)
-{
-    writeSize(out, v.size());
-    for (double x : v) out << x;
-}
-void readDoubles(mrpt::serialization::CArchive& in, std::vector<double>& v, const char* what)
-{
-    v.resize(readSize(in, what));
-    for (double& x : v) in >> x;
-}
-
 /** Every plain counter of ScanLandmarkMap::Stats, in the state's order (a new counter
  *  goes at the end, with a new state version). */
 std::vector<size_t*> counters(ScanLandmarkMap::Stats& s)
@@ -75,16 +64,16 @@ void savePointSet(mrpt::serialization::CArchive& out, const PointSet& p)
 {
     writeVectors(out, p.points);
     writeVectors(out, p.covs);
-    writeDoubles(out, p.range);
-    writeDoubles(out, p.bearing);
+    writeValues(out, p.range);
+    writeValues(out, p.bearing);
 }
 
 void loadPointSet(mrpt::serialization::CArchive& in, PointSet& p)
 {
     readVectors(in, p.points, "template point");
     readVectors(in, p.covs, "template covariance");
-    readDoubles(in, p.range, "template range");
-    readDoubles(in, p.bearing, "template bearing");
+    readValues(in, p.range, "template range");
+    readValues(in, p.bearing, "template bearing");
     if (p.covs.size() != p.points.size() || (!p.range.empty() && p.range.size() != p.points.size()) ||
         (!p.bearing.empty() && p.bearing.size() != p.points.size()))
         throw std::runtime_error("corrupt state: template point lists of different sizes");
@@ -149,19 +138,14 @@ void ScanLandmarkMap::saveState(mrpt::serialization::CArchive& out) const
         tpl.saveState(out);
     }
     auto s = stats_;
-    const auto c = counters(s);
-    writeSize(out, c.size());
-    for (const size_t* v : c) out << static_cast<std::uint64_t>(*v);
-    writeSize(out, s.align_failed.size());
-    for (const auto& [why, n] : s.align_failed) out << why << static_cast<std::uint64_t>(n);
+    writeCounters(out, counters(s));
+    writeCounts(out, s.align_failed);
     writeSize(out, s.acceptance.size());
     for (size_t n : s.acceptance) out << static_cast<std::uint64_t>(n);
-    writeSize(out, s.wide.size());
-    for (const auto& [why, n] : s.wide) out << why << static_cast<std::uint64_t>(n);
+    writeCounts(out, s.wide);
     acceptance_.saveState(out);
-    // The wide search's bookkeeping: per-scan budget, last search per landmark, and the
-    // answer waiting for a second template's confirmation.
-    out << static_cast<std::uint64_t>(wide_this_scan_);
+    // The wide search's bookkeeping: last search per landmark and the answer waiting for a
+    // second template's confirmation (the per-scan budget restarts with every scan).
     writeSize(out, wide_last_.size());
     for (const auto& [id, scan] : wide_last_)
     {
@@ -194,29 +178,13 @@ void ScanLandmarkMap::loadState(mrpt::serialization::CArchive& in)
         templates_[id].loadState(in);
     }
     stats_ = Stats{};
-    const auto c = counters(stats_);
-    if (readSize(in, "scan landmark counter") != c.size())
-        throw std::runtime_error("corrupt state: scan landmark counter list");
-    for (size_t* v : c) *v = readU64(in);
-    const size_t nf = readSize(in, "alignment failure reason");
-    for (size_t i = 0; i < nf; ++i)
-    {
-        std::string why;
-        in >> why;
-        stats_.align_failed[why] = readU64(in);
-    }
+    readCounters(in, counters(stats_), "scan landmark counter");
+    readCounts(in, stats_.align_failed, "alignment failure reason");
     if (readSize(in, "acceptance outcome") != stats_.acceptance.size())
         throw std::runtime_error("corrupt state: acceptance outcome list");
     for (size_t& v : stats_.acceptance) v = readU64(in);
-    const size_t nw = readSize(in, "wide search outcome");
-    for (size_t i = 0; i < nw; ++i)
-    {
-        std::string why;
-        in >> why;
-        stats_.wide[why] = readU64(in);
-    }
+    readCounts(in, stats_.wide, "wide search outcome");
     acceptance_.loadState(in);
-    wide_this_scan_ = readU64(in);
     wide_last_.clear();
     const size_t nl = readSize(in, "wide search landmark");
     for (size_t i = 0; i < nl; ++i)

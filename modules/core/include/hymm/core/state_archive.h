@@ -113,6 +113,52 @@ inline std::vector<long> readIds(mrpt::serialization::CArchive& in, const char* 
     return ids;
 }
 
+/** A list of numbers (doubles, floats, fixed-width integers) as CArchive writes them. */
+template <class T>
+void writeValues(mrpt::serialization::CArchive& out, const std::vector<T>& v)
+{
+    writeSize(out, v.size());
+    for (const T& x : v) out << x;
+}
+template <class T>
+void readValues(mrpt::serialization::CArchive& in, std::vector<T>& v, const char* what)
+{
+    v.resize(readSize(in, what));
+    for (T& x : v) in >> x;
+}
+
+/** A struct's counters in a fixed order (the state's layout: a new counter goes at the
+ *  end, with a new state version); reading checks the count. */
+inline void writeCounters(mrpt::serialization::CArchive& out, const std::vector<size_t*>& counters)
+{
+    writeSize(out, counters.size());
+    for (const size_t* v : counters) out << static_cast<std::uint64_t>(*v);
+}
+inline void readCounters(mrpt::serialization::CArchive& in, const std::vector<size_t*>& counters, const char* what)
+{
+    if (readSize(in, what) != counters.size())
+        throw std::runtime_error(std::string("corrupt state: ") + what + " list");
+    for (size_t* v : counters) *v = readU64(in);
+}
+
+/** Counts by name (failure reasons, class names). */
+inline void writeCounts(mrpt::serialization::CArchive& out, const std::map<std::string, size_t>& counts)
+{
+    writeSize(out, counts.size());
+    for (const auto& [name, n] : counts) out << name << static_cast<std::uint64_t>(n);
+}
+inline void readCounts(mrpt::serialization::CArchive& in, std::map<std::string, size_t>& counts, const char* what)
+{
+    counts.clear();
+    const size_t n = readSize(in, what);
+    for (size_t i = 0; i < n; ++i)
+    {
+        std::string name;
+        in >> name;
+        counts[name] = readU64(in);
+    }
+}
+
 /** A section marker: a misplaced reader (a bug, or a corrupt file) stops at the next one
  *  with the section's name instead of reading garbage onwards. */
 inline void writeTag(mrpt::serialization::CArchive& out, const std::string& tag) { out << tag; }
