@@ -138,11 +138,12 @@ void writeSummary(const DenseSlam& slam, double run_seconds, size_t entries, con
         f << "frame time stamps    " << s.time_backwards << " earlier than the previous frame, "
           << s.time_repeated << " equal to it\n";
     if (s.odometry_invalid + s.frames_duplicate + s.frames_without_odometry +
-            s.scans_without_valid_beam > 0)
+            s.scans_without_valid_beam + s.observations_invalid_geometry > 0)
         f << "faults               non-finite odometry skipped " << s.odometry_invalid
           << ", duplicated frames skipped " << s.frames_duplicate << "; frames without odometry "
           << s.frames_without_odometry << ", scans without a valid beam "
-          << s.scans_without_valid_beam << "\n";
+          << s.scans_without_valid_beam << ", observations with an unusable sensor pose or scan geometry skipped "
+          << s.observations_invalid_geometry << "\n";
     for (const auto& w : warnings) f << "warning              " << w << "\n";
     f.commit();
 }

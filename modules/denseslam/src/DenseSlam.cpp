@@ -182,15 +182,55 @@ void DenseSlam::processEntry(const io::RawlogEntry& entry)
     }
 }
 
+namespace
+{
+/** A symmetric positive semi-definite covariance whose standard deviations stay within
+ *  `max_std` (per axis). */
+template <int N>
+bool usableCovariance(const Eigen::Matrix<double, N, N>& C, const Eigen::Matrix<double, N, 1>& max_std)
+{
+    if (!C.allFinite() || (C - C.transpose()).cwiseAbs().maxCoeff() > 1e-9 * (1.0 + C.cwiseAbs().maxCoeff()))
+        return false;
+    if ((C.diagonal().array() > max_std.array().square()).any()) return false;
+    const Eigen::Matrix<double, N, N> S = 0.5 * (C + C.transpose());
+    return Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, N, N>>(S, Eigen::EigenvaluesOnly)
+               .eigenvalues()
+               .minCoeff() >= -1e-12 * (1.0 + S.cwiseAbs().maxCoeff());
+}
+
+/** An observation whose geometry the pipeline can use: a sensor pose that is finite and
+ *  within 1 km of the vehicle (a mount further out is a corrupt reading, and would place
+ *  its returns where no grid index can represent them); for a 2D scan also a finite
+ *  aperture in (0, 2 pi] and a finite positive maximum range (else every beam's bearing
+ *  or its no-return length is NaN). */
+bool usableGeometry(const mrpt::obs::CObservation& o)
+{
+    if (const auto* scan = dynamic_cast<const mrpt::obs::CObservation2DRangeScan*>(&o))
+        if (!std::isfinite(scan->aperture) || scan->aperture <= 0 || scan->aperture > 2 * M_PI + 1e-6 ||
+            !std::isfinite(scan->maxRange) || scan->maxRange <= 0)
+            return false;
+    constexpr double kMaxMount = 1000.0;  // [m]
+    mrpt::poses::CPose3D p;
+    o.getSensorPose(p);
+    const double v[6] = {p.x(), p.y(), p.z(), p.yaw(), p.pitch(), p.roll()};
+    return std::all_of(std::begin(v), std::end(v), [](double a) { return std::isfinite(a); }) &&
+           std::abs(p.x()) <= kMaxMount && std::abs(p.y()) <= kMaxMount && std::abs(p.z()) <= kMaxMount;
+}
+}  // namespace
+
 void DenseSlam::processOdometry(const mrpt::poses::CPosePDFGaussian& increment)
 {
     // A NaN / inf increment (or covariance) would poison the whole state, and a finite but
     // absurd one (a corrupt reading: no vehicle moves 1 km between two odometry readings)
     // would put the pose where no grid index can represent it: both skipped.
+    // The same for a covariance that is no covariance (a negative variance, not symmetric)
+    // or claims more than 1 km / a full turn of spread: it would make the filter's
+    // covariance indefinite or overflow it.
     constexpr double kMaxStep = 1000.0;  // [m]
     if (!std::isfinite(increment.mean.x()) || !std::isfinite(increment.mean.y()) ||
         !std::isfinite(increment.mean.phi()) || !increment.cov.asEigen().allFinite() ||
-        std::hypot(increment.mean.x(), increment.mean.y()) > kMaxStep)
+        std::hypot(increment.mean.x(), increment.mean.y()) > kMaxStep ||
+        !usableCovariance<3>(increment.cov.asEigen(), Eigen::Vector3d(kMaxStep, kMaxStep, 2 * M_PI)))
     {
         ++stats_.odometry_invalid;
         return;
@@ -223,8 +263,26 @@ void DenseSlam::processOdometryObservation(const mrpt::obs::CObservation& obs)
     last_odometry_ = odo.odometry;
 }
 
-void DenseSlam::processFrame(const mrpt::obs::CSensoryFrame& frame)
+void DenseSlam::processFrame(const mrpt::obs::CSensoryFrame& input)
 {
+    // Observations with an unusable sensor pose or scan geometry leave the frame before
+    // anything reads it (the filter, the scan sources, the dense part): counted, and seen
+    // in the rawlog.
+    mrpt::obs::CSensoryFrame filtered;
+    const bool any_bad = std::any_of(input.begin(), input.end(),
+                                     [](const auto& o) { return o && !usableGeometry(*o); });
+    if (any_bad)
+        for (const auto& o : input)
+        {
+            if (o && !usableGeometry(*o))
+            {
+                ++stats_.observations_invalid_geometry;
+                ++stats_.rawlog_observations;
+            }
+            else
+                filtered.insert(o);
+        }
+    const mrpt::obs::CSensoryFrame& frame = any_bad ? filtered : input;
     const size_t updates_before = updates_;
     // A frame repeating the previous one (a duplicated rawlog entry) would use the same
     // readings twice and make the filter overconfident: skipped and counted.
@@ -601,8 +659,15 @@ void DenseSlam::processBearingRange(const mrpt::obs::CObservationBearingRange& o
         o.R = R_default;
         if (obs.validCovariances && options_.sensor_std_range <= 0)
         {
-            // Per-measurement covariance of (range, yaw) from the 3x3 (range, yaw, pitch).
+            // Per-measurement covariance of (range, yaw) from the 3x3 (range, yaw, pitch); one
+            // that is no covariance, or spreads wider than the sensor's range or a half
+            // turn, is a corrupt reading.
             o.R << m.covariance(0, 0), m.covariance(0, 1), m.covariance(1, 0), m.covariance(1, 1);
+            if (!usableCovariance<2>(o.R, Eigen::Vector2d(options_.max_range, M_PI)))
+            {
+                ++stats_.skipped_invalid;
+                continue;
+            }
         }
         o.id = options_.use_landmark_ids ? m.landmarkID : -1;
         if (o.id >= 0) ++stats_.observations_with_id;

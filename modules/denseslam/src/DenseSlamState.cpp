@@ -29,7 +29,8 @@ std::vector<size_t*> counters(DenseSlam::Stats& s)
             &s.delayed_fused, &s.delayed_fused_fallback, &s.delayed_outside_potential,
             &s.delayed_thinned, &s.delayed_evicted, &s.delayed_lost, &s.rawlog_observations,
             &s.observations_unused, &s.time_backwards, &s.time_repeated, &s.odometry_invalid,
-            &s.frames_duplicate, &s.frames_without_odometry, &s.scans_without_valid_beam};
+            &s.frames_duplicate, &s.frames_without_odometry, &s.scans_without_valid_beam,
+            &s.observations_invalid_geometry};
 }
 
 void writeStats(mrpt::serialization::CArchive& out, const DenseSlam::Stats& stats)

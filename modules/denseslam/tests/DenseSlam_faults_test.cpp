@@ -4,6 +4,7 @@
 #include <hymm/core/config_utils.h>
 #include <hymm/denseslam/DenseSlam.h>
 #include <hymm/io/RawlogReader.h>
+#include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/obs/CObservationBearingRange.h>
@@ -12,6 +13,8 @@
 #include <Eigen/Eigenvalues>
 
 #include <cmath>
+#include <fstream>
+#include <iterator>
 #include <limits>
 #include <vector>
 
@@ -286,6 +289,91 @@ TEST_F(DenseSlamFaults, FiftyMetreKidnapKeepsTheStateFinite)
     EXPECT_GT(s.created + s.rejected_gate, clean_stats_->created + clean_stats_->rejected_gate);
     EXPECT_GT((slam.ekf().vehiclePose().head<2>() - clean_final_->head<2>()).norm(), 10.0)
         << "a 50 m odometry error cannot be undone by landmarks out of the gate";
+}
+
+TEST_F(DenseSlamFaults, NonFiniteSensorPosesAreSkippedAndCounted)
+{
+    // A corrupt sensor pose (NaN, inf, or a mount kilometres off the vehicle) would put
+    // every reading of that observation at NaN: the observation is skipped, not fused.
+    auto entries = loadEntries();
+    const auto f = frameIndices(entries);
+    size_t poisoned = 0;
+    for (size_t k = 30; k < 40; ++k)
+    {
+        auto br = first<mrpt::obs::CObservationBearingRange>(entries[f[k]]);
+        auto scan = first<mrpt::obs::CObservation2DRangeScan>(entries[f[k]]);
+        ASSERT_TRUE(br && scan);
+        const double bad = k % 3 == 0 ? kNaN : (k % 3 == 1 ? kInf : 1e6);
+        br->sensorLocationOnRobot.x(bad);
+        auto sp = scan->sensorPose;
+        sp.setYawPitchRoll(k % 2 ? kNaN : sp.yaw(), sp.pitch(), sp.roll());
+        if (k % 2 == 0) sp.y(bad);
+        scan->sensorPose = sp;
+        poisoned += 2;
+    }
+    const auto slam = run(entries);
+    EXPECT_EQ(slam.stats().observations_invalid_geometry, poisoned);
+    EXPECT_EQ(clean_stats_->observations_invalid_geometry, 0u);
+    expectHealthy(slam, kFrames);
+}
+
+TEST_F(DenseSlamFaults, AbsurdCovariancesKeepTheStateFinite)
+{
+    // Finite but absurd covariances (odometry 1e300 m^2, a landmark reading's negative or
+    // 1e300 variances) must not overflow the filter into inf / NaN.
+    auto entries = loadEntries();
+    const auto f = frameIndices(entries);
+    size_t poisoned = 0;
+    for (size_t k = 40; k < 50; ++k)
+    {
+        auto& inc = increment(entries[f[k] - 1]);
+        inc.cov(0, 0) = k % 2 ? 1e300 : -1.0;
+        auto br = first<mrpt::obs::CObservationBearingRange>(entries[f[k]]);
+        ASSERT_TRUE(br && !br->sensedData.empty());
+        br->validCovariances = true;
+        for (auto& m : br->sensedData)
+        {
+            m.covariance.setZero();
+            m.covariance(1, 1) = m.covariance(2, 2) = 1e-4;
+            m.covariance(0, 0) = k % 2 ? 1e300 : -1.0;
+            ++poisoned;
+        }
+    }
+    const auto slam = run(entries);
+    EXPECT_EQ(slam.stats().odometry_invalid, 10u);
+    EXPECT_EQ(slam.stats().skipped_invalid, clean_stats_->skipped_invalid + poisoned);
+    expectHealthy(slam, kFrames);
+}
+
+TEST_F(DenseSlamFaults, NonFiniteScanGeometryKeepsEveryLayerFinite)
+{
+    // A scan whose aperture or maximum range is NaN / inf places its beams at NaN angles:
+    // with every dense layer, the delayed store and the motion layers on (as the rawlog
+    // fuzz target runs), nothing of it may reach the filter or a region lookup.
+    // In memory: a CConfigFile written to would save itself over the shipped config.
+    std::ifstream in(kRoot + "/configs/ch3_slam.ini");
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    ASSERT_FALSE(text.empty());
+    auto cfg = std::make_unique<mrpt::config::CConfigFileMemory>(text);
+    cfg->write("DenseSlam", "dense_layers", "points,occupancy,particles,sog,property");
+    cfg->write("DelayedDenseStore", "enabled", "true");
+    cfg->write("DynamicSlam", "enabled", "true");
+    auto entries = loadEntries();
+    const auto f = frameIndices(entries);
+    for (size_t k = 20; k < 40; ++k)
+    {
+        auto scan = first<mrpt::obs::CObservation2DRangeScan>(entries[f[k]]);
+        ASSERT_TRUE(scan);
+        if (k % 2)
+            scan->aperture = static_cast<float>(k % 4 == 1 ? kNaN : kInf);
+        else
+            scan->maxRange = static_cast<float>(k % 4 == 0 ? kNaN : kInf);
+    }
+    auto slam = DenseSlam::fromConfig(*cfg);
+    for (const auto& e : entries) slam.processEntry(e);
+    slam.refreshRegions();
+    EXPECT_EQ(slam.stats().observations_invalid_geometry, 20u);
+    expectHealthy(slam, kFrames);
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <mrpt/math/wrap2pi.h>
 
 #include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -51,13 +52,20 @@ Eigen::Matrix3d stabilisingNoise(const EkfSlam::Options& o)
         .asDiagonal();
 }
 
-void checkCovariance(const Eigen::MatrixXd& C, Eigen::Index n, const char* what)
+void checkCovariance(const Eigen::MatrixXd& C, Eigen::Index n, const char* what, bool require_psd = true)
 {
     if (C.rows() != n || C.cols() != n)
         throw std::invalid_argument(std::string(what) + ": wrong covariance size");
     if (!C.allFinite()) throw std::invalid_argument(std::string(what) + ": non-finite covariance");
     if ((C - C.transpose()).cwiseAbs().maxCoeff() > 1e-9 * (1.0 + C.cwiseAbs().maxCoeff()))
         throw std::invalid_argument(std::string(what) + ": covariance is not symmetric");
+    // A negative variance would make the filter's covariance indefinite (and its gates
+    // meaningless) from this step on. Not for a whole state handed in (O(n^3)).
+    if (!require_psd) return;
+    const Eigen::MatrixXd S = 0.5 * (C + C.transpose());
+    if (Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(S, Eigen::EigenvaluesOnly).eigenvalues().minCoeff() <
+        -1e-12 * (1.0 + S.cwiseAbs().maxCoeff()))
+        throw std::invalid_argument(std::string(what) + ": covariance is not positive semi-definite");
 }
 }  // namespace
 
@@ -263,7 +271,7 @@ void EkfSlam::setActiveState(const Eigen::VectorXd& x, const Eigen::MatrixXd& P,
     for (const auto& [id, dim] : blocks) layout.add(id, dim, step_);
     if (static_cast<Eigen::Index>(layout.size()) != x.size() || !x.allFinite())
         throw std::invalid_argument("EkfSlam::setActiveState: x size does not match the blocks");
-    checkCovariance(P, x.size(), "EkfSlam::setActiveState");
+    checkCovariance(P, x.size(), "EkfSlam::setActiveState", false);
     for (auto& b : layout.blocks())
     {
         b.confirmed = true;

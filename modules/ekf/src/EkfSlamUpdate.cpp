@@ -6,6 +6,7 @@
 #include <Eigen/Cholesky>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 #include "batch_products.h"
 
@@ -28,6 +29,8 @@ UpdateReport EkfSlam::updateRangeBearing(
     mrpt::system::CTimeLoggerEntry tle_all(profiler_, "ekf.update_step");
     const Eigen::Vector3d sensor(
         sensorPoseOnVehicle.x(), sensorPoseOnVehicle.y(), sensorPoseOnVehicle.yaw());
+    if (!sensor.allFinite())
+        throw std::invalid_argument("EkfSlam::updateRangeBearing: non-finite sensor pose on the vehicle");
     UpdateReport report;
     report.assigned_ids.assign(obs.size(), -1);
 

@@ -370,4 +370,25 @@ TEST(EkfSlamTest, OptionsLoadStrictlyFromIni)
     EXPECT_THROW(bad.loadFromConfigFile(method, "EkfSlam"), std::invalid_argument);
 }
 
+TEST(EkfSlamTest, IndefiniteOdometryCovarianceAndNonFiniteSensorPoseAreRefused)
+{
+    // A negative variance would leave the filter's covariance indefinite; a NaN sensor
+    // mount would put every prediction at NaN. Both are refused before any state changes.
+    EkfSlam f{EkfSlam::Options{}};
+    const Eigen::VectorXd x0 = f.mean();
+    mrpt::math::CMatrixDouble33 C;
+    C.setZero();
+    C(0, 0) = -1e-2;
+    C(1, 1) = C(2, 2) = 1e-4;
+    EXPECT_THROW(f.predictOdometry(mrpt::poses::CPosePDFGaussian(mrpt::poses::CPose2D(1, 0, 0), C)),
+                 std::invalid_argument);
+    RangeBearingObs o;
+    o.z << 10.0, 0.0;
+    o.R = 1e-4 * Eigen::Matrix2d::Identity();
+    EXPECT_THROW(f.updateRangeBearing({o}, mrpt::poses::CPose3D(std::nan(""), 0, 0, 0, 0, 0)),
+                 std::invalid_argument);
+    EXPECT_TRUE(f.mean() == x0);
+    EXPECT_EQ(f.numLandmarks(), 0u);
+}
+
 }  // namespace

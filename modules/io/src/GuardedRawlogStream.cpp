@@ -108,7 +108,7 @@ bool GuardedRawlogStream::peekHeader(uint64_t at, ObjectHeader& h)
     }
     std::array<char, 128> name{};
     if (len == 0 || len > 120 || !peek(name_at, name.data(), len)) return false;
-    h.name = unqualified(std::string(name.data(), len));
+    h.name = unqualified(classNameOf(reinterpret_cast<const uint8_t*>(name.data()), len));
     if (h.old_format)
     {
         int32_t v = 0;
@@ -154,12 +154,25 @@ uint64_t GuardedRawlogStream::skipObject(uint64_t at)
     return end + 1;
 }
 
-void GuardedRawlogStream::refuse(uint64_t n, uint64_t need, const Checkpoint& c, uint64_t left)
+void GuardedRawlogStream::refuse(uint64_t n, uint64_t need, const Checkpoint& c, uint64_t left,
+                                 uint64_t reserved)
 {
     size_error_ = "declares " + std::to_string(n) + " " + c.what + " (at least " +
                   std::to_string(need) + " bytes) at byte " + std::to_string(c.offset) +
                   " but only " + std::to_string(left) + " bytes follow in the file";
+    if (reserved > 0)
+        size_error_ += ", " + std::to_string(std::min(reserved, left)) +
+                       " of them needed by the enclosing objects' remaining elements";
     throw RawlogSizeError(size_error_);
+}
+
+uint64_t GuardedRawlogStream::reservedAfter(uint64_t at)
+{
+    claims_.erase(std::remove_if(claims_.begin(), claims_.end(), [&](uint64_t end) { return end <= at; }),
+                  claims_.end());
+    uint64_t reserved = 0;
+    for (const uint64_t end : claims_) reserved += end - at;
+    return reserved;
 }
 
 void GuardedRawlogStream::checkCount(const Checkpoint& c)
@@ -185,12 +198,16 @@ void GuardedRawlogStream::checkCount(const Checkpoint& c)
         const uint64_t left = total_ - std::min(total_, c.offset + 8);
         const uint64_t elements = uint64_t{n} * cols;
         const uint64_t need = elements * c.element_bytes + c.tail_bytes;
-        if (need > left) refuse(elements, need, c, left);
+        const uint64_t reserved = reservedAfter(c.offset + 8);
+        if (need + reserved > left) refuse(elements, need, c, left, reserved);
         return;
     }
-    const uint64_t left = total_ - (c.offset + sizeof(n));
+    const uint64_t start = c.offset + sizeof(n);
+    const uint64_t left = total_ - start;
     const uint64_t need = static_cast<uint64_t>(n) * c.element_bytes + c.tail_bytes;
-    if (need > left) refuse(n, need, c, left);
+    const uint64_t reserved = reservedAfter(start);
+    if (need + reserved > left) refuse(n, need, c, left, reserved);
+    if (n > 0) claims_.push_back(start + (uint64_t{n} - 1) * c.element_bytes);
     if (c.then_what)
     {
         // A string whose length follows the elements (and then_gap bytes more).
@@ -240,7 +257,7 @@ size_t GuardedRawlogStream::Read(void* buffer, size_t count)
     const bool new_name = prev >= 0 && (prev & 0x80) && static_cast<size_t>(prev & 0x7F) == n;
     const bool old_name = old_len > 0 && static_cast<size_t>(old_len) == n;
     if (n == count && (new_name || old_name))
-        armFor(std::string(reinterpret_cast<const char*>(bytes), n), old_name);
+        armFor(classNameOf(bytes, n), old_name);
     return n;
 }
 

@@ -15,6 +15,11 @@
  * the fixed fields after them against the bytes the file still holds. A count that does
  * not fit throws RawlogSizeError before MRPT sees it. The serialised element size is
  * chosen so that what MRPT then allocates stays below twice the remaining bytes.
+ * Counts nest (a frame's observation holds a matrix; a crafted file nests collections in
+ * collections, each declaring as many elements as the rest of the file could hold): the
+ * bytes the enclosing counted containers still need for their remaining elements are not
+ * available to a nested count, so what all the open levels allocate together stays
+ * bounded by the file, not by its size times the nesting depth.
  *
  * Guarded (MRPT 2.5 layouts, every version MRPT 2.5 still reads, old and current object
  * headers): the classes RawlogReader's users consume and the objects inside them --
@@ -46,6 +51,15 @@ inline uint64_t matrixElementBytes(const std::string& name)
     if (name == "CMatrixF" || name == "CMatrix") return 4;
     if (name == "CMatrixD") return 8;
     return 0;
+}
+
+// The class name MRPT looks up for a header's `n` name bytes: it copies them into a C
+// string, so a zero byte ends the name (the version still follows all n bytes).
+inline std::string classNameOf(const uint8_t* bytes, size_t n)
+{
+    size_t len = 0;
+    while (len < n && bytes[len] != 0) ++len;
+    return std::string(reinterpret_cast<const char*>(bytes), len);
 }
 
 // "mrpt::obs::CSensoryFrame" (MRPT 2) and "CSensoryFrame" (older rawlogs) alike.
@@ -135,7 +149,11 @@ private:
                               const char* what);
     static uint64_t endFlagBytes(const ObjectHeader& h) { return h.old_format ? 0 : 1; }
     void checkCount(const Checkpoint& c);
-    [[noreturn]] void refuse(uint64_t n, uint64_t need, const Checkpoint& c, uint64_t left);
+    [[noreturn]] void refuse(uint64_t n, uint64_t need, const Checkpoint& c, uint64_t left,
+                             uint64_t reserved);
+    /** Bytes after `at` that the counted containers being read still need at least for
+     *  their remaining elements (see claims_); drops the claims that `at` has passed. */
+    uint64_t reservedAfter(uint64_t at);
     bool peekHeader(uint64_t at, ObjectHeader& h);
     /** Offset just past a serialised CPose3D (v0-3), CPose2D (v0-1) or CMatrixF/CMatrixD
      *  object starting at `at`, 0 if the bytes there are not one. */
@@ -149,6 +167,10 @@ private:
     std::string size_error_;
     std::vector<uint8_t> ahead_;  // bytes read from zlib but not yet consumed, from pos_
     std::vector<Checkpoint> checkpoints_;
+    // Per accepted count of n elements of at least e bytes starting at s: s + (n - 1) e.
+    // Read up to any p inside element k (p >= s + (k - 1) e), the elements after it still
+    // need (n - k) e >= that - p bytes; past the elements the claim is negative (dropped).
+    std::vector<uint64_t> claims_;
     int last_read_byte_ = -1;  // value of the previous read when it was one byte
     int old_header_len_ = -1;  // name length of an old-format header whose zeros were just read
 };

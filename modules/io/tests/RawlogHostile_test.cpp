@@ -499,4 +499,41 @@ TEST(RawlogHostileTest, HugeParticleCountIsRefused)
     expectHandMadeRefused(data, at + 1, 0x7FFFFFFFu, "particles");
 }
 
+TEST(RawlogHostileTest, NestedCollectionsCannotEachClaimTheRestOfTheFile)
+{
+    // 3000 action collections nested in each other, each declaring as many actions as
+    // the rest of the file could hold (about 11k at the top): MRPT sizes every level's
+    // container before reading its first element, so without the enclosing levels'
+    // reservation the open levels together would allocate ~17 million elements. With
+    // it, the second level finds no bytes left for more than its share.
+    const std::string name = "mrpt::obs::CActionCollection";
+    constexpr size_t kDepth = 3000;
+    const size_t level = 1 + name.size() + 1 + 4;
+    std::vector<uint8_t> data(kDepth * level + 64, 0);
+    for (size_t i = 0; i < kDepth; ++i)
+    {
+        const size_t at = i * level;
+        data[at] = static_cast<uint8_t>(0x80 | name.size());
+        std::memcpy(&data[at + 1], name.data(), name.size());
+        data[at + 1 + name.size()] = 0;  // version 0
+        putU32(data, at + 2 + name.size(), static_cast<uint32_t>((data.size() - at - level) / 9));
+    }
+    const auto path = writeGz(data);
+    expectCleanError(path, data, "entry 0", "needed by the enclosing objects' remaining elements");
+}
+
+TEST(RawlogHostileTest, ZeroByteInAClassNameDoesNotHideTheCounts)
+{
+    // MRPT reads the class name into a C string: "mrpt::obs::CActionCollection\0xyz" is a
+    // CActionCollection, whose action count must be checked like any other.
+    const std::string name = std::string("mrpt::obs::CActionCollection") + '\0' + "xyz";
+    std::vector<uint8_t> data(1 + name.size() + 1 + 4 + 64, 0);
+    data[0] = static_cast<uint8_t>(0x80 | name.size());
+    std::memcpy(&data[1], name.data(), name.size());
+    data[1 + name.size()] = 0;  // version 0
+    putU32(data, 2 + name.size(), 0x7FFFFFFFu);
+    const auto path = writeGz(data);
+    expectCleanError(path, data, "entry 0", "declares 2147483647 actions");
+}
+
 }  // namespace

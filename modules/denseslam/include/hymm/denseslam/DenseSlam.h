@@ -274,6 +274,11 @@ public:
         size_t frames_duplicate = 0;
         size_t frames_without_odometry = 0;  //!< frames after the first with no prediction since the previous
         size_t scans_without_valid_beam = 0;  //!< laser scans with every beam marked invalid (or none)
+        /** Observations whose sensor pose on the vehicle is NaN / inf or over 1 km from
+         *  it, and 2D scans whose aperture is not in (0, 2 pi] or whose maximum range is
+         *  not finite and positive: skipped whole (every reading would be placed at NaN or
+         *  nowhere). */
+        size_t observations_invalid_geometry = 0;
     };
 
     /** Builds the pipeline from an .ini: sections [DenseSlam], [Laser], [EkfSlam],
@@ -294,7 +299,9 @@ public:
     /** Applies an odometry increment (the action of an MRPT rawlog). */
     void processOdometry(const mrpt::poses::CPosePDFGaussian& increment);
 
-    /** Processes the observations of one sensory frame and records a path sample. */
+    /** Processes the observations of one sensory frame and records a path sample.
+     *  Observations with an unusable sensor pose or scan geometry are left out
+     *  (Stats::observations_invalid_geometry). */
     void processFrame(const mrpt::obs::CSensoryFrame& frame);
 
     const ekf::EkfSlam& ekf() const { return ekf_; }
