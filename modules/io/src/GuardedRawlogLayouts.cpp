@@ -2,6 +2,7 @@
 // HYMM reads (the checkpoints armFor sets when a class name goes by).
 #include "GuardedRawlogStream.h"
 
+#include <array>
 #include <cstdint>
 #include <string>
 
@@ -50,7 +51,7 @@ void GuardedRawlogStream::armFor(const std::string& qualified, bool old_format)
         if (at == 0) return;
         checkpoints_.push_back(countAt(h, at, 1, 8, "bytes of sensor label"));
     }
-    else if (name == "CActionRobotMovement2D" && v >= 3 && v <= 7)
+    else if (name == "CActionRobotMovement2D" && v <= 7)
         armRobotMovement(h);
     else if (name == "CPosePDFParticles" && v <= 1)
         // v1: log weight and a TPose2D (x, y, phi): 4 doubles per particle, as MRPT stores
@@ -166,11 +167,29 @@ void GuardedRawlogStream::armRobotMovement(const ObjectHeader& h)
 {
     const int v = h.version;
     const uint64_t data = h.data;
-    // emOdometry (0) stores the raw increment and the motion model; MRPT rebuilds the
-    // PDF from them, drawing nParticlesCount samples for the Thrun model (1): that
-    // count is not backed by bytes in the file, so it gets a fixed cap.
+    // Versions 0-1 start with the pose PDF; later ones with the estimation method, and
+    // the PDF follows unless it is emOdometry (0). MRPT casts the object it reads there to
+    // a pose PDF and copies it through the pointer without a null check: a serialised
+    // null object, or an object of another class (the cast gives null), was a
+    // segmentation fault inside MRPT. Anything but a pose PDF class is refused here.
     int32_t method = -1;
-    if (!peek(data, &method, 4) || method != 0) return;
+    if (v <= 1 || (peek(data, &method, 4) && method != 0))
+    {
+        const uint64_t pdf = v <= 1 ? data : data + 4;
+        const std::string cls = classAt(pdf);
+        if (!cls.empty() && cls != "CPosePDFGaussian" && cls != "CPosePDFGaussianInf" &&
+            cls != "CPosePDFParticles" && cls != "CPosePDFSOG" && cls != "CPosePDFGrid")
+        {
+            size_error_ = "holds a " + (cls == "nullptr" ? std::string("null object") : "'" + cls + "'") +
+                          " where a CActionRobotMovement2D's pose PDF belongs, at byte " + std::to_string(pdf);
+            throw RawlogSizeError(size_error_);
+        }
+        return;
+    }
+    // emOdometry stores the raw increment and the motion model; MRPT rebuilds the PDF
+    // from them, drawing nParticlesCount samples for the Thrun model (1): that count is
+    // not backed by bytes in the file, so it gets a fixed cap.
+    if (v < 3 || method != 0) return;
     const uint64_t at = skipObject(data + 4);
     int32_t model = 0;
     if (at == 0 || !peek(at, &model, 4) || model == 0) return;
@@ -180,6 +199,19 @@ void GuardedRawlogStream::armRobotMovement(const ObjectHeader& h)
     c.cap = kMaxMotionModelParticles;
     c.what = "motion-model particles";
     checkpoints_.push_back(c);
+}
+
+std::string GuardedRawlogStream::classAt(uint64_t at)
+{
+    // The header's name as MRPT looks it up (to a zero byte, after the last "::"); a null
+    // pointer is an object of class "nullptr" (with or without a version after it).
+    uint8_t len = 0;
+    if (!peek(at, &len, 1)) return "";
+    const bool old_format = !(len & 0x80);
+    len &= 0x7F;
+    std::array<uint8_t, 128> name{};
+    if (len == 0 || len > 120 || !peek(at + 1 + (old_format ? 3 : 0), name.data(), len)) return "";
+    return unqualified(classNameOf(name.data(), len));
 }
 
 GuardedRawlogStream::Checkpoint GuardedRawlogStream::countAt(

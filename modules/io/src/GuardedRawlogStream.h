@@ -148,6 +148,9 @@ private:
     static Checkpoint countAt(const ObjectHeader& h, uint64_t at, uint64_t element, uint64_t tail,
                               const char* what);
     static uint64_t endFlagBytes(const ObjectHeader& h) { return h.old_format ? 0 : 1; }
+    /** The class MRPT will look up for the object serialised at `at` ("nullptr" for a
+     *  null pointer); empty if the bytes cannot be read. */
+    std::string classAt(uint64_t at);
     void checkCount(const Checkpoint& c);
     [[noreturn]] void refuse(uint64_t n, uint64_t need, const Checkpoint& c, uint64_t left,
                              uint64_t reserved);

@@ -8,6 +8,7 @@
 #include <mrpt/obs/CObservationBearingRange.h>
 #include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/obs/CSensoryFrame.h>
+#include <mrpt/poses/CPosePDFGaussian.h>
 #include <mrpt/poses/CPosePDFParticles.h>
 #include <mrpt/serialization/CArchive.h>
 #include <mrpt/system/filesystem.h>
@@ -534,6 +535,47 @@ TEST(RawlogHostileTest, ZeroByteInAClassNameDoesNotHideTheCounts)
     putU32(data, 2 + name.size(), 0x7FFFFFFFu);
     const auto path = writeGz(data);
     expectCleanError(path, data, "entry 0", "declares 2147483647 actions");
+}
+
+TEST(RawlogHostileTest, NullPosePdfOfAMovementIsRefused)
+{
+    // A movement estimated by other means than odometry carries its pose PDF; MRPT copies
+    // the PDF it reads through the pointer without a null check, so a serialised null
+    // object there was a segmentation fault inside MRPT (found by the rawlog fuzz target).
+    using namespace mrpt::obs;
+    const auto serialise = [](const mrpt::serialization::CSerializable& o) {
+        mrpt::io::CMemoryStream mem;
+        auto arch = mrpt::serialization::archiveFrom(mem);
+        arch << o;
+        const auto* p = static_cast<const uint8_t*>(mem.getRawBufferData());
+        return std::vector<uint8_t>(p, p + mem.getTotalBytesCount());
+    };
+    const mrpt::poses::CPosePDFGaussian pdf(mrpt::poses::CPose2D(0.5, 0, 0.1));
+    CActionCollection acts;
+    CActionRobotMovement2D mov;
+    mov.estimationMethod = CActionRobotMovement2D::emScan2DMatching;
+    mov.poseChange = mrpt::poses::CPosePDFGaussian::Create(pdf);
+    acts.insert(mov);
+    const auto whole = serialise(acts);
+    const auto pdf_bytes = serialise(pdf);
+    const auto at = std::search(whole.begin(), whole.end(), pdf_bytes.begin(), pdf_bytes.end());
+    ASSERT_NE(at, whole.end()) << "the PDF's bytes inside the action";
+    // The same object with the PDF replaced by a null one (0x80 | 7, "nullptr", end flag).
+    std::vector<uint8_t> data(whole.begin(), at);
+    const std::string null_name = "nullptr";
+    data.push_back(0x80 | 7);
+    data.insert(data.end(), null_name.begin(), null_name.end());
+    data.push_back(0x88);
+    data.insert(data.end(), at + static_cast<std::ptrdiff_t>(pdf_bytes.size()), whole.end());
+    {
+        // Unchanged, the file reads.
+        const auto path = writeGz(whole);
+        const auto r = readInChild(path, budgetFor(whole));
+        ASSERT_TRUE(r.exited);
+        EXPECT_EQ(r.code, 1) << r.message;
+    }
+    const auto path = writeGz(data);
+    expectCleanError(path, data, "entry 0", "holds a null object where a CActionRobotMovement2D's pose PDF belongs");
 }
 
 }  // namespace

@@ -112,6 +112,10 @@ void RegionPartition::cellRange(
     const TriangleFrame::Vertices& v, long& x0, long& y0, long& x1, long& y1) const
 {
     const double c = options_.grid_cell_size_m;
+    // A NaN has no cell (and its cast to an index is undefined): a vertex or a box corner
+    // that is not finite is an error of the caller, never a silent wrong cell.
+    for (const auto& p : v)
+        if (!p.allFinite()) throw std::invalid_argument("RegionPartition: a position that is not finite has no grid cell");
     double lx = v[0].x(), hx = lx, ly = v[0].y(), hy = ly;
     for (const auto& p : v)
     {
@@ -289,6 +293,7 @@ std::vector<long> RegionPartition::regionsWithMissingLandmarksNear(
 std::vector<long> RegionPartition::findRegions(const Eigen::Vector2d& p) const
 {
     std::vector<long> out;
+    if (!p.allFinite()) return out;  // nowhere: in no region
     long ix, iy, unused_x, unused_y;
     cellRange({p, p, p}, ix, iy, unused_x, unused_y);
     const auto it = grid_.find(cellKey(ix, iy));
@@ -312,9 +317,10 @@ std::optional<long> RegionPartition::findRegion(const Eigen::Vector2d& p) const
 std::vector<long> RegionPartition::regionsInBox(
     const Eigen::Vector2d& lo, const Eigen::Vector2d& hi) const
 {
+    std::vector<long> out;
+    if (!lo.allFinite() || !hi.allFinite()) return out;
     long x0, y0, x1, y1;
     cellRange({lo, hi, hi}, x0, y0, x1, y1);
-    std::vector<long> out;
     // A box of more cells than the grid holds walks the grid instead: the cost is bounded
     // by the map, whatever the box.
     const double box_cells = double(x1 - x0 + 1) * double(y1 - y0 + 1);

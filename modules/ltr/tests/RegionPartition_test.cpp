@@ -9,6 +9,7 @@
 #include "synthetic_map.h"
 
 #include <gtest/gtest.h>
+#include <limits>
 #include <mrpt/config/CConfigFileMemory.h>
 
 #include <array>
@@ -427,6 +428,24 @@ TEST(RegionPartitionTest, SmallerGridCellsGiveTheSameLookups)
         const V2 p(ux(rng), uy(rng));
         ASSERT_EQ(fine.partition->findRegions(p), coarse.partition->findRegions(p));
     }
+}
+
+TEST(RegionPartitionTest, LookupsOfNonFinitePositionsFindNothing)
+{
+    // A NaN position (a corrupt reading that got this far) lies in no region: the lookups
+    // answer "none" instead of casting NaN to a grid index.
+    Drive d = drive();
+    const RegionPartition& part = *d.partition;
+    ASSERT_GT(part.size(), 0u);
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    const double inf = std::numeric_limits<double>::infinity();
+    EXPECT_TRUE(part.findRegions(V2(nan, 1.0)).empty());
+    EXPECT_TRUE(part.findRegions(V2(1.0, inf)).empty());
+    EXPECT_FALSE(part.findRegion(V2(nan, nan)));
+    EXPECT_TRUE(part.regionsInBox(V2(nan, 0), V2(10, 10)).empty());
+    EXPECT_TRUE(part.regionsInBox(V2(0, 0), V2(inf, 10)).empty());
+    // Finite lookups are unaffected.
+    EXPECT_FALSE(part.regionsInBox(V2(-1000, -1000), V2(1000, 1000)).empty());
 }
 
 }  // namespace
