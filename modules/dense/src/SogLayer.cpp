@@ -48,6 +48,36 @@ bool isCovariance(const Eigen::Matrix2d& p)
 {
     return p.allFinite() && p(0, 1) == p(1, 0) && p(0, 0) > 0 && p(1, 1) > 0 && p.determinant() > 0;
 }
+
+/** Indices of the first `n` Gaussians by hash cell of side `cell`. */
+using CellIndex = std::unordered_map<std::int64_t, std::vector<size_t>>;
+CellIndex indexOf(const std::vector<SogLayer::Gaussian>& gs, size_t n, double cell)
+{
+    CellIndex index;
+    for (size_t i = 0; i < n; ++i) index[pointCellKey(gs[i].mean, cell)].push_back(i);
+    return index;
+}
+
+/** The entry of `gs` (as indexed) nearest to p within `cell`, or `none`. */
+size_t nearest(const CellIndex& index, const std::vector<SogLayer::Gaussian>& gs, const Eigen::Vector2d& p,
+               double cell, size_t none)
+{
+    size_t best = none;
+    double best_d2 = cell * cell;
+    for (std::int64_t dx = -1; dx <= 1; ++dx)
+        for (std::int64_t dy = -1; dy <= 1; ++dy)
+        {
+            const auto it = index.find(pointCellKey(p, cell, dx, dy));
+            if (it == index.end()) continue;
+            for (const size_t i : it->second)
+                if (const double d2 = (gs[i].mean - p).squaredNorm(); d2 < best_d2)
+                {
+                    best_d2 = d2;
+                    best = i;
+                }
+        }
+    return best;
+}
 }  // namespace
 
 double majorSigma(const Eigen::Matrix2d& cov)
@@ -161,40 +191,15 @@ void SogLayer::insert(const RegionScan& scan)
     const std::vector<Gaussian> obs = observationGaussians(scan);
     // Neighbours closer than d_min are found in hash grids of cell d_min (step 3).
     const double cell = options_.d_min_m;
-    using CellIndex = std::unordered_map<std::int64_t, std::vector<size_t>>;
-    const auto indexOf = [cell](const std::vector<Gaussian>& gs, size_t n) {
-        CellIndex index;
-        for (size_t i = 0; i < n; ++i) index[pointCellKey(gs[i].mean, cell)].push_back(i);
-        return index;
-    };
-    // The entry of `gs` (as indexed) nearest to p within d_min, or `none`.
-    const auto nearest = [&](const CellIndex& index, const std::vector<Gaussian>& gs, const Eigen::Vector2d& p,
-                             size_t none) {
-        size_t best = none;
-        double best_d2 = cell * cell;
-        for (std::int64_t dx = -1; dx <= 1; ++dx)
-            for (std::int64_t dy = -1; dy <= 1; ++dy)
-            {
-                const auto it = index.find(pointCellKey(p, cell, dx, dy));
-                if (it == index.end()) continue;
-                for (const size_t i : it->second)
-                    if (const double d2 = (gs[i].mean - p).squaredNorm(); d2 < best_d2)
-                    {
-                        best_d2 = d2;
-                        best = i;
-                    }
-            }
-        return best;
-    };
     // Each map Gaussian fuses its nearest scan Gaussian.
-    const CellIndex index = indexOf(obs, obs.size());
+    const CellIndex index = indexOf(obs, obs.size(), cell);
     std::vector<char> used(obs.size(), 0);
     const size_t prior = gaussians_.size();
     std::vector<char> moved(prior, 0);
     for (size_t j = 0; j < prior; ++j)
     {
         Gaussian& g = gaussians_[j];
-        const size_t best = nearest(index, obs, g.mean, obs.size());
+        const size_t best = nearest(index, obs, g.mean, cell, obs.size());
         if (best == obs.size()) continue;
         g = fuse(g, obs[best]);
         used[best] = 1;
@@ -205,11 +210,11 @@ void SogLayer::insert(const RegionScan& scan)
         // The unused scan Gaussians near a map Gaussian join it (the header: revisits).
         // The map Gaussian may move a little with each fusion; the index keeps its cell at
         // the time of the lookup, which only matters within d_min.
-        const CellIndex map_index = indexOf(gaussians_, prior);
+        const CellIndex map_index = indexOf(gaussians_, prior, cell);
         for (size_t i = 0; i < obs.size(); ++i)
         {
             if (used[i]) continue;
-            const size_t best = nearest(map_index, gaussians_, obs[i].mean, prior);
+            const size_t best = nearest(map_index, gaussians_, obs[i].mean, cell, prior);
             if (best == prior) continue;
             gaussians_[best] = fuse(gaussians_[best], obs[i]);
             used[i] = 1;
@@ -224,8 +229,7 @@ void SogLayer::insert(const RegionScan& scan)
 void SogLayer::mergeMoved(size_t prior, const std::vector<char>& moved)
 {
     const double cell = options_.merge_within_m;
-    std::unordered_map<std::int64_t, std::vector<size_t>> index;
-    for (size_t i = 0; i < prior; ++i) index[pointCellKey(gaussians_[i].mean, cell)].push_back(i);
+    const CellIndex index = indexOf(gaussians_, prior, cell);
     // Of two Gaussians within merge_within_m the older one stays as it is and the younger
     // goes (the vector is in birth order: inserts append, removals keep the order). The
     // older one has fused more returns; an average with the younger (Eq. 4.17 is meant for
