@@ -39,7 +39,25 @@ void GuardedRawlogStream::armFor(const std::string& qualified, bool old_format)
         checkpoints_.push_back(countAt(h, at, kMinObjectBytes, 0, "observations"));
     }
     else if (name == "CActionCollection" && v == 0)
+    {
         checkpoints_.push_back(countAt(h, data, kMinObjectBytes, 0, "actions"));
+        // Current-format collections have their actions checked as they go by (open_).
+        // An old-format action has no end flag, so where the second one starts is not
+        // known without its layout: the first is checked here, more are refused.
+        uint32_t n = 0;
+        if (h.old_format && peek(data, &n, 4) && n > 0)
+        {
+            if (n > 1)
+            {
+                size_error_ = "holds an old-format (before MRPT 0.5.5) CActionCollection of " +
+                              std::to_string(n) + " actions at byte " + std::to_string(data) +
+                              "; only one action per such collection is read";
+                throw RawlogSizeError(size_error_);
+            }
+            const std::string cls = qualifiedClassAt(data + 4);
+            if (!cls.empty()) requireAction(cls, data + 4, "an action of a CActionCollection");
+        }
+    }
     else if (name == "CObservation2DRangeScan" && v <= 7)
         armScan(h);
     else if (name == "CObservationBearingRange" && v <= 3)
@@ -53,6 +71,8 @@ void GuardedRawlogStream::armFor(const std::string& qualified, bool old_format)
     }
     else if (name == "CActionRobotMovement2D" && v <= 7)
         armRobotMovement(h);
+    else if (name == "CActionRobotMovement3D" && v <= 1)
+        armRobotMovement3D(h);
     else if (name == "CPosePDFParticles" && v <= 1)
         // v1: log weight and a TPose2D (x, y, phi): 4 doubles per particle, as MRPT stores
         // them;
@@ -201,17 +221,40 @@ void GuardedRawlogStream::armRobotMovement(const ObjectHeader& h)
     checkpoints_.push_back(c);
 }
 
+void GuardedRawlogStream::armRobotMovement3D(const ObjectHeader& h)
+{
+    // The estimation method (int32), the pose change (a CPose3DPDFGaussian object), the
+    // velocity flags (a vector<bool>: count, one byte each; MRPT allocates a byte and a
+    // bit per flag), the velocities (a float vector: count, 4 bytes each), and from v1
+    // a timestamp.
+    const uint64_t at = skipObject(h.data + 4);
+    if (at == 0) return;
+    const uint64_t stamp = h.version >= 1 ? 8 : 0;
+    Checkpoint c = countAt(h, at, 1, 4 + stamp, "velocity flags");
+    c.then_what = "velocities";
+    c.then_gap = 0;
+    c.then_element = 4;
+    c.then_tail = stamp + endFlagBytes(h);
+    checkpoints_.push_back(c);
+}
+
 std::string GuardedRawlogStream::classAt(uint64_t at)
 {
-    // The header's name as MRPT looks it up (to a zero byte, after the last "::"); a null
-    // pointer is an object of class "nullptr" (with or without a version after it).
+    const std::string q = qualifiedClassAt(at);
+    return q.empty() ? q : unqualified(q);
+}
+
+std::string GuardedRawlogStream::qualifiedClassAt(uint64_t at)
+{
+    // The header's name as MRPT looks it up (to a zero byte); a null pointer is an object
+    // of class "nullptr" (with or without a version after it).
     uint8_t len = 0;
     if (!peek(at, &len, 1)) return "";
     const bool old_format = !(len & 0x80);
     len &= 0x7F;
     std::array<uint8_t, 128> name{};
     if (len == 0 || len > 120 || !peek(at + 1 + (old_format ? 3 : 0), name.data(), len)) return "";
-    return unqualified(classNameOf(name.data(), len));
+    return classNameOf(name.data(), len);
 }
 
 GuardedRawlogStream::Checkpoint GuardedRawlogStream::countAt(

@@ -1,5 +1,7 @@
 #include "GuardedRawlogStream.h"
 
+#include <mrpt/obs/CAction.h>
+#include <mrpt/rtti/CObject.h>
 #include <zlib.h>
 
 #include <algorithm>
@@ -141,6 +143,13 @@ uint64_t GuardedRawlogStream::skipObject(uint64_t at)
     }
     else if (h.name == "CPose2D")
         end = h.version == 0 ? h.data + 3 * 4 : h.version == 1 ? h.data + 3 * 8 : 0;
+    else if (h.name == "CPose3DPDFGaussian" && h.version == 1)
+    {
+        // The mean (a CPose3D object), then the 21 doubles of the covariance's upper
+        // triangle.
+        end = skipObject(h.data);
+        if (end != 0) end += 21 * 8;
+    }
     else if (h.version == 0 && matrixElementBytes(h.name) != 0)
     {
         std::array<uint32_t, 2> rc{};
@@ -213,7 +222,7 @@ void GuardedRawlogStream::checkCount(const Checkpoint& c)
         // A string whose length follows the elements (and then_gap bytes more).
         Checkpoint s;
         s.offset = c.offset + sizeof(n) + uint64_t{n} * c.element_bytes + c.then_gap;
-        s.element_bytes = 1;
+        s.element_bytes = c.then_element;
         s.tail_bytes = c.then_tail;
         s.what = c.then_what;
         checkpoints_.push_back(s);
@@ -245,7 +254,42 @@ size_t GuardedRawlogStream::Read(void* buffer, size_t count)
     const int old_len = old_header_len_;
     last_read_byte_ = n == 1 ? bytes[0] : -1;
     old_header_len_ = -1;
-    if (n == 1) return n;
+    // Which objects are open (see open_): the version byte after a class name opens the
+    // frame; a lone 0x88 closes one, unless what follows shows it was a value.
+    bool version_byte = false;
+    if (pending_)
+    {
+        pending_ = false;
+        if (count == 1 && n == 1)
+        {
+            open_.push_back(pending_frame_);
+            version_byte = true;
+        }
+        else if (reopened_ && !open_.empty())
+            open_.pop_back();  // no version byte: no header, so the 0x88 did close it
+    }
+    reopened_ = false;
+    if (popped_)
+    {
+        popped_ = false;
+        // Reopened at once, so that the header's own check sees the right parent; closed
+        // again if no version byte follows the name.
+        const bool name_follows = prev == kEndFlag && n == count && n == (kEndFlag & 0x7Fu) &&
+                                  mrpt::rtti::findRegisteredClass(classNameOf(bytes, n)) != nullptr;
+        const bool wide_after_action = (popped_frame_.collection || popped_frame_.element) && count != 1;
+        if (name_follows || wide_after_action) open_.push_back(popped_frame_);
+        reopened_ = name_follows;
+    }
+    if (n == 1)
+    {
+        if (!version_byte && bytes[0] == kEndFlag && !open_.empty())
+        {
+            popped_frame_ = open_.back();
+            open_.pop_back();
+            popped_ = true;
+        }
+        return n;
+    }
     // Old-format header (before MRPT 0.5.5): a length byte below 0x80, three zero bytes.
     if (n == 3 && count == 3 && prev >= 1 && prev <= 120 && !bytes[0] && !bytes[1] && !bytes[2])
     {
@@ -257,8 +301,49 @@ size_t GuardedRawlogStream::Read(void* buffer, size_t count)
     const bool new_name = prev >= 0 && (prev & 0x80) && static_cast<size_t>(prev & 0x7F) == n;
     const bool old_name = old_len > 0 && static_cast<size_t>(old_len) == n;
     if (n == count && (new_name || old_name))
-        armFor(classNameOf(bytes, n), old_name);
+    {
+        const std::string name = classNameOf(bytes, n);
+        trackHeader(name, old_name, pos_ - n - (old_name ? 4 : 1));
+        armFor(name, old_name);
+    }
     return n;
+}
+
+void GuardedRawlogStream::trackHeader(const std::string& qualified, bool old_format, uint64_t at)
+{
+    const bool null = qualified == "nullptr";
+    // Bytes that only look like a header (a value with the high bit set, then as many
+    // bytes) name no class; a real header naming none is refused by MRPT itself.
+    if (!null && !mrpt::rtti::findRegisteredClass(qualified)) return;
+    const bool element = !open_.empty() && open_.back().collection;
+    if (element) requireAction(qualified, at, "an action of a CActionCollection");
+    if (old_format) return;  // no end flag to close it (old-format collections: armFor)
+    Frame f;
+    f.collection = unqualified(qualified) == "CActionCollection";
+    f.element = element;
+    f.at = at;
+    if (null)
+        open_.push_back(f);  // no version byte: its end flag is the next read
+    else
+    {
+        pending_ = true;
+        pending_frame_ = f;
+    }
+}
+
+void GuardedRawlogStream::requireAction(const std::string& qualified, uint64_t at, const char* where)
+{
+    std::string what;
+    if (qualified == "nullptr")
+        what = "a null object";
+    else
+    {
+        const auto* id = mrpt::rtti::findRegisteredClass(qualified);
+        if (!id || id->derivedFrom(CLASS_ID(mrpt::obs::CAction))) return;
+        what = "a '" + unqualified(qualified) + "'";
+    }
+    size_error_ = "holds " + what + " where " + where + " belongs, at byte " + std::to_string(at);
+    throw RawlogSizeError(size_error_);
 }
 
 size_t GuardedRawlogStream::Write(const void*, size_t)

@@ -21,11 +21,18 @@
  * available to a nested count, so what all the open levels allocate together stays
  * bounded by the file, not by its size times the nesting depth.
  *
+ * The elements of a CActionCollection: MRPT reads each into a deep-copying pointer that
+ * clones what it read without a null check, so an element that is a null object or an
+ * object of another class (the cast to CAction gives null) was a segmentation fault
+ * inside MRPT. The stream follows which objects are open (a header opens one, its end
+ * flag closes it) and refuses such an element when its class name goes by (see open_).
+ *
  * Guarded (MRPT 2.5 layouts, every version MRPT 2.5 still reads, old and current object
  * headers): the classes RawlogReader's users consume and the objects inside them --
  * CSensoryFrame and CActionCollection element counts; CObservation2DRangeScan beams and
  * label; CObservationBearingRange measurements and label; CObservationOdometry label;
- * CActionRobotMovement2D's motion-model sample count (a fixed cap); CPosePDFParticles,
+ * CActionRobotMovement2D's motion-model sample count (a fixed cap); CActionRobotMovement3D's
+ * velocity flags and velocities; CPosePDFParticles,
  * CPosePDFSOG and CPosePDFGrid element counts; CMatrixF/CMatrixD sizes (covariances,
  * old poses). Not guarded: counts inside any other class (e.g. a CObservation3DRangeScan
  * planted in a frame): MRPT's deserialiser allocates what those declare.
@@ -118,10 +125,12 @@ private:
         uint64_t tail_bytes = 0;
         uint64_t cap = 0;
         const char* what = "";
-        // A string whose length lies `then_gap` bytes after the counted elements (the
-        // sensor labels of 2D scans and bearing-range observations).
+        // A second count `then_gap` bytes after the counted elements, of elements of
+        // `then_element` bytes (the sensor labels of 2D scans and bearing-range
+        // observations; a 3-D movement's velocities).
         const char* then_what = nullptr;
         uint64_t then_gap = 0;
+        uint64_t then_element = 1;
         uint64_t then_tail = 0;
     };
     /** A serialised object's header as MRPT writes it (current or pre-0.5.5 format). */
@@ -143,6 +152,7 @@ private:
     void armScan(const ObjectHeader& h);
     void armBearingRange(const ObjectHeader& h);
     void armRobotMovement(const ObjectHeader& h);
+    void armRobotMovement3D(const ObjectHeader& h);
     /** A count at `at` followed by elements of `element` bytes and `tail` bytes more
      *  (plus the end flag) before the object ends. */
     static Checkpoint countAt(const ObjectHeader& h, uint64_t at, uint64_t element, uint64_t tail,
@@ -151,6 +161,8 @@ private:
     /** The class MRPT will look up for the object serialised at `at` ("nullptr" for a
      *  null pointer); empty if the bytes cannot be read. */
     std::string classAt(uint64_t at);
+    /** The same with its namespace, as MRPT passes it to its class registry. */
+    std::string qualifiedClassAt(uint64_t at);
     void checkCount(const Checkpoint& c);
     [[noreturn]] void refuse(uint64_t n, uint64_t need, const Checkpoint& c, uint64_t left,
                              uint64_t reserved);
@@ -158,9 +170,23 @@ private:
      *  their remaining elements (see claims_); drops the claims that `at` has passed. */
     uint64_t reservedAfter(uint64_t at);
     bool peekHeader(uint64_t at, ObjectHeader& h);
-    /** Offset just past a serialised CPose3D (v0-3), CPose2D (v0-1) or CMatrixF/CMatrixD
-     *  object starting at `at`, 0 if the bytes there are not one. */
+    /** Offset just past a serialised CPose3D (v0-3), CPose2D (v0-1), CPose3DPDFGaussian (v1)
+     *  or CMatrixF/CMatrixD object starting at `at`, 0 if the bytes there are not one. */
     uint64_t skipObject(uint64_t at);
+
+    /** An object being read: a current-format header went by, its end flag has not. */
+    struct Frame
+    {
+        bool collection = false;  // a CActionCollection: its children must be actions
+        bool element = false;     // a child of a collection
+        uint64_t at = 0;          // offset of the header
+    };
+    /** At a class name MRPT just read (the header started at `at`): refuses a child of an
+     *  open CActionCollection that is not an action, and opens a frame for the object. */
+    void trackHeader(const std::string& qualified, bool old_format, uint64_t at);
+    /** Throws RawlogSizeError unless `qualified` (as MRPT looks it up) names an action class
+     *  or a class MRPT does not know (it refuses those itself). */
+    void requireAction(const std::string& qualified, uint64_t at, const char* where);
 
     std::string path_;
     void* gz_ = nullptr;  // gzFile
@@ -176,6 +202,20 @@ private:
     std::vector<uint64_t> claims_;
     int last_read_byte_ = -1;  // value of the previous read when it was one byte
     int old_header_len_ = -1;  // name length of an old-format header whose zeros were just read
+    // The open objects, innermost last. A header opens a frame once its version byte is
+    // read (pending_); a byte 0x88 read on its own closes the innermost one (MRPT reads the
+    // end flag so), but a value can be 0x88 too, so the close is undone by what comes
+    // next (popped_): the same byte was the length of an 8-character class name if the
+    // next read is that name; it was a bool of an action if it closed an action or a
+    // collection and the next read is not one byte (after an element MRPT reads the next
+    // header's length byte or the collection's end flag, one byte each; every bool of
+    // MRPT's actions is followed by wider fields). Valid files write bools as 0 or 1.
+    std::vector<Frame> open_;
+    bool pending_ = false;
+    Frame pending_frame_;
+    bool popped_ = false;
+    Frame popped_frame_;
+    bool reopened_ = false;  // the frame popped_ closed was reopened for a name read
 };
 
 }  // namespace hymm::io::detail

@@ -5,9 +5,11 @@
 #include <mrpt/io/CMemoryStream.h>
 #include <mrpt/obs/CActionCollection.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
+#include <mrpt/obs/CActionRobotMovement3D.h>
 #include <mrpt/obs/CObservationBearingRange.h>
 #include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/obs/CSensoryFrame.h>
+#include <mrpt/poses/CPose3DPDFGaussian.h>
 #include <mrpt/poses/CPosePDFGaussian.h>
 #include <mrpt/poses/CPosePDFParticles.h>
 #include <mrpt/serialization/CArchive.h>
@@ -502,12 +504,14 @@ TEST(RawlogHostileTest, HugeParticleCountIsRefused)
 
 TEST(RawlogHostileTest, NestedCollectionsCannotEachClaimTheRestOfTheFile)
 {
-    // 3000 action collections nested in each other, each declaring as many actions as
-    // the rest of the file could hold (about 11k at the top): MRPT sizes every level's
+    // 3000 sensory frames nested in each other, each declaring as many observations as
+    // the rest of the file could hold (about 12k at the top): MRPT sizes every level's
     // container before reading its first element, so without the enclosing levels'
-    // reservation the open levels together would allocate ~17 million elements. With
-    // it, the second level finds no bytes left for more than its share.
-    const std::string name = "mrpt::obs::CActionCollection";
+    // reservation the open levels together would allocate ~18 million elements. With
+    // it, the second level finds no bytes left for more than its share. (A frame's
+    // element that is not an observation becomes a null one; a collection's element that
+    // is not an action is refused outright: ActionCollectionElementsMustBeActions.)
+    const std::string name = "mrpt::obs::CSensoryFrame";
     constexpr size_t kDepth = 3000;
     const size_t level = 1 + name.size() + 1 + 4;
     std::vector<uint8_t> data(kDepth * level + 64, 0);
@@ -516,7 +520,7 @@ TEST(RawlogHostileTest, NestedCollectionsCannotEachClaimTheRestOfTheFile)
         const size_t at = i * level;
         data[at] = static_cast<uint8_t>(0x80 | name.size());
         std::memcpy(&data[at + 1], name.data(), name.size());
-        data[at + 1 + name.size()] = 0;  // version 0
+        data[at + 1 + name.size()] = 2;  // version 2: the count comes first
         putU32(data, at + 2 + name.size(), static_cast<uint32_t>((data.size() - at - level) / 9));
     }
     const auto path = writeGz(data);
@@ -576,6 +580,133 @@ TEST(RawlogHostileTest, NullPosePdfOfAMovementIsRefused)
     }
     const auto path = writeGz(data);
     expectCleanError(path, data, "entry 0", "holds a null object where a CActionRobotMovement2D's pose PDF belongs");
+}
+
+std::vector<uint8_t> serialised(const mrpt::serialization::CSerializable& o)
+{
+    mrpt::io::CMemoryStream mem;
+    auto arch = mrpt::serialization::archiveFrom(mem);
+    arch << o;
+    const auto* p = static_cast<const uint8_t*>(mem.getRawBufferData());
+    return std::vector<uint8_t>(p, p + mem.getTotalBytesCount());
+}
+
+// A CActionCollection as MRPT writes it (header, version 0, count, elements, end flag)
+// holding the given serialised objects, whatever their class.
+std::vector<uint8_t> collectionOf(const std::vector<std::vector<uint8_t>>& elements)
+{
+    auto data = serialised(mrpt::obs::CActionCollection());  // header, count 0, end flag
+    data.resize(data.size() - 5);
+    const auto n = static_cast<uint32_t>(elements.size());
+    const auto* nb = reinterpret_cast<const uint8_t*>(&n);
+    data.insert(data.end(), nb, nb + 4);
+    for (const auto& e : elements) data.insert(data.end(), e.begin(), e.end());
+    data.push_back(0x88);
+    return data;
+}
+
+std::vector<uint8_t> concat(const std::vector<std::vector<uint8_t>>& parts)
+{
+    std::vector<uint8_t> out;
+    for (const auto& p : parts) out.insert(out.end(), p.begin(), p.end());
+    return out;
+}
+
+TEST(RawlogHostileTest, ActionCollectionElementsMustBeActions)
+{
+    // MRPT reads each element of an action collection into a deep-copying pointer that
+    // clones it without a null check: an element that is a null object, or an object of
+    // another class (the cast to CAction gives null), was a segmentation fault inside
+    // MRPT (found by the rawlog fuzz target, a CActionCollection among the actions).
+    using namespace mrpt::obs;
+    // Actions with nested objects, velocities and encoders, so that the reader must
+    // follow where each one ends: a particle PDF larger than the guard's look-ahead, a
+    // Gaussian one, raw odometry, and a 3-D movement.
+    CActionRobotMovement2D particles;
+    particles.estimationMethod = CActionRobotMovement2D::emScan2DMatching;
+    auto pdf = mrpt::poses::CPosePDFParticles::Create(500);
+    for (size_t i = 0; i < pdf->size(); ++i) pdf->m_particles[i].d = mrpt::math::TPose2D(0.01 * i, 0, 0);
+    particles.poseChange = pdf;
+    particles.hasVelocities = true;
+    particles.velocityLocal = mrpt::math::TTwist2D(0.5, 0, 0.1);
+    CActionRobotMovement2D gaussian;
+    gaussian.estimationMethod = CActionRobotMovement2D::emScan2DMatching;
+    gaussian.poseChange = mrpt::poses::CPosePDFGaussian::Create(mrpt::poses::CPose2D(0.5, 0, 0.1));
+    gaussian.hasEncodersInfo = true;
+    gaussian.encoderLeftTicks = 120;
+    gaussian.encoderRightTicks = 136;  // 0x88
+    CActionRobotMovement2D odometry;
+    odometry.computeFromOdometry(mrpt::poses::CPose2D(0.3, 0.01, 0.02), CActionRobotMovement2D::TMotionModelOptions());
+    CActionRobotMovement3D mov3d;
+    mov3d.poseChange = mrpt::poses::CPose3DPDFGaussian(mrpt::poses::CPose3D(0.2, 0, 0, 0.1, 0, 0));
+    mov3d.hasVelocities = {true, false, false, false, false, true};
+    const auto a = serialised(particles), b = serialised(gaussian), c = serialised(odometry), d = serialised(mov3d);
+    CSensoryFrame frame;
+    auto odo = CObservationOdometry::Create();
+    odo->odometry = mrpt::poses::CPose2D(1, 2, 0.3);
+    frame.insert(odo);
+    const auto f = serialised(frame);
+    const auto pose = serialised(mrpt::poses::CPose2D(1, 2, 3));
+    const std::vector<uint8_t> null_object = {0x80 | 7, 'n', 'u', 'l', 'l', 'p', 't', 'r', 0x88};
+    {
+        // Well formed: collections of every kind of action, frames between them (a frame
+        // after a collection is no action of it), a collection that is not the first entry.
+        const auto data = concat({collectionOf({a, b, c, d}), f, collectionOf({d, c}), f,
+                                  collectionOf({}), collectionOf({b})});
+        const auto path = writeGz(data);
+        const auto r = readInChild(path, budgetFor(data));
+        ASSERT_TRUE(r.exited) << "killed by signal " << r.signal;
+        EXPECT_EQ(r.code, 1) << r.message;
+    }
+    struct Case
+    {
+        std::vector<uint8_t> data;
+        std::string entry, what;
+    };
+    // The hasVelocities byte of the first action (just after its PDF) set to 0x88, as an
+    // end flag is: it must not end the action early and let the next element through.
+    auto a_flag = a;
+    const auto pdf_bytes = serialised(*pdf);
+    const auto at = std::search(a_flag.begin(), a_flag.end(), pdf_bytes.begin(), pdf_bytes.end());
+    ASSERT_NE(at, a_flag.end());
+    *(at + static_cast<std::ptrdiff_t>(pdf_bytes.size())) = 0x88;
+    const std::vector<Case> cases = {
+        {collectionOf({b, pose}), "entry 0", "holds a 'CPose2D' where an action of a CActionCollection belongs"},
+        {collectionOf({a, null_object, c}), "entry 0", "holds a null object where an action of a CActionCollection belongs"},
+        {concat({f, collectionOf({f})}), "entry 1", "holds a 'CSensoryFrame' where an action"},
+        {collectionOf({d, collectionOf({b})}), "entry 0", "holds a 'CActionCollection' where an action"},
+        {collectionOf({a_flag, pose}), "entry 0", "holds a 'CPose2D' where an action"},
+        {concat({collectionOf({b}), f, collectionOf({c, d, null_object})}), "entry 2", "holds a null object where an action"},
+    };
+    for (const auto& k : cases)
+    {
+        SCOPED_TRACE(k.what + " (" + k.entry + ")");
+        const auto path = writeGz(k.data);
+        expectCleanError(path, k.data, k.entry, k.what);
+    }
+}
+
+TEST(RawlogHostileTest, HugeCountsOfA3DMovementAreRefused)
+{
+    // A 3-D movement's velocity flags and velocities are counted vectors MRPT sizes
+    // before reading them (a flag costs a byte and a bit, a velocity 4 bytes).
+    mrpt::obs::CActionRobotMovement3D mov;
+    mov.poseChange = mrpt::poses::CPose3DPDFGaussian(mrpt::poses::CPose3D(0.2, 0, 0, 0.1, 0, 0));
+    mov.hasVelocities = {true, false, false, false, false, true};
+    const auto data = collectionOf({serialised(mov), serialised(mov)});
+    {
+        const auto path = writeGz(data);
+        const auto r = readInChild(path, budgetFor(data));
+        ASSERT_TRUE(r.exited) << "killed by signal " << r.signal;
+        EXPECT_EQ(r.code, 1) << r.message;
+    }
+    // The flags' count: 6, then the six bytes 1 0 0 0 0 1, then the velocities' count 6.
+    const std::vector<uint8_t> pat = {6, 0, 0, 0, 1, 0, 0, 0, 0, 1, 6, 0, 0, 0};
+    const size_t flags = find(data, pat, afterName(data, "mrpt::obs::CActionRobotMovement3D"));
+    expectHandMadeRefused(data, flags, 0xF0000000u, "velocity flags");
+    expectHandMadeRefused(data, flags + 10, 0x40000000u, "velocities");
+    const size_t second = find(data, pat, flags + pat.size());
+    expectHandMadeRefused(data, second + 10, 0x40000000u, "velocities");
 }
 
 }  // namespace
