@@ -39,25 +39,7 @@ void GuardedRawlogStream::armFor(const std::string& qualified, bool old_format)
         checkpoints_.push_back(countAt(h, at, kMinObjectBytes, 0, "observations"));
     }
     else if (name == "CActionCollection" && v == 0)
-    {
-        checkpoints_.push_back(countAt(h, data, kMinObjectBytes, 0, "actions"));
-        // Current-format collections have their actions checked as they go by (open_).
-        // An old-format action has no end flag, so where the second one starts is not
-        // known without its layout: the first is checked here, more are refused.
-        uint32_t n = 0;
-        if (h.old_format && peek(data, &n, 4) && n > 0)
-        {
-            if (n > 1)
-            {
-                size_error_ = "holds an old-format (before MRPT 0.5.5) CActionCollection of " +
-                              std::to_string(n) + " actions at byte " + std::to_string(data) +
-                              "; only one action per such collection is read";
-                throw RawlogSizeError(size_error_);
-            }
-            const std::string cls = qualifiedClassAt(data + 4);
-            if (!cls.empty()) requireAction(cls, data + 4, "an action of a CActionCollection");
-        }
-    }
+        armCollection(h);
     else if (name == "CObservation2DRangeScan" && v <= 7)
         armScan(h);
     else if (name == "CObservationBearingRange" && v <= 3)
@@ -92,6 +74,25 @@ void GuardedRawlogStream::armFor(const std::string& qualified, bool old_format)
         c.kind = Checkpoint::Matrix;
         checkpoints_.push_back(c);
     }
+}
+
+void GuardedRawlogStream::armCollection(const ObjectHeader& h)
+{
+    checkpoints_.push_back(countAt(h, h.data, kMinObjectBytes, 0, "actions"));
+    // Current-format collections have their actions checked as they go by (open_).
+    // An old-format action has no end flag, so where the second one starts is not
+    // known without its layout: the first is checked here, more are refused.
+    uint32_t n = 0;
+    if (!h.old_format || !peek(h.data, &n, 4) || n == 0) return;
+    if (n > 1)
+    {
+        size_error_ = "holds an old-format (before MRPT 0.5.5) CActionCollection of " +
+                      std::to_string(n) + " actions at byte " + std::to_string(h.data) +
+                      "; only one action per such collection is read";
+        throw RawlogSizeError(size_error_);
+    }
+    const std::string cls = qualifiedClassAt(h.data + 4);
+    if (!cls.empty()) requireAction(cls, h.data + 4, "an action of a CActionCollection");
 }
 
 bool GuardedRawlogStream::readVersion(ObjectHeader& h)

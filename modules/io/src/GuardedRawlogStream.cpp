@@ -254,6 +254,28 @@ size_t GuardedRawlogStream::Read(void* buffer, size_t count)
     const int old_len = old_header_len_;
     last_read_byte_ = n == 1 ? bytes[0] : -1;
     old_header_len_ = -1;
+    if (trackFrames(count, n, bytes, prev)) return n;
+    // Old-format header (before MRPT 0.5.5): a length byte below 0x80, three zero bytes.
+    if (n == 3 && count == 3 && prev >= 1 && prev <= 120 && !bytes[0] && !bytes[1] && !bytes[2])
+    {
+        old_header_len_ = prev;
+        return n;
+    }
+    // A class name: read right after its length byte (0x80 | length), or after the old
+    // header's zeros.
+    const bool new_name = prev >= 0 && (prev & 0x80) && static_cast<size_t>(prev & 0x7F) == n;
+    const bool old_name = old_len > 0 && static_cast<size_t>(old_len) == n;
+    if (n == count && (new_name || old_name))
+    {
+        const std::string name = classNameOf(bytes, n);
+        trackHeader(name, old_name, pos_ - n - (old_name ? 4 : 1));
+        armFor(name, old_name);
+    }
+    return n;
+}
+
+bool GuardedRawlogStream::trackFrames(size_t count, size_t n, const uint8_t* bytes, int prev)
+{
     // Which objects are open (see open_): the version byte after a class name opens the
     // frame; a lone 0x88 closes one, unless what follows shows it was a value.
     bool version_byte = false;
@@ -280,33 +302,14 @@ size_t GuardedRawlogStream::Read(void* buffer, size_t count)
         if (name_follows || wide_after_action) open_.push_back(popped_frame_);
         reopened_ = name_follows;
     }
-    if (n == 1)
+    if (n != 1) return false;
+    if (!version_byte && bytes[0] == kEndFlag && !open_.empty())
     {
-        if (!version_byte && bytes[0] == kEndFlag && !open_.empty())
-        {
-            popped_frame_ = open_.back();
-            open_.pop_back();
-            popped_ = true;
-        }
-        return n;
+        popped_frame_ = open_.back();
+        open_.pop_back();
+        popped_ = true;
     }
-    // Old-format header (before MRPT 0.5.5): a length byte below 0x80, three zero bytes.
-    if (n == 3 && count == 3 && prev >= 1 && prev <= 120 && !bytes[0] && !bytes[1] && !bytes[2])
-    {
-        old_header_len_ = prev;
-        return n;
-    }
-    // A class name: read right after its length byte (0x80 | length), or after the old
-    // header's zeros.
-    const bool new_name = prev >= 0 && (prev & 0x80) && static_cast<size_t>(prev & 0x7F) == n;
-    const bool old_name = old_len > 0 && static_cast<size_t>(old_len) == n;
-    if (n == count && (new_name || old_name))
-    {
-        const std::string name = classNameOf(bytes, n);
-        trackHeader(name, old_name, pos_ - n - (old_name ? 4 : 1));
-        armFor(name, old_name);
-    }
-    return n;
+    return true;
 }
 
 void GuardedRawlogStream::trackHeader(const std::string& qualified, bool old_format, uint64_t at)

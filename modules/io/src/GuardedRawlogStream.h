@@ -184,6 +184,11 @@ private:
     /** At a class name MRPT just read (the header started at `at`): refuses a child of an
      *  open CActionCollection that is not an action, and opens a frame for the object. */
     void trackHeader(const std::string& qualified, bool old_format, uint64_t at);
+    /** Opens and closes frames for a read of `count` bytes that gave `n`, after one whose
+     *  single byte was `prev` (-1 if it was wider); true if the read was one byte. */
+    bool trackFrames(size_t count, size_t n, const uint8_t* bytes, int prev);
+    /** armFor for a CActionCollection (old format: its single action's class). */
+    void armCollection(const ObjectHeader& h);
     /** Throws RawlogSizeError unless `qualified` (as MRPT looks it up) names an action class
      *  or a class MRPT does not know (it refuses those itself). */
     void requireAction(const std::string& qualified, uint64_t at, const char* where);
