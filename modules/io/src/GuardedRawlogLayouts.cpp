@@ -2,6 +2,9 @@
 // HYMM reads (the checkpoints armFor sets when a class name goes by).
 #include "GuardedRawlogStream.h"
 
+#include <mrpt/obs/CAction.h>
+#include <mrpt/poses/CPosePDF.h>
+
 #include <array>
 #include <cstdint>
 #include <string>
@@ -91,8 +94,8 @@ void GuardedRawlogStream::armCollection(const ObjectHeader& h)
                       "; only one action per such collection is read";
         throw RawlogSizeError(size_error_);
     }
-    const std::string cls = qualifiedClassAt(h.data + 4);
-    if (!cls.empty()) requireAction(cls, h.data + 4, "an action of a CActionCollection");
+    const std::string cls = classAt(h.data + 4);
+    if (!cls.empty()) requireClass(cls, CLASS_ID(mrpt::obs::CAction), h.data + 4, kActionSlot);
 }
 
 bool GuardedRawlogStream::readVersion(ObjectHeader& h)
@@ -198,13 +201,8 @@ void GuardedRawlogStream::armRobotMovement(const ObjectHeader& h)
     {
         const uint64_t pdf = v <= 1 ? data : data + 4;
         const std::string cls = classAt(pdf);
-        if (!cls.empty() && cls != "CPosePDFGaussian" && cls != "CPosePDFGaussianInf" &&
-            cls != "CPosePDFParticles" && cls != "CPosePDFSOG" && cls != "CPosePDFGrid")
-        {
-            size_error_ = "holds a " + (cls == "nullptr" ? std::string("null object") : "'" + cls + "'") +
-                          " where a CActionRobotMovement2D's pose PDF belongs, at byte " + std::to_string(pdf);
-            throw RawlogSizeError(size_error_);
-        }
+        if (!cls.empty())
+            requireClass(cls, CLASS_ID(mrpt::poses::CPosePDF), pdf, "a CActionRobotMovement2D's pose PDF");
         return;
     }
     // emOdometry stores the raw increment and the motion model; MRPT rebuilds the PDF
@@ -240,12 +238,6 @@ void GuardedRawlogStream::armRobotMovement3D(const ObjectHeader& h)
 }
 
 std::string GuardedRawlogStream::classAt(uint64_t at)
-{
-    const std::string q = qualifiedClassAt(at);
-    return q.empty() ? q : unqualified(q);
-}
-
-std::string GuardedRawlogStream::qualifiedClassAt(uint64_t at)
 {
     // The header's name as MRPT looks it up (to a zero byte); a null pointer is an object
     // of class "nullptr" (with or without a version after it).

@@ -1,7 +1,6 @@
 #include "GuardedRawlogStream.h"
 
 #include <mrpt/obs/CAction.h>
-#include <mrpt/rtti/CObject.h>
 #include <zlib.h>
 
 #include <algorithm>
@@ -281,33 +280,32 @@ bool GuardedRawlogStream::trackFrames(size_t count, size_t n, const uint8_t* byt
     bool version_byte = false;
     if (pending_)
     {
-        pending_ = false;
         if (count == 1 && n == 1)
         {
-            open_.push_back(pending_frame_);
+            open_.push_back(*pending_);
             version_byte = true;
         }
         else if (reopened_ && !open_.empty())
             open_.pop_back();  // no version byte: no header, so the 0x88 did close it
+        pending_.reset();
     }
     reopened_ = false;
     if (popped_)
     {
-        popped_ = false;
         // Reopened at once, so that the header's own check sees the right parent; closed
         // again if no version byte follows the name.
         const bool name_follows = prev == kEndFlag && n == count && n == (kEndFlag & 0x7Fu) &&
                                   mrpt::rtti::findRegisteredClass(classNameOf(bytes, n)) != nullptr;
-        const bool wide_after_action = (popped_frame_.collection || popped_frame_.element) && count != 1;
-        if (name_follows || wide_after_action) open_.push_back(popped_frame_);
+        const bool wide_after_action = (popped_->collection || popped_->element) && count != 1;
+        if (name_follows || wide_after_action) open_.push_back(*popped_);
         reopened_ = name_follows;
+        popped_.reset();
     }
     if (n != 1) return false;
     if (!version_byte && bytes[0] == kEndFlag && !open_.empty())
     {
-        popped_frame_ = open_.back();
+        popped_ = open_.back();
         open_.pop_back();
-        popped_ = true;
     }
     return true;
 }
@@ -319,22 +317,17 @@ void GuardedRawlogStream::trackHeader(const std::string& qualified, bool old_for
     // bytes) name no class; a real header naming none is refused by MRPT itself.
     if (!null && !mrpt::rtti::findRegisteredClass(qualified)) return;
     const bool element = !open_.empty() && open_.back().collection;
-    if (element) requireAction(qualified, at, "an action of a CActionCollection");
+    if (element) requireClass(qualified, CLASS_ID(mrpt::obs::CAction), at, kActionSlot);
     if (old_format) return;  // no end flag to close it (old-format collections: armFor)
-    Frame f;
-    f.collection = unqualified(qualified) == "CActionCollection";
-    f.element = element;
-    f.at = at;
+    const Frame f{unqualified(qualified) == "CActionCollection", element};
     if (null)
         open_.push_back(f);  // no version byte: its end flag is the next read
     else
-    {
-        pending_ = true;
-        pending_frame_ = f;
-    }
+        pending_ = f;
 }
 
-void GuardedRawlogStream::requireAction(const std::string& qualified, uint64_t at, const char* where)
+void GuardedRawlogStream::requireClass(const std::string& qualified, const mrpt::rtti::TRuntimeClassId* base,
+                                       uint64_t at, const char* where)
 {
     std::string what;
     if (qualified == "nullptr")
@@ -342,7 +335,7 @@ void GuardedRawlogStream::requireAction(const std::string& qualified, uint64_t a
     else
     {
         const auto* id = mrpt::rtti::findRegisteredClass(qualified);
-        if (!id || id->derivedFrom(CLASS_ID(mrpt::obs::CAction))) return;
+        if (!id || id->derivedFrom(base)) return;
         what = "a '" + unqualified(qualified) + "'";
     }
     size_error_ = "holds " + what + " where " + where + " belongs, at byte " + std::to_string(at);

@@ -43,8 +43,10 @@
 #pragma once
 
 #include <mrpt/io/CStream.h>
+#include <mrpt/rtti/CObject.h>
 
 #include <cstdint>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -75,6 +77,9 @@ inline std::string unqualified(const std::string& name)
     const auto colon = name.rfind("::");
     return colon == std::string::npos ? name : name.substr(colon + 2);
 }
+
+// What a CActionCollection's elements are, in the refusal of one that is not.
+inline constexpr const char* kActionSlot = "an action of a CActionCollection";
 
 /** A declared size that does not fit in the rest of the file. */
 struct RawlogSizeError : std::runtime_error
@@ -158,11 +163,10 @@ private:
     static Checkpoint countAt(const ObjectHeader& h, uint64_t at, uint64_t element, uint64_t tail,
                               const char* what);
     static uint64_t endFlagBytes(const ObjectHeader& h) { return h.old_format ? 0 : 1; }
-    /** The class MRPT will look up for the object serialised at `at` ("nullptr" for a
-     *  null pointer); empty if the bytes cannot be read. */
+    /** The class name MRPT will look up for the object serialised at `at`, with its
+     *  namespace if written with one ("nullptr" for a null pointer); empty if the bytes
+     *  cannot be read. */
     std::string classAt(uint64_t at);
-    /** The same with its namespace, as MRPT passes it to its class registry. */
-    std::string qualifiedClassAt(uint64_t at);
     void checkCount(const Checkpoint& c);
     [[noreturn]] void refuse(uint64_t n, uint64_t need, const Checkpoint& c, uint64_t left,
                              uint64_t reserved);
@@ -179,7 +183,6 @@ private:
     {
         bool collection = false;  // a CActionCollection: its children must be actions
         bool element = false;     // a child of a collection
-        uint64_t at = 0;          // offset of the header
     };
     /** At a class name MRPT just read (the header started at `at`): refuses a child of an
      *  open CActionCollection that is not an action, and opens a frame for the object. */
@@ -189,9 +192,11 @@ private:
     bool trackFrames(size_t count, size_t n, const uint8_t* bytes, int prev);
     /** armFor for a CActionCollection (old format: its single action's class). */
     void armCollection(const ObjectHeader& h);
-    /** Throws RawlogSizeError unless `qualified` (as MRPT looks it up) names an action class
-     *  or a class MRPT does not know (it refuses those itself). */
-    void requireAction(const std::string& qualified, uint64_t at, const char* where);
+    /** For a polymorphic slot MRPT reads without a null check (`where`, at byte `at`):
+     *  throws RawlogSizeError unless `qualified` (as MRPT looks it up) names a class
+     *  derived from `base`, or one MRPT does not know (it refuses those itself). */
+    void requireClass(const std::string& qualified, const mrpt::rtti::TRuntimeClassId* base, uint64_t at,
+                      const char* where);
 
     std::string path_;
     void* gz_ = nullptr;  // gzFile
@@ -216,10 +221,8 @@ private:
     // header's length byte or the collection's end flag, one byte each; every bool of
     // MRPT's actions is followed by wider fields). Valid files write bools as 0 or 1.
     std::vector<Frame> open_;
-    bool pending_ = false;
-    Frame pending_frame_;
-    bool popped_ = false;
-    Frame popped_frame_;
+    std::optional<Frame> pending_;
+    std::optional<Frame> popped_;
     bool reopened_ = false;  // the frame popped_ closed was reopened for a name read
 };
 

@@ -634,13 +634,50 @@ TEST(RawlogHostileTest, ActionCollectionElementsMustBeActions)
     gaussian.poseChange = mrpt::poses::CPosePDFGaussian::Create(mrpt::poses::CPose2D(0.5, 0, 0.1));
     gaussian.hasEncodersInfo = true;
     gaussian.encoderLeftTicks = 120;
-    gaussian.encoderRightTicks = 136;  // 0x88
+    gaussian.encoderRightTicks = 136;
     CActionRobotMovement2D odometry;
     odometry.computeFromOdometry(mrpt::poses::CPose2D(0.3, 0.01, 0.02), CActionRobotMovement2D::TMotionModelOptions());
     CActionRobotMovement3D mov3d;
     mov3d.poseChange = mrpt::poses::CPose3DPDFGaussian(mrpt::poses::CPose3D(0.2, 0, 0, 0.1, 0, 0));
     mov3d.hasVelocities = {true, false, false, false, false, true};
     const auto a = serialised(particles), b = serialised(gaussian), c = serialised(odometry), d = serialised(mov3d);
+    // The Gaussian action as an older MRPT wrote it: a version-0 PDF whose covariance is a
+    // CMatrixF object named without its namespace, so its header starts with the byte
+    // 0x88 (0x80 | 8 characters), as an end flag does.
+    const auto gaussian_pdf = serialised(mrpt::poses::CPosePDFGaussian(mrpt::poses::CPose2D(0.5, 0, 0.1)));
+    std::vector<uint8_t> old_pdf;
+    {
+        const std::string pdf_name = "mrpt::poses::CPosePDFGaussian";
+        old_pdf.push_back(static_cast<uint8_t>(0x80 | pdf_name.size()));
+        old_pdf.insert(old_pdf.end(), pdf_name.begin(), pdf_name.end());
+        old_pdf.push_back(0);  // version 0: mean, then the covariance as a CMatrixF object
+        const auto mean = serialised(mrpt::poses::CPose2D(0.5, 0, 0.1));
+        old_pdf.insert(old_pdf.end(), mean.begin(), mean.end());
+        const std::string m_name = "CMatrixF";
+        old_pdf.push_back(static_cast<uint8_t>(0x80 | m_name.size()));
+        old_pdf.insert(old_pdf.end(), m_name.begin(), m_name.end());
+        old_pdf.push_back(0);  // CMatrixF version 0: rows, columns, floats
+        const uint32_t three = 3;
+        for (int k = 0; k < 2; ++k)
+            old_pdf.insert(old_pdf.end(), reinterpret_cast<const uint8_t*>(&three),
+                           reinterpret_cast<const uint8_t*>(&three) + 4);
+        for (int k = 0; k < 9; ++k)
+        {
+            const float x = k % 4 == 0 ? 0.01f : 0.0f;
+            old_pdf.insert(old_pdf.end(), reinterpret_cast<const uint8_t*>(&x),
+                           reinterpret_cast<const uint8_t*>(&x) + 4);
+        }
+        old_pdf.push_back(0x88);  // the matrix's end flag
+        old_pdf.push_back(0x88);  // the PDF's end flag
+    }
+    std::vector<uint8_t> b_old;
+    {
+        const auto at = std::search(b.begin(), b.end(), gaussian_pdf.begin(), gaussian_pdf.end());
+        ASSERT_NE(at, b.end()) << "the PDF's bytes inside the action";
+        b_old.assign(b.begin(), at);
+        b_old.insert(b_old.end(), old_pdf.begin(), old_pdf.end());
+        b_old.insert(b_old.end(), at + static_cast<std::ptrdiff_t>(gaussian_pdf.size()), b.end());
+    }
     CSensoryFrame frame;
     auto odo = CObservationOdometry::Create();
     odo->odometry = mrpt::poses::CPose2D(1, 2, 0.3);
@@ -652,7 +689,7 @@ TEST(RawlogHostileTest, ActionCollectionElementsMustBeActions)
         // Well formed: collections of every kind of action, frames between them (a frame
         // after a collection is no action of it), a collection that is not the first entry.
         const auto data = concat({collectionOf({a, b, c, d}), f, collectionOf({d, c}), f,
-                                  collectionOf({}), collectionOf({b})});
+                                  collectionOf({}), collectionOf({b}), collectionOf({b_old, c})});
         const auto path = writeGz(data);
         const auto r = readInChild(path, budgetFor(data));
         ASSERT_TRUE(r.exited) << "killed by signal " << r.signal;
@@ -676,6 +713,9 @@ TEST(RawlogHostileTest, ActionCollectionElementsMustBeActions)
         {concat({f, collectionOf({f})}), "entry 1", "holds a 'CSensoryFrame' where an action"},
         {collectionOf({d, collectionOf({b})}), "entry 0", "holds a 'CActionCollection' where an action"},
         {collectionOf({a_flag, pose}), "entry 0", "holds a 'CPose2D' where an action"},
+        // The matrix's length byte 0x88 must not end the PDF early (the PDF's own end flag
+        // would then end the action, the action's the collection, and the pose get in).
+        {collectionOf({b_old, pose}), "entry 0", "holds a 'CPose2D' where an action"},
         {concat({collectionOf({b}), f, collectionOf({c, d, null_object})}), "entry 2", "holds a null object where an action"},
     };
     for (const auto& k : cases)
