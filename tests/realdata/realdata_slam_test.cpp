@@ -441,17 +441,17 @@ TEST(RealDataSlamTest, CarParkBeaconsAgainstSurvey)
         }
         std::vector<Eigen::Vector2d> reflector_landmarks;
         for (const auto& [id, f] : slam.landmarkFeatures())
-            if (f.reflector > 0) reflector_landmarks.push_back(slam.ekf().landmarkMean(id));
+            if (f.count("laser_reflectors") > 0) reflector_landmarks.push_back(slam.ekf().landmarkMean(id));
         for (const auto& [id, f] : slam.landmarkFeatures())
         {
-            if (f.reflector > 0)
+            if (f.count("laser_reflectors") > 0)
             {
-                ++(f.tree > 0 ? r.mixed : r.reflector_only);
-                r.tree_obs_on_mixed += f.tree;
+                ++(f.count("laser_trees") > 0 ? r.mixed : r.reflector_only);
+                r.tree_obs_on_mixed += f.count("laser_trees");
                 continue;
             }
             ++r.tree_only;
-            r.tree_observations.push_back(f.tree);
+            r.tree_observations.push_back(f.count("laser_trees"));
             if (f.last_t - f.first_t > kRevisit) ++r.trees_revisited;
             const Eigen::Vector2d p = slam.ekf().landmarkMean(id);
             const Eigen::Vector2d p_gps = r.start.alignment.apply(p);
@@ -468,13 +468,15 @@ TEST(RealDataSlamTest, CarParkBeaconsAgainstSurvey)
     {
         const auto& s = r.run.slam().stats();
         const auto* partition = r.run.slam().partition();
+        auto n = [](const std::map<std::string, size_t>& m, const char* source)
+        { return m.count(source) ? m.at(source) : size_t{0}; };
         std::cout << std::fixed << std::setprecision(3) << "[carpark " << name << "] landmarks "
                   << r.run.slam().ekf().numLandmarks() << " (observed as reflector only "
                   << r.reflector_only << ", as tree only " << r.tree_only << ", as both " << r.mixed
                   << " with " << r.tree_obs_on_mixed
-                  << " tree observations); extracted: reflectors " << s.reflectors_extracted
-                  << ", trees " << s.trees_extracted << ", trees dropped as a reflector's object "
-                  << s.trees_duplicate << "\n"
+                  << " tree observations); extracted: reflectors " << n(s.point_features, "laser_reflectors")
+                  << ", trees " << n(s.point_features, "laser_trees") << ", trees dropped as a reflector's object "
+                  << n(s.point_duplicates, "laser_trees") << "\n"
                   << "[carpark " << name << "] beacons " << r.beacons.matches.size() << "/"
                   << beacons.size() << ", mean " << r.beacons.mean_error
                   << " m (whole-run alignment " << r.beacons_full.mean_error << " m), "
@@ -538,9 +540,9 @@ TEST(RealDataSlamTest, CarParkBeaconsAgainstSurvey)
     EXPECT_LT(start.position_mean, 0.75);  // 0.485 m
     // Both sources; every beacon one landmark; the trees' landmarks none of the beacons.
     const auto& st = run.slam().stats();
-    EXPECT_EQ(run.slam().options().landmark_source,
-              DenseSlam::LandmarkSource::LaserReflectorsAndTrees);
-    EXPECT_GT(st.trees_duplicate, 500u);     // 679: the beacons' poles, seen by both extractors
+    EXPECT_EQ(run.slam().options().point_sources,
+              (std::vector<std::string>{"laser_reflectors", "laser_trees"}));
+    EXPECT_GT(st.point_duplicates.at("laser_trees"), 500u);     // 679: the beacons' poles, seen by both extractors
     EXPECT_GT(shipped.tree_only, 5u);        // 12
     EXPECT_GE(shipped.trees_revisited, 2u);  // 3
     EXPECT_EQ(shipped.most_per_beacon, 1u);

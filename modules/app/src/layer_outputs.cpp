@@ -408,7 +408,8 @@ LandmarksByFeature landmarksByFeature(const DenseSlam& slam)
 {
     LandmarksByFeature n;
     for (const auto& [id, lf] : slam.landmarkFeatures())
-        ++(lf.reflector > 0 ? (lf.tree > 0 ? n.both : n.reflector_only) : n.tree_only);
+        ++(lf.count("laser_reflectors") > 0 ? (lf.count("laser_trees") > 0 ? n.both : n.reflector_only)
+                                            : n.tree_only);
     return n;
 }
 

@@ -95,17 +95,16 @@ eval::MetricsJson computeMetrics(const DenseSlam& slam, const GroundTruth& gt, d
     j.set("run_seconds", run_seconds);
     j.set("steps", static_cast<unsigned long>(slam.path().size()));
     j.set("landmarks_estimated", static_cast<unsigned long>(slam.ekf().numLandmarks()));
-    if (slam.options().landmark_source != DenseSlam::LandmarkSource::BearingRange &&
-        slam.options().landmark_source != DenseSlam::LandmarkSource::None)
+    if (slam.options().readsPoints(denseslam::PointSourceInput::Scan))
     {
         const auto& st = slam.stats();
         const auto by = landmarksByFeature(slam);
         auto& ej = j.object("extraction");
         ej.set("scans", static_cast<unsigned long>(st.scans));
         ej.set("observations", static_cast<unsigned long>(st.extracted));
-        ej.set("reflectors", static_cast<unsigned long>(st.reflectors_extracted));
-        ej.set("trees", static_cast<unsigned long>(st.trees_extracted));
-        ej.set("trees_duplicate", static_cast<unsigned long>(st.trees_duplicate));
+        ej.set("reflectors", static_cast<unsigned long>(valueOr0(st.point_features, "laser_reflectors")));
+        ej.set("trees", static_cast<unsigned long>(valueOr0(st.point_features, "laser_trees")));
+        ej.set("trees_duplicate", static_cast<unsigned long>(valueOr0(st.point_duplicates, "laser_trees")));
         ej.set("landmarks_reflector_only", static_cast<unsigned long>(by.reflector_only));
         ej.set("landmarks_tree_only", static_cast<unsigned long>(by.tree_only));
         ej.set("landmarks_reflector_and_tree", static_cast<unsigned long>(by.both));

@@ -6,6 +6,8 @@
 #include <hymm/datasets/VictoriaParkImporter.h>
 #include <hymm/eval/LandmarkEvaluator.h>
 #include <hymm/eval/TrajectoryEvaluator.h>
+#include <hymm/extract/ReflectorExtractor.h>
+#include <hymm/extract/TreeExtractor.h>
 #include <hymm/scanslam/CorrelativeMatcher.h>
 #include <hymm/scanslam/IcpMatcher.h>
 #include <hymm/scanslam/SogMatcher.h>

@@ -111,9 +111,11 @@ void writeSummary(const DenseSlam& slam, double run_seconds, size_t entries, con
       << s.ambiguous << ", numeric rejects " << s.rejected_numeric << ")\n"
       << "skipped readings     " << s.skipped_invalid << "\n"
       << "laser scans          " << s.scans << " (landmarks extracted " << s.extracted;
-    if (s.reflectors_extracted + s.trees_extracted > 0)
-        f << "; reflectors " << s.reflectors_extracted << ", trees " << s.trees_extracted
-          << ", trees dropped as a reflector's object " << s.trees_duplicate;
+    const size_t reflectors = valueOr0(s.point_features, "laser_reflectors"),
+                 trees = valueOr0(s.point_features, "laser_trees");
+    if (reflectors + trees > 0)
+        f << "; reflectors " << reflectors << ", trees " << trees << ", trees dropped as a reflector's object "
+          << valueOr0(s.point_duplicates, "laser_trees");
     f << ")\n"
       << "landmarks in map     " << slam.ekf().numLandmarks();
     if (!slam.landmarkFeatures().empty())

@@ -1,5 +1,6 @@
 #include "hymm/denseslam/DenseSlam.h"
 #include "hymm/denseslam/VirtualLandmarkView.h"
+#include "usable_covariance.h"
 
 #include <cstring>
 #include <hymm/uif/DelayedDenseStore.h>
@@ -38,46 +39,29 @@ void addUpdateCounts(DenseSlam::Stats& s, const ekf::UpdateReport& r)
     s.rejected_numeric += r.rejected_numeric;
 }
 
-bool usesReflectors(DenseSlam::LandmarkSource s)
+Eigen::Vector2d featurePoint(const ekf::RangeBearingObs& f)
 {
-    return s == DenseSlam::LandmarkSource::LaserReflectors ||
-           s == DenseSlam::LandmarkSource::LaserReflectorsAndTrees;
+    return f.z(0) * Eigen::Vector2d(std::cos(f.z(1)), std::sin(f.z(1)));
 }
 
-bool usesTrees(DenseSlam::LandmarkSource s)
-{
-    return s == DenseSlam::LandmarkSource::LaserTrees || s == DenseSlam::LandmarkSource::Both ||
-           s == DenseSlam::LandmarkSource::LaserReflectorsAndTrees;
-}
-
-Eigen::Vector2d featurePoint(const extract::ScanFeature& f)
-{
-    return f.range * Eigen::Vector2d(std::cos(f.bearing), std::sin(f.bearing));
-}
-
-// A tree is a reflector's object when their beams overlap (tape on the trunk or pole the
-// tree extractor saw) or their centres are within `distance` (a cluster split by a
-// dropout, tape on a post against a trunk: one place for the filter either way).
-bool sameObject(const extract::ScanFeature& tree, const extract::ScanFeature& reflector,
+// A feature is the object of an earlier source's feature when their beams overlap (a tree
+// the tree extractor saw on a reflector's tape) or their centres are within `distance` (a
+// cluster split by a dropout, tape on a post against a trunk: one place for the filter
+// either way).
+bool sameObject(const ekf::RangeBearingObs& f, const std::pair<size_t, size_t>& f_beams,
+                const ekf::RangeBearingObs& earlier, const std::pair<size_t, size_t>& earlier_beams,
                 double distance)
 {
-    if (tree.first_beam <= reflector.last_beam && reflector.first_beam <= tree.last_beam)
-        return true;
-    return (featurePoint(tree) - featurePoint(reflector)).norm() <= distance;
+    if (f_beams.first <= earlier_beams.second && earlier_beams.first <= f_beams.second) return true;
+    return (featurePoint(f) - featurePoint(earlier)).norm() <= distance;
 }
 
 }  // namespace
 
 DenseSlam::DenseSlam(const Options& opts, const ekf::EkfSlam::Options& ekf_opts,
-                     const extract::TreeExtractor::Options& tree_opts,
-                     const extract::ReflectorExtractor::Options& reflector_opts,
                      const DenseOptions& dense_opts,
                      const mrpt::config::CConfigFileBase* sources_cfg)
-    : options_(opts),
-      ekf_(ekf_opts),
-      trees_(tree_opts),
-      reflectors_(reflector_opts),
-      virtual_options_(dense_opts.virtual_landmarks)
+    : options_(opts), ekf_(ekf_opts), virtual_options_(dense_opts.virtual_landmarks)
 {
     if (options_.denseLayers() && dense_opts.delayed.enabled)
         store_ = std::make_unique<uif::DelayedDenseStore>(dense_opts.delayed);
@@ -111,11 +95,18 @@ DenseSlam::DenseSlam(const Options& opts, const ekf::EkfSlam::Options& ekf_opts,
                 "([DenseSlam] dense_layers)");
         hll_ = hll::HighLevelLandmarks::make(dense_opts.hll, sources_cfg);
     }
-    makeScanSources(sources_cfg);
+    makeSources(sources_cfg);
 }
 
-void DenseSlam::makeScanSources(const mrpt::config::CConfigFileBase* cfg)
+void DenseSlam::makeSources(const mrpt::config::CConfigFileBase* cfg)
 {
+    for (const auto& name : options_.point_sources)
+        if (!findPointSourceKind(name)) throw std::invalid_argument("unknown landmark source '" + name + "'");
+    point_sources_.clear();
+    for (const auto& kind : pointSourceKinds())
+        if (std::find(options_.point_sources.begin(), options_.point_sources.end(), kind.name) !=
+            options_.point_sources.end())
+            point_sources_.push_back(kind.make(cfg, options_.pointSettings()));
     sources_.clear();
     for (const auto& name : options_.scan_sources)
     {
@@ -184,20 +175,6 @@ void DenseSlam::processEntry(const io::RawlogEntry& entry)
 
 namespace
 {
-/** A symmetric positive semi-definite covariance whose standard deviations stay within
- *  `max_std` (per axis). */
-template <int N>
-bool usableCovariance(const Eigen::Matrix<double, N, N>& C, const Eigen::Matrix<double, N, 1>& max_std)
-{
-    if (!C.allFinite() || (C - C.transpose()).cwiseAbs().maxCoeff() > 1e-9 * (1.0 + C.cwiseAbs().maxCoeff()))
-        return false;
-    if ((C.diagonal().array() > max_std.array().square()).any()) return false;
-    const Eigen::Matrix<double, N, N> S = 0.5 * (C + C.transpose());
-    return Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, N, N>>(S, Eigen::EigenvaluesOnly)
-               .eigenvalues()
-               .minCoeff() >= -1e-12 * (1.0 + S.cwiseAbs().maxCoeff());
-}
-
 /** An observation whose geometry the pipeline can use: a sensor pose that is finite and
  *  within 1 km of the vehicle (a mount further out is a corrupt reading, and would place
  *  its returns where no grid index can represent them); for a 2D scan also a finite
@@ -311,8 +288,7 @@ void DenseSlam::processFrame(const mrpt::obs::CSensoryFrame& input)
         ++stats_.rawlog_observations;
         if (auto br = std::dynamic_pointer_cast<mrpt::obs::CObservationBearingRange>(o))
         {
-            if (options_.landmark_source == LandmarkSource::BearingRange ||
-                options_.landmark_source == LandmarkSource::Both)
+            if (options_.readsPoints(PointSourceInput::BearingRange))
                 processBearingRange(*br);
             else
                 ++stats_.observations_unused;
@@ -324,8 +300,7 @@ void DenseSlam::processFrame(const mrpt::obs::CSensoryFrame& input)
             for (size_t i = 0; i < scan->getScanSize() && !any_valid; ++i)
                 any_valid = scan->getScanRangeValidity(i);
             if (!any_valid) ++stats_.scans_without_valid_beam;
-            const bool laser_points = options_.landmark_source != LandmarkSource::BearingRange &&
-                                      options_.landmark_source != LandmarkSource::None;
+            const bool laser_points = options_.readsPoints(PointSourceInput::Scan);
             if (laser_points) processScan(*scan);
             processScanSources(*scan);
             if (hll_)
@@ -634,124 +609,97 @@ void DenseSlam::dropUnusedVirtualLandmarks()
             ++it;
 }
 
-Eigen::Matrix2d DenseSlam::sensorNoise(double std_range, double std_bearing) const
-{
-    const double sr = options_.sensor_std_range > 0 ? options_.sensor_std_range : std_range;
-    const double sb = options_.sensor_std_bearing > 0 ? options_.sensor_std_bearing : std_bearing;
-    return Eigen::Vector2d(sr * sr, sb * sb).asDiagonal();
-}
-
 void DenseSlam::processBearingRange(const mrpt::obs::CObservationBearingRange& obs)
 {
-    std::vector<ekf::RangeBearingObs> z;
-    z.reserve(obs.sensedData.size());
-    const Eigen::Matrix2d R_default = sensorNoise(obs.sensor_std_range, obs.sensor_std_yaw);
-    for (const auto& m : obs.sensedData)
+    for (const auto& src : point_sources_)
     {
-        if (!std::isfinite(m.range) || !std::isfinite(m.yaw) || m.range < options_.min_range ||
-            m.range > options_.max_range || m.range <= 0)
-        {
-            ++stats_.skipped_invalid;
-            continue;
-        }
-        ekf::RangeBearingObs o;
-        o.z = Eigen::Vector2d(m.range, mrpt::math::wrapToPi(m.yaw));
-        o.R = R_default;
-        if (obs.validCovariances && options_.sensor_std_range <= 0)
-        {
-            // Per-measurement covariance of (range, yaw) from the 3x3 (range, yaw, pitch); one
-            // that is no covariance, or spreads wider than the sensor's range or a half
-            // turn, is a corrupt reading.
-            o.R << m.covariance(0, 0), m.covariance(0, 1), m.covariance(1, 0), m.covariance(1, 1);
-            if (!usableCovariance<2>(o.R, Eigen::Vector2d(options_.max_range, M_PI)))
-            {
-                ++stats_.skipped_invalid;
-                continue;
-            }
-        }
-        o.id = options_.use_landmark_ids ? m.landmarkID : -1;
-        if (o.id >= 0) ++stats_.observations_with_id;
-        z.push_back(o);
+        if (src->input() != PointSourceInput::BearingRange) continue;
+        const PointObservations z = src->observe(obs);
+        stats_.skipped_invalid += z.skipped_invalid;
+        stats_.observations_with_id +=
+            std::count_if(z.z.begin(), z.z.end(), [](const auto& o) { return o.id >= 0; });
+        update(z.z, obs.sensorLocationOnRobot);
     }
-    update(z, obs.sensorLocationOnRobot);
 }
 
 void DenseSlam::processScan(const mrpt::obs::CObservation2DRangeScan& scan)
 {
     std::vector<ekf::RangeBearingObs> z;
-    std::vector<FeatureKind> kinds;
+    std::vector<const std::string*> by;  // the source of each of z
     {
         mrpt::system::CTimeLoggerEntry tle(profiler_, "denseslam.2_extract");
-        std::vector<extract::ScanFeature> reflectors, trees;
-        size_t skipped = 0;
-        // Scans without intensities carry no beacons (the extractor would throw).
-        if (usesReflectors(options_.landmark_source) && scan.hasIntensity())
-        {
-            auto res = reflectors_.extract(scan);
-            skipped = res.skipped_invalid;
-            reflectors = std::move(res.reflectors);
-            stats_.reflectors_extracted += reflectors.size();
-        }
-        if (usesTrees(options_.landmark_source))
-        {
-            auto res = trees_.extract(scan);
-            // Both extractors classify the same beams: counted once, as the trees see them.
-            skipped = res.skipped_invalid;
-            stats_.trees_extracted += res.trees.size();
-            // One object, one observation: the reflector stays (its intensity marks the
-            // beacon the map is built on), the tree seen on the same pole or trunk goes.
-            for (const auto& tr : res.trees)
+        // Every scan source's features, in registry order, each with its own noise.
+        std::vector<std::pair<const std::string*, PointObservations>> found;
+        for (const auto& src : point_sources_)
+            if (src->input() == PointSourceInput::Scan)
             {
-                const bool duplicate =
-                    std::any_of(reflectors.begin(), reflectors.end(), [&](const auto& rf) {
-                        return sameObject(tr, rf, options_.same_object_distance);
-                    });
-                if (duplicate)
-                    ++stats_.trees_duplicate;
-                else
-                    trees.push_back(tr);
+                const std::string& name = findPointSourceKind(src->name())->name;
+                found.emplace_back(&name, src->observe(scan));
+                stats_.point_features[name] += found.back().second.z.size();
             }
-        }
-        stats_.skipped_invalid += skipped;
-        auto add = [&](const std::vector<extract::ScanFeature>& features, FeatureKind kind,
-                       const Eigen::Matrix2d& R) {
-            for (const auto& f : features)
+        // The sources classify the same beams: skipped readings counted once, as the last
+        // source sees them.
+        if (!found.empty()) stats_.skipped_invalid += found.back().second.skipped_invalid;
+        dropSameObjects(found);
+        for (const auto& [name, f] : found)
+            for (const auto& o : f.z)
             {
-                if (f.range < options_.min_range || f.range > options_.max_range) continue;
-                ekf::RangeBearingObs o;
-                o.z = Eigen::Vector2d(f.range, f.bearing);
-                o.R = R;
+                if (o.z(0) < options_.min_range || o.z(0) > options_.max_range) continue;
                 z.push_back(o);
-                kinds.push_back(kind);
+                by.push_back(name);
             }
-        };
-        // Each feature with the noise of its own extractor's section.
-        add(reflectors, FeatureKind::Reflector,
-            sensorNoise(reflectors_.options().std_range, reflectors_.options().std_bearing));
-        add(trees, FeatureKind::Tree,
-            sensorNoise(trees_.options().std_range, trees_.options().std_bearing));
         stats_.extracted += z.size();
     }
     const double t = scan.timestamp != INVALID_TIMESTAMP ? mrpt::Clock::toDouble(scan.timestamp)
                                                          : static_cast<double>(stats_.frames);
-    recordFeatures(update(z, scan.sensorPose), kinds, t);
+    recordFeatures(update(z, scan.sensorPose), by, t);
+}
+
+void DenseSlam::dropSameObjects(std::vector<std::pair<const std::string*, PointObservations>>& found)
+{
+    // One object, one observation: a feature that is the object of an earlier source's
+    // feature of this scan goes (Options::same_object_distance).
+    for (size_t k = 1; k < found.size(); ++k)
+    {
+        PointObservations& f = found[k].second;
+        PointObservations kept;
+        for (size_t i = 0; i < f.z.size(); ++i)
+        {
+            bool duplicate = false;
+            for (size_t e = 0; e < k && !duplicate; ++e)
+            {
+                const PointObservations& g = found[e].second;
+                for (size_t j = 0; j < g.z.size() && !duplicate; ++j)
+                    duplicate = sameObject(f.z[i], f.beams[i], g.z[j], g.beams[j], options_.same_object_distance);
+            }
+            if (duplicate)
+                ++stats_.point_duplicates[*found[k].first];
+            else
+            {
+                kept.z.push_back(f.z[i]);
+                kept.beams.push_back(f.beams[i]);
+            }
+        }
+        f.z = std::move(kept.z);
+        f.beams = std::move(kept.beams);
+    }
 }
 
 void DenseSlam::recordFeatures(const ekf::UpdateReport& report,
-                               const std::vector<FeatureKind>& kinds, double t)
+                               const std::vector<const std::string*>& by, double t)
 {
-    for (size_t i = 0; i < report.assigned_ids.size() && i < kinds.size(); ++i)
+    for (size_t i = 0; i < report.assigned_ids.size() && i < by.size(); ++i)
     {
         const long id = report.assigned_ids[i];
         if (id < 0) continue;
         const auto [it, fresh] = features_.try_emplace(id);
         if (fresh)
         {
-            it->second.created_by = kinds[i];
+            it->second.created_by = *by[i];
             it->second.first_t = t;
         }
         it->second.last_t = t;
-        ++(kinds[i] == FeatureKind::Tree ? it->second.tree : it->second.reflector);
+        ++it->second.observations[*by[i]];
     }
     // Tentative landmarks the filter pruned leave the bookkeeping with it.
     if (report.pruned > 0)

@@ -18,22 +18,19 @@ namespace
 {
 constexpr double kDeg = M_PI / 180.0;
 
-const std::pair<const char*, DenseSlam::LandmarkSource> kPointSources[] = {
-    {"bearing_range", DenseSlam::LandmarkSource::BearingRange},
-    {"laser_trees", DenseSlam::LandmarkSource::LaserTrees},
-    {"both", DenseSlam::LandmarkSource::Both},
-    {"laser_reflectors", DenseSlam::LandmarkSource::LaserReflectors},
-    {"laser_reflectors_and_trees", DenseSlam::LandmarkSource::LaserReflectorsAndTrees}};
-
-std::string sourceHelp()
+std::string sourceNames()
 {
-    std::string h = "must be a comma-separated list of at most one of bearing_range, laser_trees, "
-                    "both, laser_reflectors, laser_reflectors_and_trees and any of";
-    for (const auto& k : landmarkSourceKinds()) h += " " + k.name;
-    return h + " (each at most once)";
+    std::string h;
+    for (const auto& k : pointSourceKinds()) h += (h.empty() ? "" : ", ") + k.name;
+    for (const auto& [alias, names] : pointSourceAliases()) h += ", " + alias;
+    for (const auto& k : landmarkSourceKinds()) h += ", " + k.name;
+    return h;
 }
 
-// landmark_source = point source and/or registered per-scan sources (DenseSlam.h).
+std::string sourceHelp() { return "must be a comma-separated list of " + sourceNames() + " (each at most once)"; }
+
+// landmark_source = registered point sources (or their aliases) and/or per-scan sources
+// (LandmarkSources.h), each at most once.
 void parseSources(const std::string& value, const std::string& section, DenseSlam::Options& o)
 {
     std::string v;
@@ -41,28 +38,46 @@ void parseSources(const std::string& value, const std::string& section, DenseSla
         if (c != ' ' && c != '\t') v += c;
     std::stringstream ss(v);
     std::string item;
-    std::optional<DenseSlam::LandmarkSource> point;
-    std::vector<std::string> scan;
+    std::vector<std::string> point, scan;
+    auto addOnce = [&](std::vector<std::string>& to, const std::string& name) {
+        if (std::find(to.begin(), to.end(), name) != to.end())
+            core::throwConfigError(section, "landmark_source", value, sourceHelp());
+        to.push_back(name);
+    };
     while (std::getline(ss, item, ','))
     {
-        bool known = false;
-        for (const auto& [name, src] : kPointSources)
-            if (item == name && !point) point = src, known = true;
-        if (!known && findLandmarkSourceKind(item) &&
-            std::find(scan.begin(), scan.end(), item) == scan.end())
-            scan.push_back(item), known = true;
-        if (!known) core::throwConfigError(section, "landmark_source", value, sourceHelp());
+        const auto alias = std::find_if(pointSourceAliases().begin(), pointSourceAliases().end(),
+                                        [&](const auto& a) { return a.first == item; });
+        if (alias != pointSourceAliases().end())
+            for (const auto& name : alias->second) addOnce(point, name);
+        else if (findPointSourceKind(item))
+            addOnce(point, item);
+        else if (findLandmarkSourceKind(item))
+            addOnce(scan, item);
+        else
+            core::throwConfigError(section, "landmark_source", value, sourceHelp());
     }
-    if (!point && scan.empty()) core::throwConfigError(section, "landmark_source", value, sourceHelp());
-    o.landmark_source = point.value_or(DenseSlam::LandmarkSource::None);
+    if (point.empty() && scan.empty()) core::throwConfigError(section, "landmark_source", value, sourceHelp());
+    o.point_sources.clear();
+    for (const auto& k : pointSourceKinds())
+        if (std::find(point.begin(), point.end(), k.name) != point.end()) o.point_sources.push_back(k.name);
     o.scan_sources = std::move(scan);
 }
 
+// The list as written back: an alias where the point sources are exactly its sources.
 std::string sourceName(const DenseSlam::Options& o)
 {
     std::string out;
-    for (const auto& [name, src] : kPointSources)
-        if (src == o.landmark_source) out = name;
+    for (const auto& [alias, names] : pointSourceAliases())
+    {
+        auto sorted = names;
+        auto mine = o.point_sources;
+        std::sort(sorted.begin(), sorted.end());
+        std::sort(mine.begin(), mine.end());
+        if (sorted == mine) out = alias;
+    }
+    if (out.empty())
+        for (const auto& s : o.point_sources) out += (out.empty() ? "" : ",") + s;
     for (const auto& s : o.scan_sources) out += (out.empty() ? "" : ",") + s;
     return out;
 }
@@ -116,8 +131,7 @@ core::OptionTable DenseSlam::Options::table()
     OptionTable t;
     OptionKey sources;
     sources.name = "landmark_source";
-    sources.range = "a list: at most one of `bearing_range`, `laser_trees`, `both`, `laser_reflectors`, "
-                    "`laser_reflectors_and_trees`, and any registered per-scan source (`scan_landmarks`)";
+    sources.range = "a list of registered sources, each at most once: " + sourceNames();
     sources.doc = "where landmark observations come from (see Landmark sources)";
     sources.parse = [this](const std::string& s, const std::string& raw) { parseSources(raw, s, *this); };
     sources.format = [this]() { return sourceName(*this); };
@@ -176,6 +190,25 @@ core::OptionTable DenseSlam::Options::table()
 bool DenseSlam::Options::denseLayer(const std::string& kind) const
 {
     return std::find(dense_layers.begin(), dense_layers.end(), kind) != dense_layers.end();
+}
+
+bool DenseSlam::Options::readsPoints(PointSourceInput input) const
+{
+    return std::any_of(point_sources.begin(), point_sources.end(), [&](const std::string& name) {
+        const PointSourceKind* k = findPointSourceKind(name);
+        return k && k->input == input;
+    });
+}
+
+PointSourceSettings DenseSlam::Options::pointSettings() const
+{
+    PointSourceSettings s;
+    s.min_range = min_range;
+    s.max_range = max_range;
+    s.sensor_std_range = sensor_std_range;
+    s.sensor_std_bearing = sensor_std_bearing;
+    s.use_landmark_ids = use_landmark_ids;
+    return s;
 }
 
 void DenseSlam::Options::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
@@ -262,14 +295,13 @@ DenseSlam DenseSlam::fromConfig(const mrpt::config::CConfigFileBase& cfg)
     o.loadFromConfigFile(cfg, "DenseSlam");
     ekf::EkfSlam::Options e;
     e.loadFromConfigFile(cfg, "EkfSlam");
-    extract::TreeExtractor::Options t;
-    t.loadFromConfigFile(cfg, "TreeExtractor");
-    extract::ReflectorExtractor::Options r;
-    r.loadFromConfigFile(cfg, "ReflectorExtractor");
+    // Every point source reads (and checks) its sections, in use or not: a config may keep
+    // the sections of a source it does not use.
+    for (const auto& kind : pointSourceKinds()) kind.make(&cfg, o.pointSettings());
     DenseOptions d;
     d.loadFromConfigFile(cfg);
     applyLaser(cfg, o, d.hybrid);
-    return DenseSlam(o, e, t, r, d, &cfg);
+    return DenseSlam(o, e, d, &cfg);
 }
 
 }  // namespace hymm::denseslam

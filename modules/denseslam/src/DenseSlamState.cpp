@@ -21,8 +21,7 @@ std::vector<size_t*> counters(DenseSlam::Stats& s)
 {
     return {&s.entries, &s.predictions, &s.frames, &s.observations, &s.associated, &s.created,
             &s.rejected_gate, &s.ambiguous, &s.rejected_numeric, &s.skipped_invalid, &s.scans,
-            &s.extracted, &s.reflectors_extracted, &s.trees_extracted, &s.trees_duplicate,
-            &s.observations_with_id, &s.partition_updates, &s.regions_created, &s.regions_removed,
+            &s.extracted, &s.observations_with_id, &s.partition_updates, &s.regions_created, &s.regions_removed,
             &s.dense_scans, &s.returns_stored, &s.returns_outside, &s.returns_fallback,
             &s.returns_dropped, &s.returns_withheld_fallback, &s.returns_withheld, &s.no_return_beams,
             &s.failed_readings, &s.virtual_landmarks, &s.virtual_rejected, &s.delayed_stored,
@@ -38,6 +37,8 @@ void writeStats(mrpt::serialization::CArchive& out, const DenseSlam::Stats& stat
     auto s = stats;
     writeCounters(out, counters(s));
     writeCounts(out, s.unsupported);
+    writeCounts(out, s.point_features);
+    writeCounts(out, s.point_duplicates);
 }
 
 DenseSlam::Stats readStats(mrpt::serialization::CArchive& in)
@@ -45,6 +46,8 @@ DenseSlam::Stats readStats(mrpt::serialization::CArchive& in)
     DenseSlam::Stats s;
     readCounters(in, counters(s), "counter");
     readCounts(in, s.unsupported, "unsupported class");
+    readCounts(in, s.point_features, "point source");
+    readCounts(in, s.point_duplicates, "point source");
     return s;
 }
 
@@ -92,8 +95,9 @@ void DenseSlam::saveState(mrpt::serialization::CArchive& out) const
     for (const auto& [id, f] : features_)
     {
         writeLong(out, id);
-        out << static_cast<std::int32_t>(f.created_by) << static_cast<std::uint64_t>(f.reflector)
-            << static_cast<std::uint64_t>(f.tree) << f.first_t << f.last_t;
+        out << f.created_by;
+        writeCounts(out, f.observations);
+        out << f.first_t << f.last_t;
     }
     out << last_odometry_.has_value();
     if (last_odometry_) out << last_odometry_->x() << last_odometry_->y() << last_odometry_->phi();
@@ -159,11 +163,10 @@ void DenseSlam::loadState(mrpt::serialization::CArchive& in)
     {
         LandmarkFeatures f;
         const long id = readLong(in);
-        std::int32_t by = 0;
-        in >> by;
-        f.created_by = static_cast<FeatureKind>(by);
-        f.reflector = readU64(in);
-        f.tree = readU64(in);
+        in >> f.created_by;
+        if (!findPointSourceKind(f.created_by))
+            throw std::runtime_error("corrupt state: unknown point source '" + f.created_by.substr(0, 60) + "'");
+        readCounts(in, f.observations, "point source");
         in >> f.first_t >> f.last_t;
         features_[id] = f;
     }

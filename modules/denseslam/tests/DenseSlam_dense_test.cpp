@@ -28,21 +28,17 @@ DenseSlam makeSlam(bool points, bool occupancy, bool classic, double fallback_m 
     mrpt::config::CConfigFile cfg(kConfig);
     DenseSlam::Options o;
     o.loadFromConfigFile(cfg, "DenseSlam");
-    EXPECT_EQ(o.landmark_source, DenseSlam::LandmarkSource::BearingRange);
+    EXPECT_EQ(o.point_sources, std::vector<std::string>{"bearing_range"});
     o.dense_layers.clear();
     if (points) o.dense_layers.emplace_back("points");
     if (occupancy) o.dense_layers.emplace_back("occupancy");
     o.classic_grid = classic;
     hymm::ekf::EkfSlam::Options e;
     e.loadFromConfigFile(cfg, "EkfSlam");
-    hymm::extract::TreeExtractor::Options t;
-    t.loadFromConfigFile(cfg, "TreeExtractor");
-    hymm::extract::ReflectorExtractor::Options r;
-    r.loadFromConfigFile(cfg, "ReflectorExtractor");
     DenseSlam::DenseOptions d;
     d.loadFromConfigFile(cfg);
     if (fallback_m >= 0) d.hybrid.fallback_max_distance_m = fallback_m;
-    return DenseSlam(o, e, t, r, d);
+    return DenseSlam(o, e, d, &cfg);
 }
 
 void runRawlog(DenseSlam& slam)
@@ -151,7 +147,7 @@ TEST(DenseSlamDense, DenseLayersKey)
         mrpt::config::CConfigFileMemory back;
         p.saveToConfigFile(back, "DenseSlam");
         EXPECT_EQ(back.read_string("DenseSlam", "dense_layers", ""), "particles,sog,property");
-        const DenseSlam s(p, hymm::ekf::EkfSlam::Options(), hymm::extract::TreeExtractor::Options());
+        const DenseSlam s(p, hymm::ekf::EkfSlam::Options());
         ASSERT_NE(s.hybridMap(), nullptr);
         EXPECT_EQ(s.hybridMap()->enabledKinds(), (std::vector<std::string>{"particles", "sog", "property"}));
     }
@@ -159,7 +155,7 @@ TEST(DenseSlamDense, DenseLayersKey)
     // Only the layers named in [DenseSlam] are built.
     DenseSlam::Options only_points;
     only_points.dense_layers = {"points"};
-    const DenseSlam s(only_points, hymm::ekf::EkfSlam::Options(), hymm::extract::TreeExtractor::Options());
+    const DenseSlam s(only_points, hymm::ekf::EkfSlam::Options());
     ASSERT_NE(s.hybridMap(), nullptr);
     EXPECT_TRUE(s.hybridMap()->options().enable_points);
     EXPECT_FALSE(s.hybridMap()->options().enable_occupancy);
@@ -167,7 +163,7 @@ TEST(DenseSlamDense, DenseLayersKey)
     // A kind no layer table row names is refused when the options are set in code.
     DenseSlam::Options unknown;
     unknown.dense_layers = {"voxels"};
-    EXPECT_THROW(DenseSlam(unknown, hymm::ekf::EkfSlam::Options(), hymm::extract::TreeExtractor::Options()),
+    EXPECT_THROW(DenseSlam(unknown, hymm::ekf::EkfSlam::Options()),
                  std::invalid_argument);
 }
 
@@ -190,7 +186,7 @@ TEST(DenseSlamDense, LocalUncertaintyGateWithholdsPoorlyLocalisedReturns)
     DenseSlam::DenseOptions d;
     d.loadFromConfigFile(cfg);
     d.hybrid.fallback_max_distance_m = 0.0;
-    DenseSlam off(o, e, hymm::extract::TreeExtractor::Options(), hymm::extract::ReflectorExtractor::Options(), d);
+    DenseSlam off(o, e, d);
     runRawlog(off);
     runRawlog(on);
 

@@ -4,6 +4,8 @@
 // observation (the reflector's) and every feature keeps its own extractor's noise.
 #include <gtest/gtest.h>
 #include <hymm/denseslam/DenseSlam.h>
+#include <hymm/extract/ReflectorExtractor.h>
+#include <hymm/extract/TreeExtractor.h>
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/obs/CSensoryFrame.h>
 
@@ -50,10 +52,12 @@ mrpt::obs::CObservation2DRangeScan::Ptr scanOf(const World& w)
     return std::make_shared<mrpt::obs::CObservation2DRangeScan>(castScan(w, kSensor, l));
 }
 
-DenseSlam makeSlam(DenseSlam::LandmarkSource source, double same_object_distance = 1.0)
+const std::vector<std::string> kReflectorsAndTrees{"laser_reflectors", "laser_trees"};
+
+DenseSlam makeSlam(const std::vector<std::string>& sources, double same_object_distance = 1.0)
 {
     DenseSlam::Options o;
-    o.landmark_source = source;
+    o.point_sources = sources;
     o.use_landmark_ids = false;
     o.same_object_distance = same_object_distance;
     hymm::extract::TreeExtractor::Options t;
@@ -63,7 +67,11 @@ DenseSlam makeSlam(DenseSlam::LandmarkSource source, double same_object_distance
     r.min_intensity = 1;
     r.std_range = kReflectorStdRange;
     r.std_bearing = kReflectorStdBearing;
-    return DenseSlam(o, hymm::ekf::EkfSlam::Options{}, t, r);
+    // The sources read their sections of the config, as hymm-slam's do.
+    mrpt::config::CConfigFileMemory cfg;
+    t.saveToConfigFile(cfg, "TreeExtractor");
+    r.saveToConfigFile(cfg, "ReflectorExtractor");
+    return DenseSlam(o, hymm::ekf::EkfSlam::Options{}, {}, &cfg);
 }
 
 void process(DenseSlam& slam, const mrpt::obs::CObservation2DRangeScan::Ptr& scan, int frames = 1)
@@ -75,6 +83,12 @@ void process(DenseSlam& slam, const mrpt::obs::CObservation2DRangeScan::Ptr& sca
         sf.insert(scan);
         slam.processFrame(sf);
     }
+}
+
+size_t count(const std::map<std::string, size_t>& m, const std::string& key)
+{
+    const auto it = m.find(key);
+    return it == m.end() ? 0 : it->second;
 }
 
 /** The landmark nearest to `p` and its distance. */
@@ -104,12 +118,12 @@ void expectCreatedWithNoise(const DenseSlam& slam, long id, double std_range, do
 
 TEST(DenseSlamLandmarkSources, ReflectivePoleIsOneObservationWithTheReflectorNoise)
 {
-    auto slam = makeSlam(DenseSlam::LandmarkSource::LaserReflectorsAndTrees);
+    auto slam = makeSlam(kReflectorsAndTrees);
     process(slam, scanOf(withWall({kPole})));
     const auto& s = slam.stats();
-    EXPECT_EQ(s.reflectors_extracted, 1u);
-    EXPECT_EQ(s.trees_extracted, 0u);  // 1-2 beams: too few for a trunk
-    EXPECT_EQ(s.trees_duplicate, 0u);
+    EXPECT_EQ(count(s.point_features, "laser_reflectors"), 1u);
+    EXPECT_EQ(count(s.point_features, "laser_trees"), 0u);  // 1-2 beams: too few for a trunk
+    EXPECT_EQ(count(s.point_duplicates, "laser_trees"), 0u);
     EXPECT_EQ(s.extracted, 1u);
     EXPECT_EQ(s.observations, 1u);
     ASSERT_EQ(slam.ekf().numLandmarks(), 1u);
@@ -117,34 +131,34 @@ TEST(DenseSlamLandmarkSources, ReflectivePoleIsOneObservationWithTheReflectorNoi
     EXPECT_LT(error, 0.08);  // on the pole's visible surface (beacon_radius = 0)
     expectCreatedWithNoise(slam, id, kReflectorStdRange, kReflectorStdBearing);
     ASSERT_EQ(slam.landmarkFeatures().count(id), 1u);
-    EXPECT_EQ(slam.landmarkFeatures().at(id).created_by, DenseSlam::FeatureKind::Reflector);
+    EXPECT_EQ(slam.landmarkFeatures().at(id).created_by, "laser_reflectors");
 }
 
 TEST(DenseSlamLandmarkSources, DullTrunkIsOneObservationWithTheTreeNoise)
 {
-    auto slam = makeSlam(DenseSlam::LandmarkSource::LaserReflectorsAndTrees);
+    auto slam = makeSlam(kReflectorsAndTrees);
     process(slam, scanOf(withWall({kTrunk})));
     const auto& s = slam.stats();
-    EXPECT_EQ(s.reflectors_extracted, 0u);
-    EXPECT_EQ(s.trees_extracted, 1u);  // the wall is no trunk
-    EXPECT_EQ(s.trees_duplicate, 0u);
+    EXPECT_EQ(count(s.point_features, "laser_reflectors"), 0u);
+    EXPECT_EQ(count(s.point_features, "laser_trees"), 1u);  // the wall is no trunk
+    EXPECT_EQ(count(s.point_duplicates, "laser_trees"), 0u);
     EXPECT_EQ(s.observations, 1u);
     ASSERT_EQ(slam.ekf().numLandmarks(), 1u);
     const auto [id, error] = nearestLandmark(slam, kTrunk.centre);
     EXPECT_LT(error, 0.05);
     expectCreatedWithNoise(slam, id, kTreeStdRange, kTreeStdBearing);
-    EXPECT_EQ(slam.landmarkFeatures().at(id).created_by, DenseSlam::FeatureKind::Tree);
+    EXPECT_EQ(slam.landmarkFeatures().at(id).created_by, "laser_trees");
 }
 
 TEST(DenseSlamLandmarkSources, PoleAndTrunkTogetherAreTwoLandmarksEachWithItsNoise)
 {
     const auto scan = scanOf(withWall({kPole, kTrunk}));
-    auto slam = makeSlam(DenseSlam::LandmarkSource::LaserReflectorsAndTrees);
+    auto slam = makeSlam(kReflectorsAndTrees);
     process(slam, scan, 4);  // the same scan again: re-observed, not re-created
     const auto& s = slam.stats();
-    EXPECT_EQ(s.reflectors_extracted, 4u);
-    EXPECT_EQ(s.trees_extracted, 4u);
-    EXPECT_EQ(s.trees_duplicate, 0u);
+    EXPECT_EQ(count(s.point_features, "laser_reflectors"), 4u);
+    EXPECT_EQ(count(s.point_features, "laser_trees"), 4u);
+    EXPECT_EQ(count(s.point_duplicates, "laser_trees"), 0u);
     EXPECT_EQ(s.observations, 8u);
     EXPECT_EQ(s.created, 2u);
     EXPECT_EQ(s.associated, 6u);
@@ -155,17 +169,17 @@ TEST(DenseSlamLandmarkSources, PoleAndTrunkTogetherAreTwoLandmarksEachWithItsNoi
     EXPECT_LT(trunk.second, 0.05);
     ASSERT_NE(pole.first, trunk.first);
     const auto& f = slam.landmarkFeatures();
-    EXPECT_EQ(f.at(pole.first).created_by, DenseSlam::FeatureKind::Reflector);
-    EXPECT_EQ(f.at(pole.first).reflector, 4u);
-    EXPECT_EQ(f.at(pole.first).tree, 0u);
-    EXPECT_EQ(f.at(trunk.first).created_by, DenseSlam::FeatureKind::Tree);
-    EXPECT_EQ(f.at(trunk.first).tree, 4u);
-    EXPECT_EQ(f.at(trunk.first).reflector, 0u);
+    EXPECT_EQ(f.at(pole.first).created_by, "laser_reflectors");
+    EXPECT_EQ(f.at(pole.first).count("laser_reflectors"), 4u);
+    EXPECT_EQ(f.at(pole.first).count("laser_trees"), 0u);
+    EXPECT_EQ(f.at(trunk.first).created_by, "laser_trees");
+    EXPECT_EQ(f.at(trunk.first).count("laser_trees"), 4u);
+    EXPECT_EQ(f.at(trunk.first).count("laser_reflectors"), 0u);
     EXPECT_DOUBLE_EQ(f.at(trunk.first).first_t, 1.0);
     EXPECT_DOUBLE_EQ(f.at(trunk.first).last_t, 4.0);
 
     // The initial covariances: one frame only.
-    auto once = makeSlam(DenseSlam::LandmarkSource::LaserReflectorsAndTrees);
+    auto once = makeSlam(kReflectorsAndTrees);
     process(once, scan);
     expectCreatedWithNoise(once, nearestLandmark(once, kPole.centre).first, kReflectorStdRange,
                            kReflectorStdBearing);
@@ -173,15 +187,15 @@ TEST(DenseSlamLandmarkSources, PoleAndTrunkTogetherAreTwoLandmarksEachWithItsNoi
                            kTreeStdBearing);
 
     // The single sources still see one object each.
-    auto reflectors = makeSlam(DenseSlam::LandmarkSource::LaserReflectors);
+    auto reflectors = makeSlam({"laser_reflectors"});
     process(reflectors, scan);
     EXPECT_EQ(reflectors.stats().observations, 1u);
-    EXPECT_EQ(reflectors.stats().trees_extracted, 0u);
+    EXPECT_EQ(count(reflectors.stats().point_features, "laser_trees"), 0u);
     EXPECT_LT(nearestLandmark(reflectors, kPole.centre).second, 0.08);
-    auto trees = makeSlam(DenseSlam::LandmarkSource::LaserTrees);
+    auto trees = makeSlam({"laser_trees"});
     process(trees, scan);
     EXPECT_EQ(trees.stats().observations, 1u);
-    EXPECT_EQ(trees.stats().reflectors_extracted, 0u);
+    EXPECT_EQ(count(trees.stats().point_features, "laser_reflectors"), 0u);
     EXPECT_LT(nearestLandmark(trees, kTrunk.centre).second, 0.05);
 }
 
@@ -200,26 +214,26 @@ TEST(DenseSlamLandmarkSources, ReflectiveTrunkIsObservedOnceAsTheReflector)
 
     for (const auto& scan : {full, tape})
     {
-        auto slam = makeSlam(DenseSlam::LandmarkSource::LaserReflectorsAndTrees, 0.0);
+        auto slam = makeSlam(kReflectorsAndTrees, 0.0);
         process(slam, scan, 3);
         const auto& s = slam.stats();
-        EXPECT_EQ(s.reflectors_extracted, 3u);
-        EXPECT_EQ(s.trees_extracted, 6u);  // the reflective trunk and the dull one
-        EXPECT_EQ(s.trees_duplicate, 3u);
+        EXPECT_EQ(count(s.point_features, "laser_reflectors"), 3u);
+        EXPECT_EQ(count(s.point_features, "laser_trees"), 6u);  // the reflective trunk and the dull one
+        EXPECT_EQ(count(s.point_duplicates, "laser_trees"), 3u);
         EXPECT_EQ(s.observations, 6u);
         ASSERT_EQ(slam.ekf().numLandmarks(), 2u);
         const auto lm = nearestLandmark(slam, kReflectiveTrunk.centre);
         EXPECT_LT(lm.second, kReflectiveTrunk.radius + 0.05);  // on the taped surface
         const auto& f = slam.landmarkFeatures().at(lm.first);
-        EXPECT_EQ(f.created_by, DenseSlam::FeatureKind::Reflector);
-        EXPECT_EQ(f.reflector, 3u);
-        EXPECT_EQ(f.tree, 0u);
+        EXPECT_EQ(f.created_by, "laser_reflectors");
+        EXPECT_EQ(f.count("laser_reflectors"), 3u);
+        EXPECT_EQ(f.count("laser_trees"), 0u);
         EXPECT_EQ(slam.landmarkFeatures().at(nearestLandmark(slam, kTrunk.centre).first).created_by,
-                  DenseSlam::FeatureKind::Tree);
+                  "laser_trees");
     }
 
     // Without the rule (the trees-only source) the trunk is a tree landmark at its centre.
-    auto trees = makeSlam(DenseSlam::LandmarkSource::LaserTrees);
+    auto trees = makeSlam({"laser_trees"});
     process(trees, full);
     EXPECT_EQ(trees.stats().observations, 2u);
     EXPECT_LT(nearestLandmark(trees, kReflectiveTrunk.centre).second, 0.05);
@@ -234,17 +248,17 @@ TEST(DenseSlamLandmarkSources, TreeNextToAReflectorIsDroppedWithinTheSameObjectD
     const Disc pole{kTrunk.centre + 0.4 * along + 0.6 * side, 0.05, kBright};
     const auto scan = scanOf(withWall({kTrunk, pole}));
 
-    auto near = makeSlam(DenseSlam::LandmarkSource::LaserReflectorsAndTrees, 1.0);
+    auto near = makeSlam(kReflectorsAndTrees, 1.0);
     process(near, scan);
-    EXPECT_EQ(near.stats().reflectors_extracted, 1u);
-    EXPECT_EQ(near.stats().trees_extracted, 1u);
-    EXPECT_EQ(near.stats().trees_duplicate, 1u);
+    EXPECT_EQ(count(near.stats().point_features, "laser_reflectors"), 1u);
+    EXPECT_EQ(count(near.stats().point_features, "laser_trees"), 1u);
+    EXPECT_EQ(count(near.stats().point_duplicates, "laser_trees"), 1u);
     EXPECT_EQ(near.stats().observations, 1u);
     EXPECT_LT(nearestLandmark(near, pole.centre).second, 0.08);
 
-    auto apart = makeSlam(DenseSlam::LandmarkSource::LaserReflectorsAndTrees, 0.5);
+    auto apart = makeSlam(kReflectorsAndTrees, 0.5);
     process(apart, scan);
-    EXPECT_EQ(apart.stats().trees_duplicate, 0u);
+    EXPECT_EQ(count(apart.stats().point_duplicates, "laser_trees"), 0u);
     EXPECT_EQ(apart.stats().observations, 2u);
     EXPECT_LT(nearestLandmark(apart, kTrunk.centre).second, 0.05);
 }
@@ -260,12 +274,18 @@ TEST(DenseSlamLandmarkSources, ConfigNamesAndErrors)
     };
     const auto o =
         load("landmark_source = laser_reflectors_and_trees\nsame_object_distance_m = 0.7\n");
-    EXPECT_EQ(o.landmark_source, DenseSlam::LandmarkSource::LaserReflectorsAndTrees);
+    EXPECT_EQ(o.point_sources, kReflectorsAndTrees);
     EXPECT_DOUBLE_EQ(o.same_object_distance, 0.7);
-    EXPECT_EQ(load("landmark_source = laser_reflectors\n").landmark_source,
-              DenseSlam::LandmarkSource::LaserReflectors);
-    EXPECT_EQ(load("landmark_source = laser_trees\n").landmark_source,
-              DenseSlam::LandmarkSource::LaserTrees);
+    EXPECT_EQ(load("landmark_source = laser_reflectors\n").point_sources,
+              std::vector<std::string>{"laser_reflectors"});
+    EXPECT_EQ(load("landmark_source = laser_trees\n").point_sources, std::vector<std::string>{"laser_trees"});
+    // The aliases are their sources; the sources are kept in registry order.
+    EXPECT_EQ(load("landmark_source = laser_trees, laser_reflectors\n").point_sources, kReflectorsAndTrees);
+    EXPECT_EQ(load("landmark_source = both\n").point_sources,
+              (std::vector<std::string>{"bearing_range", "laser_trees"}));
+    EXPECT_EQ(load("landmark_source = laser_trees,bearing_range\n").point_sources,
+              (std::vector<std::string>{"bearing_range", "laser_trees"}));
+    EXPECT_THROW(load("landmark_source = both, laser_trees\n"), std::invalid_argument);
     EXPECT_THROW(load("landmark_source = reflectors_and_trees\n"), std::invalid_argument);
     EXPECT_THROW(load("same_object_distance_m = -1\n"), std::invalid_argument);
 
@@ -274,12 +294,37 @@ TEST(DenseSlamLandmarkSources, ConfigNamesAndErrors)
     o.saveToConfigFile(out, "DenseSlam");
     DenseSlam::Options back;
     back.loadFromConfigFile(out, "DenseSlam");
-    EXPECT_EQ(back.landmark_source, DenseSlam::LandmarkSource::LaserReflectorsAndTrees);
+    EXPECT_EQ(back.point_sources, kReflectorsAndTrees);
     EXPECT_DOUBLE_EQ(back.same_object_distance, 0.7);
+    // Written back as the alias the configs use.
+    EXPECT_EQ(out.read_string("DenseSlam", "landmark_source", ""), "laser_reflectors_and_trees");
 }
 
-// landmark_source lists at most one point source and any registered per-scan sources;
-// the pipeline builds the registered ones with their sections.
+// Every registered point source builds with its name and input, and the pipeline builds
+// exactly the ones landmark_source names, in registry order.
+TEST(DenseSlamLandmarkSources, RegisteredPointSourcesBuild)
+{
+    for (const auto& kind : hymm::denseslam::pointSourceKinds())
+    {
+        const auto src = kind.make(nullptr, {});
+        EXPECT_EQ(src->name(), kind.name);
+        EXPECT_EQ(src->input(), kind.input);
+        EXPECT_EQ(hymm::denseslam::findPointSourceKind(kind.name), &kind);
+    }
+    EXPECT_EQ(hymm::denseslam::findPointSourceKind("scan_landmarks"), nullptr);
+    auto slam = makeSlam({"laser_trees", "laser_reflectors"});
+    ASSERT_EQ(slam.pointSources().size(), 2u);
+    EXPECT_EQ(slam.pointSources()[0]->name(), "laser_reflectors");
+    EXPECT_EQ(slam.pointSources()[1]->name(), "laser_trees");
+    EXPECT_TRUE(slam.options().readsPoints(hymm::denseslam::PointSourceInput::Scan));
+    EXPECT_FALSE(slam.options().readsPoints(hymm::denseslam::PointSourceInput::BearingRange));
+    DenseSlam::Options unknown;
+    unknown.point_sources = {"laser_poles"};
+    EXPECT_THROW(DenseSlam(unknown, hymm::ekf::EkfSlam::Options{}), std::invalid_argument);
+}
+
+// landmark_source lists point sources and any registered per-scan sources; the pipeline
+// builds the registered ones with their sections.
 TEST(DenseSlamLandmarkSources, RegisteredScanSourcesParseAndBuild)
 {
     auto load = [](const std::string& body) {
@@ -289,21 +334,20 @@ TEST(DenseSlamLandmarkSources, RegisteredScanSourcesParseAndBuild)
         return o;
     };
     const auto alone = load("landmark_source = scan_landmarks\n");
-    EXPECT_EQ(alone.landmark_source, DenseSlam::LandmarkSource::None);
+    EXPECT_TRUE(alone.point_sources.empty());
     EXPECT_EQ(alone.scan_sources, std::vector<std::string>{"scan_landmarks"});
     const auto both = load("landmark_source = laser_reflectors, scan_landmarks\n");
-    EXPECT_EQ(both.landmark_source, DenseSlam::LandmarkSource::LaserReflectors);
+    EXPECT_EQ(both.point_sources, std::vector<std::string>{"laser_reflectors"});
     EXPECT_EQ(both.scan_sources, std::vector<std::string>{"scan_landmarks"});
     EXPECT_TRUE(load("landmark_source = bearing_range\n").scan_sources.empty());
     EXPECT_THROW(load("landmark_source = scan_landmarks,scan_landmarks\n"), std::invalid_argument);
-    EXPECT_THROW(load("landmark_source = laser_trees,bearing_range\n"), std::invalid_argument);
     EXPECT_THROW(load("landmark_source = scan_landmark\n"), std::invalid_argument);
     EXPECT_THROW(load("landmark_source =  ,\n"), std::invalid_argument);
     mrpt::config::CConfigFileMemory out;
     both.saveToConfigFile(out, "DenseSlam");
     DenseSlam::Options back;
     back.loadFromConfigFile(out, "DenseSlam");
-    EXPECT_EQ(back.landmark_source, DenseSlam::LandmarkSource::LaserReflectors);
+    EXPECT_EQ(back.point_sources, std::vector<std::string>{"laser_reflectors"});
     EXPECT_EQ(back.scan_sources, both.scan_sources);
 
     // fromConfig builds the source with its sections; a bad key there is an error.

@@ -23,14 +23,10 @@ DenseSlam makeSlam(bool local_refresh)
     o.dense_layers = {"points", "occupancy"};
     hymm::ekf::EkfSlam::Options e;
     e.loadFromConfigFile(cfg, "EkfSlam");
-    hymm::extract::TreeExtractor::Options t;
-    t.loadFromConfigFile(cfg, "TreeExtractor");
-    hymm::extract::ReflectorExtractor::Options r;
-    r.loadFromConfigFile(cfg, "ReflectorExtractor");
     DenseSlam::DenseOptions d;
     d.loadFromConfigFile(cfg);
     d.partition.local_refresh = local_refresh;
-    return DenseSlam(o, e, t, r, d);
+    return DenseSlam(o, e, d, &cfg);
 }
 
 void runRawlog(DenseSlam& slam)

@@ -39,9 +39,7 @@
 #include <hymm/denseslam/LandmarkSources.h>
 #include <hymm/denseslam/OdometryModel.h>
 #include <hymm/ekf/EkfSlam.h>
-#include <hymm/extract/ReflectorExtractor.h>
 #include <hymm/hll/HighLevelLandmarks.h>
-#include <hymm/extract/TreeExtractor.h>
 #include <hymm/ltr/RegionPartition.h>
 #include <hymm/ltr/VirtualLandmarks.h>
 #include <hymm/uif/DelayedDenseStore.h>
@@ -70,50 +68,31 @@ namespace hymm::denseslam
 class DenseSlam
 {
 public:
-    /** Where landmark observations come from. */
-    enum class LandmarkSource
-    {
-        BearingRange,     //!< CObservationBearingRange in the rawlog (e.g. MRPT simul-landmarks)
-        LaserTrees,       //!< trunks extracted from CObservation2DRangeScan (e.g. Victoria Park)
-        Both,             //!< BearingRange and LaserTrees
-        LaserReflectors,  //!< retro-reflective beacons from the scans' intensities (car park)
-        /** Both extractors on every scan, each feature with its own extractor's noise; a
-         *  tree that is the object of a reflector of the same scan (Options::
-         *  same_object_distance) is dropped in favour of the reflector. */
-        LaserReflectorsAndTrees,
-        /** No point source: only the registered per-scan sources of
-         *  Options::scan_sources (e.g. landmark_source = scan_landmarks). */
-        None
-    };
-
-    /** The extractor an observation of a scan came from. */
-    enum class FeatureKind
-    {
-        Reflector,
-        Tree
-    };
-
-    /** Per landmark: the extractor whose scan observation created it (or first observed
-     *  it), how many scan observations of each kind the filter used for it (creation
-     *  counts) and when. */
+    /** Per landmark: the scan point source whose observation created it (or first
+     *  observed it), how many scan observations of each source the filter used for it
+     *  (creation counts) and when. */
     struct LandmarkFeatures
     {
-        FeatureKind created_by = FeatureKind::Reflector;
-        size_t reflector = 0;
-        size_t tree = 0;
+        std::string created_by;  //!< a point source's name (LandmarkSources.h)
+        std::map<std::string, size_t> observations;  //!< by point source name
         double first_t = 0;  //!< [s] time of the first observation used (the scan's)
         double last_t = 0;   //!< [s] time of the latest observation used
+        /** Observations of `source` used for this landmark. */
+        size_t count(const std::string& source) const
+        {
+            const auto it = observations.find(source);
+            return it == observations.end() ? 0 : it->second;
+        }
     };
 
     struct Options : public mrpt::config::CLoadableOptions
     {
-        /** [DenseSlam] landmark_source is a comma-separated list: at most one point
-         *  source (bearing_range, laser_trees, both, laser_reflectors,
-         *  laser_reflectors_and_trees) and any registered per-scan sources
-         *  (LandmarkSources.h: scan_landmarks). The point source goes here (None when
-         *  the list names none), the registered ones in scan_sources. */
-        LandmarkSource landmark_source = LandmarkSource::BearingRange;
-        std::vector<std::string> scan_sources;  //!< registered sources, in list order
+        /** [DenseSlam] landmark_source is a comma-separated list of registered sources
+         *  (LandmarkSources.h), each at most once: point sources (bearing_range,
+         *  laser_reflectors, laser_trees, or the aliases both and
+         *  laser_reflectors_and_trees) and per-scan sources (scan_landmarks). */
+        std::vector<std::string> point_sources{"bearing_range"};  //!< in registry order
+        std::vector<std::string> scan_sources;  //!< per-scan sources, in list order
         bool use_landmark_ids = true;   //!< use IDs the rawlog carries; false: data association
         double odometry_cov_scale = 1.0;  //!< multiplies the odometry covariance of the rawlog
         double odometry_std_xy = 0.0;     //!< [m] added in quadrature to the odometry (per step)
@@ -126,10 +105,11 @@ public:
         double sensor_std_bearing = 0.0;  //!< [rad] > 0 overrides (ini: sensor_std_bearing_deg)
         double min_range = 0.0;           //!< [m] observations closer than this are skipped
         double max_range = 1e9;           //!< [m] observations farther than this are skipped
-        /** [m] laser_reflectors_and_trees: a tree whose beams overlap those of a reflector
-         *  of the same scan, or whose centre lies within this distance of the reflector's,
-         *  is the same object (a beacon on a pole or trunk) and is dropped; 0 = beam
-         *  overlap only. (ini: same_object_distance_m) */
+        /** [m] several scan point sources (laser_reflectors_and_trees): a feature whose
+         *  beams overlap those of an earlier source's feature of the same scan (a tree on
+         *  a reflector's beams), or whose centre lies within this distance of it, is the
+         *  same object (a beacon on a pole or trunk) and is dropped; 0 = beam overlap
+         *  only. (ini: same_object_distance_m) */
         double same_object_distance = 1.0;
         bool enable_profiler = false;
         /** Kinds of the HYMM's dense layers to keep (ini: dense_layers), names of
@@ -153,6 +133,10 @@ public:
         bool denseLayers() const { return !dense_layers.empty(); }
         /** True if `kind` is in dense_layers. */
         bool denseLayer(const std::string& kind) const;
+        /** True if a point source in use reads observations of `input`. */
+        bool readsPoints(PointSourceInput input) const;
+        /** The settings the point sources apply. */
+        PointSourceSettings pointSettings() const;
 
         /** Every ini key of [DenseSlam], declared once (loader, saver, README table). */
         core::OptionTable table();
@@ -215,14 +199,15 @@ public:
         size_t entries = 0, predictions = 0, frames = 0, observations = 0;
         size_t associated = 0, created = 0, rejected_gate = 0, ambiguous = 0,
                rejected_numeric = 0;
-        /** NaN / non-finite / out-of-range readings (laser_reflectors_and_trees: the
-         *  beams the tree extractor skipped; both classify the same beams). */
+        /** NaN / non-finite / out-of-range readings (several scan point sources: the
+         *  beams the last one skipped; they classify the same beams). */
         size_t skipped_invalid = 0;
         size_t scans = 0;
         size_t extracted = 0;             //!< observations of the scans given to the filter
-        size_t reflectors_extracted = 0;  //!< features the reflector extractor returned
-        size_t trees_extracted = 0;       //!< features the tree extractor returned
-        size_t trees_duplicate = 0;       //!< trees dropped as a reflector's object (same scan)
+        /** Features each scan point source found, by source name. */
+        std::map<std::string, size_t> point_features;
+        /** Of them, dropped as the object of an earlier source's feature of the same scan. */
+        std::map<std::string, size_t> point_duplicates;
         size_t observations_with_id = 0;  //!< used with the landmark ID the rawlog carried
         // dense part
         size_t partition_updates = 0;   //!< calls of RegionPartition::update()
@@ -281,15 +266,16 @@ public:
         size_t observations_invalid_geometry = 0;
     };
 
-    /** Builds the pipeline from an .ini: sections [DenseSlam], [Laser], [EkfSlam],
-     *  [TreeExtractor], [ReflectorExtractor], the DenseOptions sections and those of the
-     *  registered landmark sources named in landmark_source (LandmarkSources.h). */
+    /** Builds the pipeline from an .ini: sections [DenseSlam], [Laser], [EkfSlam], the
+     *  DenseOptions sections and those of every registered point source (checked even
+     *  when not in use) and of the per-scan sources named in landmark_source
+     *  (LandmarkSources.h). */
     static DenseSlam fromConfig(const mrpt::config::CConfigFileBase& cfg);
 
-
+    /** The landmark sources of opts.point_sources and opts.scan_sources read their
+     *  sections of `sources_cfg` ([TreeExtractor], [ReflectorExtractor], [ScanLandmarks],
+     *  ...; their defaults when null). */
     DenseSlam(const Options& opts, const ekf::EkfSlam::Options& ekf_opts,
-              const extract::TreeExtractor::Options& tree_opts,
-              const extract::ReflectorExtractor::Options& reflector_opts = {},
               const DenseOptions& dense_opts = {},
               const mrpt::config::CConfigFileBase* sources_cfg = nullptr);
 
@@ -309,9 +295,12 @@ public:
     const Stats& stats() const { return stats_; }
     const Options& options() const { return options_; }
     mrpt::system::CTimeLogger& profiler() { return profiler_; }
-    /** The scan observations (reflectors, trees) behind every landmark now in the filter;
-     *  landmarks never observed in a scan are absent (all of them with bearing_range). */
+    /** The scan observations (of laser_reflectors, laser_trees) behind every landmark now
+     *  in the filter; landmarks never observed in a scan are absent (all of them with
+     *  bearing_range). */
     const std::map<long, LandmarkFeatures>& landmarkFeatures() const { return features_; }
+    /** The point sources in use (Options::point_sources). */
+    const std::vector<std::unique_ptr<PointLandmarkSource>>& pointSources() const { return point_sources_; }
     /** The registered per-scan landmark sources in use (Options::scan_sources). */
     const std::vector<std::unique_ptr<ScanLandmarkSource>>& scanSources() const { return sources_; }
     /** The scan_landmarks source, or nullptr when it is not in use. */
@@ -369,11 +358,16 @@ public:
     std::string stateUnsupported() const;
 
 private:
+    /** The bearing-range point sources' observations of `obs`, one update each. */
     void processBearingRange(const mrpt::obs::CObservationBearingRange& obs);
+    /** The scan point sources' features of `scan` in one update (same-object rule). */
     void processScan(const mrpt::obs::CObservation2DRangeScan& scan);
-    /** Builds the registered sources of Options::scan_sources from `cfg` (their
-     *  sections; defaults when null). */
-    void makeScanSources(const mrpt::config::CConfigFileBase* cfg);
+    /** Drops the features of `found` (scan sources' features of one scan, in registry
+     *  order) that are the object of an earlier source's feature (same_object_distance). */
+    void dropSameObjects(std::vector<std::pair<const std::string*, PointObservations>>& found);
+    /** Builds the registered sources of Options::point_sources and scan_sources from
+     *  `cfg` (their sections; defaults when null). */
+    void makeSources(const mrpt::config::CConfigFileBase* cfg);
     /** The registered sources' step for one scan (after the point sources). */
     void processScanSources(const mrpt::obs::CObservation2DRangeScan& scan);
     void processOdometryObservation(const mrpt::obs::CObservation& obs);
@@ -381,10 +375,10 @@ private:
      *  empty). */
     ekf::UpdateReport update(const std::vector<ekf::RangeBearingObs>& obs,
                              const mrpt::poses::CPose3D& sensor);
-    /** Bookkeeping of landmarkFeatures() after an update with observations of `kinds`. */
-    void recordFeatures(const ekf::UpdateReport& report, const std::vector<FeatureKind>& kinds,
+    /** Bookkeeping of landmarkFeatures() after an update with observations of the point
+     *  sources `by` (one name per observation). */
+    void recordFeatures(const ekf::UpdateReport& report, const std::vector<const std::string*>& by,
                         double t);
-    Eigen::Matrix2d sensorNoise(double std_range, double std_bearing) const;
     /** Step 6: virtual landmarks for returns no region holds (Sec. 3.5.1). */
     void createVirtualLandmarks(const std::vector<Eigen::Vector2d>& unassigned, double t);
     /** 1-sigma error (largest axis) a return fused now into `region_id` would keep
@@ -429,8 +423,6 @@ private:
 
     Options options_;
     ekf::EkfSlam ekf_;
-    extract::TreeExtractor trees_;
-    extract::ReflectorExtractor reflectors_;
     std::vector<PathSample> path_;
     struct OutsideSum
     {
@@ -459,6 +451,7 @@ private:
     /** Virtual landmarks live in the passive-state id space, far above real landmark ids. */
     long next_virtual_id_ = 1L << 40;
     mrpt::system::CTimeLogger profiler_{false, "hymm::DenseSlam"};
+    std::vector<std::unique_ptr<PointLandmarkSource>> point_sources_;  //!< registry order
     std::vector<std::unique_ptr<ScanLandmarkSource>> sources_;  //!< registered per-scan sources
 };
 
