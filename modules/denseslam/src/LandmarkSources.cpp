@@ -31,11 +31,12 @@ const std::vector<PointSourceKind>& pointSourceKinds()
         {"laser_reflectors", "[ReflectorExtractor]", PointSourceInput::Scan,
          [](const mrpt::config::CConfigFileBase* cfg, const PointSourceSettings& s) -> std::unique_ptr<PointLandmarkSource> {
              return std::make_unique<ReflectorSource>(
-                 sectionOptions<extract::ReflectorExtractor::Options>(cfg, "ReflectorExtractor"), s);
+                 "laser_reflectors", sectionOptions<extract::ReflectorExtractor::Options>(cfg, "ReflectorExtractor"), s);
          }},
         {"laser_trees", "[TreeExtractor]", PointSourceInput::Scan,
          [](const mrpt::config::CConfigFileBase* cfg, const PointSourceSettings& s) -> std::unique_ptr<PointLandmarkSource> {
-             return std::make_unique<TreeSource>(sectionOptions<extract::TreeExtractor::Options>(cfg, "TreeExtractor"), s);
+             return std::make_unique<TreeSource>("laser_trees",
+                                                 sectionOptions<extract::TreeExtractor::Options>(cfg, "TreeExtractor"), s);
          }},
     };
     return kinds;

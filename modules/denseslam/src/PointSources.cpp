@@ -74,6 +74,7 @@ PointObservations fromFeatures(const std::vector<extract::ScanFeature>& features
 }
 }  // namespace
 
+template <>
 PointObservations ReflectorSource::observe(const mrpt::obs::CObservation& o) const
 {
     const auto& scan = dynamic_cast<const mrpt::obs::CObservation2DRangeScan&>(o);
@@ -84,6 +85,7 @@ PointObservations ReflectorSource::observe(const mrpt::obs::CObservation& o) con
                         settings_.noise(extractor_.options().std_range, extractor_.options().std_bearing));
 }
 
+template <>
 PointObservations TreeSource::observe(const mrpt::obs::CObservation& o) const
 {
     const auto res = extractor_.extract(dynamic_cast<const mrpt::obs::CObservation2DRangeScan&>(o));

@@ -22,38 +22,34 @@ private:
     PointSourceSettings settings_;
 };
 
+/** A scan source on one of hymm::extract's extractors (its section's options and noise). */
+template <class Extractor>
+class ExtractorSource : public PointLandmarkSource
+{
+public:
+    ExtractorSource(const char* name, const typename Extractor::Options& o, const PointSourceSettings& s)
+        : name_(name), extractor_(o), settings_(s)
+    {
+    }
+    std::string name() const override { return name_; }
+    PointSourceInput input() const override { return PointSourceInput::Scan; }
+    PointObservations observe(const mrpt::obs::CObservation& obs) const override;
+
+private:
+    const char* name_;
+    Extractor extractor_;
+    PointSourceSettings settings_;
+};
+
 /** laser_reflectors: retro-reflective beacons from a scan's intensities (car park). */
-class ReflectorSource : public PointLandmarkSource
-{
-public:
-    ReflectorSource(const extract::ReflectorExtractor::Options& o, const PointSourceSettings& s)
-        : extractor_(o), settings_(s)
-    {
-    }
-    std::string name() const override { return "laser_reflectors"; }
-    PointSourceInput input() const override { return PointSourceInput::Scan; }
-    PointObservations observe(const mrpt::obs::CObservation& obs) const override;
-
-private:
-    extract::ReflectorExtractor extractor_;
-    PointSourceSettings settings_;
-};
-
+using ReflectorSource = ExtractorSource<extract::ReflectorExtractor>;
 /** laser_trees: trunks extracted from a scan (e.g. Victoria Park). */
-class TreeSource : public PointLandmarkSource
-{
-public:
-    TreeSource(const extract::TreeExtractor::Options& o, const PointSourceSettings& s)
-        : extractor_(o), settings_(s)
-    {
-    }
-    std::string name() const override { return "laser_trees"; }
-    PointSourceInput input() const override { return PointSourceInput::Scan; }
-    PointObservations observe(const mrpt::obs::CObservation& obs) const override;
+using TreeSource = ExtractorSource<extract::TreeExtractor>;
 
-private:
-    extract::TreeExtractor extractor_;
-    PointSourceSettings settings_;
-};
+// Each extractor's features and its scans' conditions (PointSources.cpp).
+template <>
+PointObservations ReflectorSource::observe(const mrpt::obs::CObservation& obs) const;
+template <>
+PointObservations TreeSource::observe(const mrpt::obs::CObservation& obs) const;
 
 }  // namespace hymm::denseslam
