@@ -8,6 +8,7 @@
 #include "ch3_sample.h"
 
 #include <gtest/gtest.h>
+#include <hymm/app/slam_outputs.h>
 #include <hymm/app/SlamApp.h>
 #include <hymm/app/slam_state.h>
 #include <hymm/denseslam/LandmarkSources.h>
@@ -307,6 +308,9 @@ TEST_F(Resume, ScanLandmarksResumeToIdenticalOutputs)
         ASSERT_NE(src, nullptr);
         EXPECT_GT(src->map().templates().size(), 0u);
         EXPECT_GT(src->map().stats().updated, 0u);
+        // The templates' updates are landmark observations that reached the filter.
+        for (const auto& w : hymm::app::runWarnings(slam))
+            EXPECT_EQ(w.find("no landmark observation reached the filter"), std::string::npos) << w;
     });
 }
 

@@ -83,7 +83,10 @@ std::vector<std::string> runWarnings(const DenseSlam& slam)
     else if (2 * not_used > s.rawlog_observations)
         w.push_back("most observations were not used: " + std::to_string(not_used) + " of " +
                     std::to_string(s.rawlog_observations) + why);
-    if (s.rawlog_observations > 0 && s.observations == 0)
+    // Per-scan sources (scan landmarks) update the filter with their own observations.
+    size_t source_changes = 0;
+    for (const auto& src : slam.scanSources()) source_changes += src->mapChanges();
+    if (s.rawlog_observations > 0 && s.observations == 0 && source_changes == 0)
         w.push_back("no landmark observation reached the filter (" + std::to_string(s.frames) +
                     " frames, " + std::to_string(s.scans) + " laser scans, " +
                     std::to_string(s.extracted) + " landmarks extracted)");
