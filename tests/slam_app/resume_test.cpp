@@ -2,9 +2,10 @@
 // rawlog with every dense layer, the classic grid, virtual landmarks, the delayed store,
 // the fallback tiles and the motion layers (resume_layers.ini): a run cut in two and resumed writes the
 // uninterrupted run's files byte for byte (timing lines aside, as scripts/check-outputs
-// compares), from the same rawlog and from a second rawlog holding the rest; a foreign,
+// compares), from the same rawlog and from a second rawlog holding the rest, also from the
+// periodic save (--save-state-every) of a run that failed later; a foreign,
 // other-version, truncated or corrupt state and another config are clear errors before
-// anything is written. Scan landmarks and high-level landmarks resume too.
+// anything is written, as is --save-state-every without --save-state. Scan landmarks and high-level landmarks resume too.
 #include "ch3_sample.h"
 
 #include <gtest/gtest.h>
@@ -15,6 +16,7 @@
 #include <hymm/hll/HighLevelLandmarks.h>
 #include <hymm/io/RawlogReader.h>
 #include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/poses/CPose2D.h>
 #include <mrpt/serialization/CArchive.h>
 
 #include <cctype>
@@ -122,8 +124,9 @@ size_t expectSameOutputs(const fs::path& a, const fs::path& b)
     return n;
 }
 
-// Entries [from, to) of the sample as a rawlog of their own.
-void writeEntries(const std::string& path, size_t from, size_t to)
+// Entries [from, to) of the sample as a rawlog of their own; `bad_tail` adds an object
+// that is no rawlog entry after them.
+void writeEntries(const std::string& path, size_t from, size_t to, bool bad_tail = false)
 {
     hymm::io::RawlogReader r(kRawlog);
     mrpt::io::CFileGZOutputStream f;
@@ -137,6 +140,7 @@ void writeEntries(const std::string& path, size_t from, size_t to)
             if (e.frame) ar << *e.frame;
             if (e.observation) ar << *e.observation;
         }
+    if (bad_tail) ar << mrpt::poses::CPose2D(1, 2, 0.3);
 }
 
 class Resume : public ::testing::Test
@@ -285,6 +289,41 @@ TEST_F(Resume, BadStatesAreClearErrors)
 
     a.resume = *dir_ / "missing.state";
     expectRefused(a, "cannot open the run state");
+}
+
+// --save-state-every without --save-state has nowhere to write: refused before any entry
+// is processed, with or without --resume.
+TEST_F(Resume, SaveStateEveryWithoutSaveStateIsRefused)
+{
+    SlamApp::Args a = argsFor(*dir_ / "refused");
+    a.save_state_every = 50;
+    expectRefused(a, "--save-state-every needs --save-state");
+    a.resume = *dir_ / "cut.state";
+    expectRefused(a, "--save-state-every needs --save-state");
+}
+
+// The periodic save on its own: a run whose rawlog turns bad after entry kCut + 30 fails
+// there (no results), and the state its last periodic save wrote (after entry kCut)
+// resumes on the rest of the sample to the uninterrupted run's outputs.
+TEST_F(Resume, PeriodicSaveOfAFailedRunResumesToIdenticalOutputs)
+{
+    const std::string head = *dir_ / "head.rawlog";
+    writeEntries(head, 0, kCut + 30, /*bad_tail=*/true);
+    SlamApp::Args crashed = argsFor(*dir_ / "crashed");
+    crashed.rawlog = head;
+    crashed.save_state = *dir_ / "periodic.state";
+    crashed.save_state_every = kCut / 2;
+    EXPECT_THROW(SlamApp(crashed).run(std::cerr), std::runtime_error);
+    // The failed run's folder holds no results (core::OutputFolder).
+    EXPECT_TRUE(!fs::exists(crashed.out_dir) || fs::is_empty(crashed.out_dir));
+    ASSERT_TRUE(fs::exists(crashed.save_state));
+
+    writeEntries(*dir_ / "after_periodic.rawlog", kCut, kEnd);
+    SlamApp::Args resumed = argsFor(*dir_ / "resumed_periodic");
+    resumed.rawlog = *dir_ / "after_periodic.rawlog";
+    resumed.resume = crashed.save_state;
+    SlamApp(resumed).run(std::cerr);
+    EXPECT_GE(expectSameOutputs(*dir_ / "full", *dir_ / "resumed_periodic"), 20u);
 }
 
 TEST_F(Resume, StateOfAnotherConfigIsRefused)

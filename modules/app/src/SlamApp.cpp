@@ -82,6 +82,9 @@ void SlamApp::run(std::ostream& log)
 {
     if (args_.config.empty() || args_.rawlog.empty() || args_.out_dir.empty())
         throw std::invalid_argument("hymm-slam needs --config, --rawlog and --out");
+    // With or without --resume: the periodic saves have no file to go to.
+    if (args_.save_state_every > 0 && args_.save_state.empty())
+        throw std::invalid_argument("--save-state-every needs --save-state");
 
     // Inputs first: a bad config or rawlog must fail before anything is written.
     slam_ = std::make_unique<DenseSlam>(loadSlamConfig(args_.config));
@@ -137,11 +140,7 @@ void SlamApp::run(std::ostream& log)
 SlamApp::StateRun SlamApp::startState(KeyframeRecorder& keyframes, io::RawlogReader& reader)
 {
     StateRun st;
-    if (args_.save_state.empty() && args_.resume.empty())
-    {
-        if (args_.save_state_every > 0) throw std::invalid_argument("--save-state-every needs --save-state");
-        return st;
-    }
+    if (args_.save_state.empty() && args_.resume.empty()) return st;
     if (const auto why = slam_->stateUnsupported(); !why.empty())
         throw std::invalid_argument(std::string(args_.resume.empty() ? "--save-state" : "--resume") +
                                     ": the run state cannot hold " + why +

@@ -1,6 +1,7 @@
 // CHybridMetricMap as an MRPT map on the wall scene (synthetic_partition.h): insertion,
 // MRPT's likelihood on the rendered layers, serialisation round trip and bad files,
-// creation through CMultiMetricMap from an .ini, and the named 3D objects.
+// creation through CMultiMetricMap from an .ini, and the named 3D objects (each of the five
+// layers when enabled, none when not).
 #include "synthetic_partition.h"
 
 #include <gtest/gtest.h>
@@ -11,6 +12,8 @@
 #include <mrpt/io/CFileOutputStream.h>
 #include <mrpt/maps/CMultiMetricMap.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
+#include <mrpt/opengl/CPointCloud.h>
+#include <mrpt/opengl/CPointCloudColoured.h>
 #include <mrpt/opengl/CSetOfLines.h>
 #include <mrpt/opengl/CSetOfObjects.h>
 #include <mrpt/serialization/CArchive.h>
@@ -46,17 +49,22 @@ mrpt::obs::CObservation2DRangeScan wallObservation()
     return obs;
 }
 
+HybridMetricMap::Options pointsAndOccupancy()
+{
+    HybridMetricMap::Options o;
+    o.enable_points = true;
+    o.enable_occupancy = true;
+    o.occupancy.cell_size_m = 0.1;
+    return o;
+}
+
 struct Fixture
 {
     synthetic::WallWorld world;
     CHybridMetricMap map;
-    Fixture()
+    explicit Fixture(const HybridMetricMap::Options& o = pointsAndOccupancy())
     {
         hymm::dense::registerHybridMetricMap();
-        HybridMetricMap::Options o;
-        o.enable_points = true;
-        o.enable_occupancy = true;
-        o.occupancy.cell_size_m = 0.1;
         HybridMetricMap empty(o);
         std::vector<CHybridMetricMap::Landmark> lms;
         for (const auto& [id, p] : world.lattice.landmarks())
@@ -266,6 +274,49 @@ TEST(CHybridMetricMap, VisualizationHasOneNamedObjectPerPart)
     f.map.saveMetricMapRepresentationToFile(prefix);
     for (const char* s : {"_occupancy.png", "_points.txt", "_landmarks.txt", "_regions.txt"})
         EXPECT_TRUE(mrpt::system::fileExists(prefix + s)) << s;
+}
+
+// Every layer enabled, the scan carrying an intensity (the property layer's value): each
+// layer is its named object and holds something; a layer that is off has no object.
+TEST(CHybridMetricMap, VisualizationHasANonEmptyObjectPerEnabledLayer)
+{
+    auto o = pointsAndOccupancy();
+    o.enable_particles = o.enable_sog = o.enable_property = true;
+    Fixture f(o);
+    auto obs = wallObservation();
+    obs.setScanHasIntensity(true);
+    for (size_t k = 0; k < obs.getScanSize(); ++k) obs.setScanIntensity(k, static_cast<int32_t>(10 + k % 7));
+    ASSERT_TRUE(f.map.insertObservation(obs, f.truth()));
+    mrpt::opengl::CSetOfObjects scene;
+    f.map.getVisualizationInto(scene);
+
+    const auto occupancy = std::dynamic_pointer_cast<mrpt::opengl::CSetOfObjects>(scene.getByName("occupancy"));
+    ASSERT_TRUE(occupancy);
+    EXPECT_GT(occupancy->size(), 0u);
+    const auto points = std::dynamic_pointer_cast<mrpt::opengl::CPointCloud>(scene.getByName("points"));
+    ASSERT_TRUE(points);
+    EXPECT_EQ(points->size(), f.map.renderedPoints().size());
+    EXPECT_GT(points->size(), 100u);
+    const auto particles = std::dynamic_pointer_cast<mrpt::opengl::CPointCloudColoured>(scene.getByName("particles"));
+    ASSERT_TRUE(particles);
+    EXPECT_GT(particles->size(), 100u);
+    const auto sog = std::dynamic_pointer_cast<mrpt::opengl::CSetOfLines>(scene.getByName("sog"));
+    ASSERT_TRUE(sog);
+    EXPECT_GT(sog->getLineCount(), 0u);
+    const auto property = std::dynamic_pointer_cast<mrpt::opengl::CPointCloudColoured>(scene.getByName("property"));
+    ASSERT_TRUE(property);
+    EXPECT_GT(property->size(), 0u);
+    // Drawn where the scan hit: every property cell is near the wall x = kWallX.
+    for (size_t i = 0; i < property->size(); ++i)
+        EXPECT_NEAR(property->getPoint3Df(i).x, synthetic::kWallX, 1.0) << i;
+
+    // The points-and-occupancy map draws neither of the three other layers.
+    Fixture two;
+    ASSERT_TRUE(two.map.insertObservation(wallObservation(), two.truth()));
+    mrpt::opengl::CSetOfObjects scene2;
+    two.map.getVisualizationInto(scene2);
+    for (const char* off : {"particles", "sog", "property"}) EXPECT_FALSE(scene2.getByName(off)) << off;
+    EXPECT_TRUE(scene2.getByName("points"));
 }
 
 }  // namespace
