@@ -10,7 +10,8 @@
  *                  CPose3DPDFGaussian from the 2D pose and 3x3 covariance at that
  *                  step, a filtered estimate: later corrections of the path are not in
  *                  it) and the sensory frame the pipeline processed there; input of
- *                  observations2map, pf-localization and icp-slam;
+ *                  observations2map and pf-localization (icp-slam reads a rawlog,
+ *                  not a simplemap: docs/mrpt-workflows.md);
  *  - map.hymm      with dense layers: the hybrid map (dense::CHybridMetricMap, at the
  *                  final landmark estimates), what CMultiMetricMap .ini sections load
  *                  with `map_file`;
