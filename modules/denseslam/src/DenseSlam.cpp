@@ -380,7 +380,7 @@ double DenseSlam::localFusionStd(const ltr::LandmarkCovarianceView& view, long r
 void DenseSlam::refreshRegions()
 {
     if (!partition_) return;
-    partition_->updateVertexPositions(VirtualLandmarkView(ekf_, virtual_ids_));
+    partition_->updateVertexPositions(VirtualLandmarkView(ekf_, virtual_ids_, options_.pose_landmark_vertices));
 }
 
 double DenseSlam::scanReach(const mrpt::obs::CSensoryFrame& frame) const
@@ -537,7 +537,7 @@ std::vector<DenseSlam::OutsideReturnCell> DenseSlam::outsideReturnCells() const
 void DenseSlam::processDense(const mrpt::obs::CSensoryFrame& frame, double t, bool map_changed)
 {
     // Reads the filter only (UIF): nothing below writes to its active states.
-    const VirtualLandmarkView view(ekf_, virtual_ids_);
+    const VirtualLandmarkView view(ekf_, virtual_ids_, options_.pose_landmark_vertices);
     if (partition_ && map_changed) updateRegions(view, frame, t);
 
     mrpt::system::CTimeLoggerEntry tle(profiler_, "denseslam.5_dense");
@@ -563,8 +563,15 @@ void DenseSlam::updateMotionLayers(double t)
 
 void DenseSlam::createVirtualLandmarks(const std::vector<Eigen::Vector2d>& unassigned, double t)
 {
+    // A Jacobian on a vertex's point, as one on its whole block: a pose landmark's
+    // (x, y, phi) gives its point (x, y), the heading column is zero.
+    auto onBlock = [&](long lid, const Eigen::Matrix2d& J) {
+        Eigen::MatrixXd G = Eigen::MatrixXd::Zero(2, static_cast<Eigen::Index>(ekf_.landmarkBlock(lid).dim));
+        G.leftCols<2>() = J;
+        return G;
+    };
     mrpt::system::CTimeLoggerEntry tle(profiler_, "denseslam.6_virtual");
-    const VirtualLandmarkView view(ekf_, virtual_ids_);
+    const VirtualLandmarkView view(ekf_, virtual_ids_, options_.pose_landmark_vertices);
     const auto proposals =
         ltr::proposeVirtualLandmarks(*partition_, view, unassigned, virtual_options_);
     const double var = virtual_options_.position_std_m * virtual_options_.position_std_m;
@@ -577,13 +584,12 @@ void DenseSlam::createVirtualLandmarks(const std::vector<Eigen::Vector2d>& unass
             // the states of a and b and a small definitional noise in place of R, as a
             // passive state: it follows every correction of a and b, gives nothing back.
             Eigen::Matrix2d Ja, Jb;
-            const Eigen::Vector2d v =
-                ltr::virtualApex(ekf_.landmarkMean(p.a), ekf_.landmarkMean(p.b), p.side, depth, &Ja, &Jb);
+            const Eigen::Vector2d v = ltr::virtualApex(view.mean(p.a), view.mean(p.b), p.side, depth, &Ja, &Jb);
             const long id = next_virtual_id_++;
-            ekf_.addPassiveFromLandmarks(id, v, {{p.a, Ja}, {p.b, Jb}},
+            ekf_.addPassiveFromLandmarks(id, v, {{p.a, onBlock(p.a, Ja)}, {p.b, onBlock(p.b, Jb)}},
                                          var * Eigen::Matrix2d::Identity());
             virtual_ids_.insert(id);
-            const VirtualLandmarkView vview(ekf_, virtual_ids_);
+            const VirtualLandmarkView vview(ekf_, virtual_ids_, options_.pose_landmark_vertices);
             if (partition_->tryAddRegion({p.a, p.b, id}, vview, t).accepted())
             {
                 ++stats_.virtual_landmarks;

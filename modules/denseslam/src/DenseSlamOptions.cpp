@@ -181,6 +181,9 @@ core::OptionTable DenseSlam::Options::table()
     t.real("outside_cell_m", outside_cell_m, "m", above(0, 10),
            "returns in no region are tallied per cell of this size as they arrive (count and mean position) "
            "for the end-of-run diagnostic of why they fell outside: memory bounded by the area, not the run");
+    t.flag("pose_landmark_vertices", pose_landmark_vertices,
+           "regions also on the pose landmarks (scan landmarks, HLLs), a vertex at each one's frame origin "
+           "(thesis 6.2, DenseSLAM on scan landmarks); false: on point landmarks only");
     t.real("same_object_distance_m", same_object_distance, "m", atLeast(0, 100),
            "laser_reflectors_and_trees: a tree this close to a reflector of the same scan is the same object; "
            "0 = beam overlap only");

@@ -17,7 +17,7 @@ Eigen::Index EkfCovarianceView::offsetOf(long id) const
     const auto& b = ekf_.layout().get(id);
     if (!visible(b))
         throw std::out_of_range("EkfCovarianceView: landmark " + std::to_string(id) +
-                                " is not a visible 2-DOF point (dim " + std::to_string(b.dim) +
+                                " is not visible (dim " + std::to_string(b.dim) +
                                 (b.confirmed ? ")" : ", tentative)"));
     return static_cast<Eigen::Index>(b.offset);
 }

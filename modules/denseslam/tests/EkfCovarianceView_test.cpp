@@ -134,4 +134,33 @@ TEST(EkfCovarianceView, IdsNearEqualsTheBruteForceFilterInStateOrder)
     }
 }
 
+// Pose landmarks (x, y, phi) are hidden unless asked; then they are the point at their
+// frame's origin, read in place like the points (thesis 6.2: regions on scan landmarks).
+TEST(EkfCovarianceView, PoseLandmarksAreTheirFrameOriginWhenAsked)
+{
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> u(-20, 20);
+    const std::vector<std::pair<long, int>> blocks{{1, 2}, {2, 3}, {3, 2}};
+    const int n = 3 + 2 + 3 + 2;
+    Eigen::VectorXd x(n);
+    for (int i = 0; i < n; ++i) x[i] = u(rng);
+    hymm::ekf::EkfSlam ekf{hymm::ekf::EkfSlam::Options{}};
+    const Eigen::MatrixXd P = randomCov(n, 5);
+    ekf.setActiveState(x, P, blocks);
+
+    const EkfCovarianceView points(ekf);
+    EXPECT_FALSE(points.has(2));
+    EXPECT_EQ(points.ids(), (std::vector<long>{1, 3}));
+    EXPECT_THROW(points.mean(2), std::out_of_range);
+
+    const EkfCovarianceView all(ekf, true, true);
+    EXPECT_TRUE(all.has(2));
+    EXPECT_EQ(all.ids(), (std::vector<long>{1, 2, 3}));
+    EXPECT_EQ(all.mean(2), x.segment<2>(5));  // after the vehicle (3) and landmark 1 (2)
+    EXPECT_EQ(all.cov(2), Eigen::Matrix2d(P.block(5, 5, 2, 2)));
+    EXPECT_EQ(all.crossCov(2, 3), Eigen::Matrix2d(P.block(5, 8, 2, 2)));
+    EXPECT_EQ(all.crossVehicle(2), (Eigen::Matrix<double, 2, 3>(P.block(5, 0, 2, 3))));
+    EXPECT_EQ(all.idsNear(x.segment<2>(5), 1e-9), std::vector<long>{2});
+}
+
 }  // namespace

@@ -127,6 +127,10 @@ public:
         /** [m] cell of the per-cell tally of the returns in no region
          *  (outsideReturnCells). */
         double outside_cell_m = 0.05;
+        /** Regions also on the pose landmarks (scan landmarks, HLLs), a vertex at each
+         *  one's frame origin: a dense map where there is no point landmark (thesis 6.2,
+         *  DenseSLAM on scan landmarks). False: point landmarks only. */
+        bool pose_landmark_vertices = false;
 
         /** True if a layer of the HYMM is on (regions are grown only then; the classic
          *  grid does not need them). */

@@ -9,7 +9,10 @@
  * would have to be dropped with its dense content.
  *
  * The view must not outlive the filter, and it reflects the filter's state at the time
- * of each call (no snapshot). Cost: has/mean/cov/crossCov/crossVehicle are O(1) (hash
+ * of each call (no snapshot). With `pose_landmarks`, 3-DOF pose landmarks (scan
+ * landmarks, high-level landmarks: x, y, phi) are visible too, as the point at their
+ * frame's origin (the first two rows of their block): regions on scan landmarks, thesis
+ * 6.2. Cost: has/mean/cov/crossCov/crossVehicle are O(1) (hash
  * lookup of the block); ids() is O(number of landmarks); idsNear() is one pass over the
  * layout's blocks reading the mean vector in place (no hashing, about 1 ns per landmark:
  * a few microseconds at 2000 landmarks, see docs/benchmarks.md).
@@ -24,9 +27,10 @@ namespace hymm::denseslam
 class EkfCovarianceView : public hymm::ltr::LandmarkCovarianceView
 {
 public:
-    /** `confirmed_only`: hide tentative landmarks (the default). */
-    explicit EkfCovarianceView(const ekf::EkfSlam& ekf, bool confirmed_only = true)
-        : ekf_(ekf), confirmed_only_(confirmed_only)
+    /** `confirmed_only`: hide tentative landmarks (the default); `pose_landmarks`: show
+     *  3-DOF pose landmarks as their frame's origin. */
+    explicit EkfCovarianceView(const ekf::EkfSlam& ekf, bool confirmed_only = true, bool pose_landmarks = false)
+        : ekf_(ekf), confirmed_only_(confirmed_only), pose_landmarks_(pose_landmarks)
     {
     }
 
@@ -48,11 +52,12 @@ private:
     Eigen::Index offsetOf(long id) const;
     bool visible(const ekf::LandmarkBlock& b) const
     {
-        return b.dim == 2 && (!confirmed_only_ || b.confirmed);
+        return (b.dim == 2 || (pose_landmarks_ && b.dim == 3)) && (!confirmed_only_ || b.confirmed);
     }
 
     const ekf::EkfSlam& ekf_;
     const bool confirmed_only_;
+    const bool pose_landmarks_;
 };
 
 }  // namespace hymm::denseslam

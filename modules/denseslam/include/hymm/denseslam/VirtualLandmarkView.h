@@ -25,9 +25,10 @@ namespace hymm::denseslam
 class VirtualLandmarkView : public hymm::ltr::LandmarkCovarianceView
 {
 public:
-    /** `virtual_ids`: passive block ids of `ekf` that are virtual landmarks (2-DOF). */
-    VirtualLandmarkView(const ekf::EkfSlam& ekf, const std::set<long>& virtual_ids)
-        : ekf_(ekf), real_(ekf), virtual_(virtual_ids)
+    /** `virtual_ids`: passive block ids of `ekf` that are virtual landmarks (2-DOF);
+     *  `pose_landmarks`: the real landmarks include the 3-DOF ones (EkfCovarianceView). */
+    VirtualLandmarkView(const ekf::EkfSlam& ekf, const std::set<long>& virtual_ids, bool pose_landmarks = false)
+        : ekf_(ekf), real_(ekf, true, pose_landmarks), virtual_(virtual_ids)
     {
     }
 
