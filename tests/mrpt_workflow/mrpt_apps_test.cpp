@@ -4,6 +4,8 @@
 // entries of rawlogs/ch3_objects.rawlog, configs/ch3_slam.ini) exits 0 and writes a
 // .gridmap that MRPT's reader loads and that agrees with the run's own occupancy layer
 // (map.hymm rendered at the final landmark estimates) cell by cell.
+#include "grid_agreement.h"
+
 #include <gtest/gtest.h>
 #include <hymm/app/SlamApp.h>
 #include <hymm/dense/CHybridMetricMap.h>
@@ -42,13 +44,6 @@ struct TempDir
 };
 
 // Occupied / free / unknown by MRPT's convention (cell value = P(free)).
-int cellClass(float p_free)
-{
-    if (p_free < 0.4f) return 1;
-    if (p_free > 0.6f) return -1;
-    return 0;
-}
-
 TEST(MrptApps, Observations2mapOnTheSimplemapBuildsAGridAgreeingWithOurs)
 {
     if (!installed("observations2map")) GTEST_SKIP() << "MRPT's observations2map is not installed";
@@ -77,35 +72,7 @@ TEST(MrptApps, Observations2mapOnTheSimplemapBuildsAGridAgreeingWithOurs)
     const auto& g_ours = ours->renderedOccupancy();
     EXPECT_NEAR(g_mrpt.getResolution(), g_ours.getResolution(), 1e-6);  // the .ini's cell = the layer's
 
-    size_t both_known = 0, agree = 0, mrpt_occ = 0, mrpt_occ_near_ours = 0;
-    const int w = static_cast<int>(std::ceil(0.3 / g_ours.getResolution()));  // within 0.3 m
-    for (unsigned cy = 0; cy < g_ours.getSizeY(); ++cy)
-        for (unsigned cx = 0; cx < g_ours.getSizeX(); ++cx)
-        {
-            const int x = static_cast<int>(cx), y = static_cast<int>(cy);
-            const int o = cellClass(g_ours.getCell(x, y));
-            const int m = cellClass(g_mrpt.getPos(static_cast<float>(g_ours.idx2x(cx)),
-                                                  static_cast<float>(g_ours.idx2y(cy))));
-            if (o != 0 && m != 0)
-            {
-                ++both_known;
-                agree += o == m;
-            }
-            if (m != 1 || o == 0) continue;
-            ++mrpt_occ;
-            bool near = false;
-            for (int dy = -w; dy <= w && !near; ++dy)
-                for (int dx = -w; dx <= w && !near; ++dx) near = cellClass(g_ours.getCell(x + dx, y + dy)) == 1;
-            mrpt_occ_near_ours += near;
-        }
-    const double agreement = static_cast<double>(agree) / static_cast<double>(both_known);
-    const double occ_near = static_cast<double>(mrpt_occ_near_ours) / static_cast<double>(mrpt_occ);
-    std::cout << "[observations2map] cells known in both " << both_known << ", agreement " << agreement
-              << "; MRPT occupied cells " << mrpt_occ << ", within 0.3 m of an occupied cell of ours "
-              << occ_near << "\n";
-    ASSERT_GT(both_known, 10000u);
-    EXPECT_GT(agreement, 0.95);
-    EXPECT_GT(occ_near, 0.8);
+    hymm::testing::expectGridsAgree("observations2map", hymm::testing::compareGrids(g_ours, g_mrpt));
 }
 
 }  // namespace

@@ -11,6 +11,8 @@
 //    seeds than the mapping run) on it, scored against the simulator's true path, and
 //    better than on a grid MRPT builds from map.simplemap.
 #include <Eigen/Dense>
+#include "grid_agreement.h"
+
 #include <gtest/gtest.h>
 #include <hymm/app/SlamApp.h>
 #include <hymm/app/mrpt_outputs.h>
@@ -127,13 +129,6 @@ TEST(MrptWorkflow, SimplemapHoldsAKeyframePerPathSample)
 }
 
 // Occupied / free / unknown by MRPT's convention (cell value = P(free)).
-int cellClass(float p_free)
-{
-    if (p_free < 0.4f) return 1;   // occupied
-    if (p_free > 0.6f) return -1;  // free
-    return 0;
-}
-
 TEST(MrptWorkflow, RunRawlogHoldsTheInputWithTheEstimatedPoses)
 {
     const auto& r = run();
@@ -186,37 +181,7 @@ TEST(MrptWorkflow, GridMrptBuildsFromTheSimplemapAgreesWithOurs)
     g_mrpt.insertionOptions.maxDistanceInsertion = static_cast<float>(ours->dense().options().max_range_m);
     g_mrpt.loadFromSimpleMap(sm);
 
-    size_t both_known = 0, agree = 0, mrpt_occ = 0, mrpt_occ_near_ours = 0;
-    const int w = static_cast<int>(std::ceil(0.3 / res));  // a cell of ours within 0.3 m
-    for (unsigned cy = 0; cy < g_ours.getSizeY(); ++cy)
-        for (unsigned cx = 0; cx < g_ours.getSizeX(); ++cx)
-        {
-            const int x = static_cast<int>(cx), y = static_cast<int>(cy);
-            const int a = cellClass(g_ours.getCell(x, y));
-            const int b = cellClass(g_mrpt.getPos(static_cast<float>(g_ours.idx2x(cx)),
-                                                  static_cast<float>(g_ours.idx2y(cy))));
-            if (a != 0 && b != 0)
-            {
-                ++both_known;
-                if (a == b) ++agree;
-            }
-            if (b == 1 && a != 0)
-            {
-                ++mrpt_occ;
-                bool near = false;
-                for (int dy = -w; dy <= w && !near; ++dy)
-                    for (int dx = -w; dx <= w && !near; ++dx) near = cellClass(g_ours.getCell(x + dx, y + dy)) == 1;
-                if (near) ++mrpt_occ_near_ours;
-            }
-        }
-    const double agreement = static_cast<double>(agree) / static_cast<double>(both_known);
-    const double occ_near = static_cast<double>(mrpt_occ_near_ours) / static_cast<double>(mrpt_occ);
-    std::cout << "[grid] cells known in both " << both_known << ", agreement " << agreement
-              << "; MRPT occupied cells " << mrpt_occ << ", within 0.3 m of an occupied cell of ours "
-              << occ_near << "\n";
-    ASSERT_GT(both_known, 10000u);
-    EXPECT_GT(agreement, 0.95);
-    EXPECT_GT(occ_near, 0.8);
+    hymm::testing::expectGridsAgree("grid", hymm::testing::compareGrids(g_ours, g_mrpt));
 }
 
 // MRPT's particle filter on the saved hybrid map, fed a simulated run of the same world.

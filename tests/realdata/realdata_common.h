@@ -86,10 +86,11 @@ struct SlamRun
     const DenseSlam& slam() const { return app->slam(); }
 };
 
+/** `config`: a path in the source tree, or an absolute one (a config written by the test). */
 inline SlamRun runSlam(const std::string& config, const std::string& rawlog, const std::string& out)
 {
     SlamApp::Args a;
-    a.config = sourceFile(config);
+    a.config = fs::path(config).is_absolute() ? config : sourceFile(config);
     a.rawlog = rawlog;
     a.out_dir = out;
     a.quiet = true;
@@ -188,6 +189,22 @@ inline StampedPose2D relativeTo(const StampedPose2D& o, const StampedPose2D& g)
     const double c = std::cos(o.phi), s = std::sin(o.phi);
     const double dx = g.x - o.x, dy = g.y - o.y;
     return {g.t, c * dx + s * dy, -s * dx + c * dy, mrpt::math::wrapToPi(g.phi - o.phi)};
+}
+
+/** The car park converted into `dir`/data (rawlog, GPS, beacon survey). */
+inline void importCarPark(const ScratchDir& dir)
+{
+    hymm::datasets::importDataset("carpark", {datasets() + "/acfr_carpark"}, dir.file("data"),
+                                  sourceFile("configs/datasets/carpark.ini"));
+}
+
+/** A config file's text. */
+inline std::string readConfig(const std::string& path)
+{
+    std::ifstream in(path);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
 }
 
 }  // namespace realdata

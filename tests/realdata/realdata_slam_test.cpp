@@ -91,24 +91,10 @@ MrclamResult runMrclam(const std::string& jacobians, bool figure)
     hymm::datasets::importDataset("mrclam", {datasets() + "/utias_mrclam/MRCLAM_Dataset1"},
                                   dir.file("data"), sourceFile("configs/datasets/mrclam.ini"));
     // configs/mrclam.ini with only the linearisation point set.
-    std::ifstream cfg_in(sourceFile("configs/mrclam.ini"));
-    std::stringstream text;
-    text << cfg_in.rdbuf();
-    mrpt::config::CConfigFileMemory cfg(text.str());
+    mrpt::config::CConfigFileMemory cfg(readConfig(sourceFile("configs/mrclam.ini")));
     cfg.write("EkfSlam", "jacobians", jacobians);
     std::ofstream(dir.file("mrclam.ini")) << cfg.getContent();
-    SlamApp::Args a;
-    a.config = dir.file("mrclam.ini");
-    a.rawlog = dir.file("data/mrclam_robot1.rawlog");
-    a.out_dir = dir.file("slam");
-    a.quiet = true;
-    a.png = false;
-    SlamRun run;
-    run.app = std::make_unique<SlamApp>(a);
-    std::ostringstream log;
-    const auto t0 = std::chrono::steady_clock::now();
-    run.app->run(log);
-    run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const auto run = runSlam(dir.file("mrclam.ini"), dir.file("data/mrclam_robot1.rawlog"), dir.file("slam"));
     printSummary("mrclam " + jacobians, run);
     const auto path = estimatedPath(run.slam());
 
@@ -226,8 +212,7 @@ TEST(RealDataSlamTest, CarParkBeaconsAgainstSurvey)
 {
     if (datasets().empty()) GTEST_SKIP() << "HYMM_DATASETS not set";
     ScratchDir dir("carpark");
-    hymm::datasets::importDataset("carpark", {datasets() + "/acfr_carpark"}, dir.file("data"),
-                                  sourceFile("configs/datasets/carpark.ini"));
+    importCarPark(dir);
     const auto gps = hymm::io::readTum(dir.file("data/carpark_gps.tum"));
     const auto beacons = hymm::io::readLandmarksCsv(dir.file("data/carpark_beacons.csv"));
     LandmarkEvaluator::Options lo;
@@ -369,10 +354,7 @@ TEST(RealDataSlamTest, CarParkBeaconsAgainstSurvey)
         }
         std::ofstream(dir.file("carpark_reflectors.ini")) << reflectors_config;
     }
-    // (runSlam reads the config relative to the source tree.)
-    const auto reflectors =
-        runConfig(fs::relative(dir.file("carpark_reflectors.ini"), HYMM_SOURCE_DIR).string(),
-                  dir.file("slam_reflectors"));
+    const auto reflectors = runConfig(dir.file("carpark_reflectors.ini"), dir.file("slam_reflectors"));
     print("reflectors+trees (shipped)", shipped);
     print("reflectors only", reflectors);
 

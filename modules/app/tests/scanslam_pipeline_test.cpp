@@ -11,8 +11,8 @@
 #include <hymm/sim/Simulator.h>
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/maps/CSimplePointsMap.h>
-#include <mrpt/obs/CSensoryFrame.h>
-#include <mrpt/poses/CPosePDFGaussian.h>
+
+#include "sim_feed.h"
 
 #include <cmath>
 #include <fstream>
@@ -103,20 +103,12 @@ TEST(ScanSlamPipeline, RegionsOnScanLandmarksMakeADenseMapOfAWorldWithoutPoints)
         auto slam = hymm::denseslam::DenseSlam::fromConfig(cfg);
         const auto scenario = shortRun(1, kDuration);
         hymm::sim::Simulator sim(scenario);
-        hymm::sim::SimFrame f;
         // The same returns placed at the filter's pose of their scan (a map with no later
         // correction), every fifth scan.
         std::vector<Eigen::Vector2d> at_the_time;
         size_t scans = 0;
-        while (sim.next(f))
-        {
-            slam.processOdometry(mrpt::poses::CPosePDFGaussian(
-                mrpt::poses::CPose2D(f.odometry_mean[0], f.odometry_mean[1], f.odometry_mean[2]),
-                mrpt::math::CMatrixDouble33(f.odometry_cov)));
-            mrpt::obs::CSensoryFrame sf;
-            if (f.scan) sf.insert(f.scan);
-            slam.processFrame(sf);
-            if (!f.scan || scans++ % 5 != 0) continue;
+        hymm::denseslam::testing::runFrames(sim, slam, [&](const hymm::sim::SimFrame& f) {
+            if (!f.scan || scans++ % 5 != 0) return;
             const Eigen::Vector3d v = slam.ekf().vehiclePose();
             const mrpt::poses::CPose2D pose = mrpt::poses::CPose2D(v[0], v[1], v[2]) +
                                               mrpt::poses::CPose2D(f.scan->sensorPose);
@@ -130,7 +122,7 @@ TEST(ScanSlamPipeline, RegionsOnScanLandmarksMakeADenseMapOfAWorldWithoutPoints)
                 const auto g = pose + mrpt::math::TPoint2D(r * std::cos(b), r * std::sin(b));
                 at_the_time.emplace_back(g.x, g.y);
             }
-        }
+        });
         final_pose.push_back(slam.ekf().vehiclePose());
         ASSERT_NE(slam.partition(), nullptr);
         if (!on)
