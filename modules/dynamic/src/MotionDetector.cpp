@@ -22,24 +22,29 @@ size_t Difference::marked() const
 
 OccupancySnapshot OccupancySnapshot::take(const dense::OccupancyLayer& occ, double t)
 {
-    const auto& g = occ.grid();
     OccupancySnapshot s;
-    s.t = t;
-    s.origin = g.origin();
-    s.cell_size = g.cellSize();
-    s.nx = g.sizeX();
-    s.ny = g.sizeY();
-    const size_t n = static_cast<size_t>(s.nx) * static_cast<size_t>(s.ny);
-    s.p.resize(n);
-    s.inside.resize(n);
-    for (int iy = 0; iy < s.ny; ++iy)
-        for (int ix = 0; ix < s.nx; ++ix)
-        {
-            const size_t k = static_cast<size_t>(iy) * static_cast<size_t>(s.nx) + static_cast<size_t>(ix);
-            s.p[k] = static_cast<float>(dense::logistic(g.logOdds(ix, iy)));
-            s.inside[k] = g.updatable(ix, iy) ? 1 : 0;
-        }
+    s.assign(occ, t);
     return s;
+}
+
+void OccupancySnapshot::assign(const dense::OccupancyLayer& occ, double t_now)
+{
+    const auto& g = occ.grid();
+    t = t_now;
+    origin = g.origin();
+    cell_size = g.cellSize();
+    nx = g.sizeX();
+    ny = g.sizeY();
+    const size_t n = static_cast<size_t>(nx) * static_cast<size_t>(ny);
+    p.resize(n);
+    inside.resize(n);
+    for (int iy = 0; iy < ny; ++iy)
+        for (int ix = 0; ix < nx; ++ix)
+        {
+            const size_t k = static_cast<size_t>(iy) * static_cast<size_t>(nx) + static_cast<size_t>(ix);
+            p[k] = static_cast<float>(dense::logistic(g.logOdds(ix, iy)));
+            inside[k] = g.updatable(ix, iy) ? 1 : 0;
+        }
 }
 
 bool OccupancySnapshot::sameGeometry(const OccupancySnapshot& o) const
@@ -51,9 +56,16 @@ bool OccupancySnapshot::sameGeometry(const OccupancySnapshot& o) const
 Difference differenceOccupancy(
     const OccupancySnapshot& then, const OccupancySnapshot& now, double sigma_cells, double threshold)
 {
+    Difference d;
+    differenceOccupancy(then, now, sigma_cells, threshold, d);
+    return d;
+}
+
+void differenceOccupancy(const OccupancySnapshot& then, const OccupancySnapshot& now, double sigma_cells,
+                         double threshold, Difference& d)
+{
     if (!then.sameGeometry(now))
         throw std::invalid_argument("differenceOccupancy: snapshots on different grids");
-    Difference d;
     d.nx = now.nx;
     d.ny = now.ny;
     const size_t n = now.p.size();
@@ -64,19 +76,22 @@ Difference differenceOccupancy(
     {
         // Gaussian low-pass (Sec. 6.3.3, Fig. 6.9 d); kernel to +-3 sigma. Cells outside
         // the triangle are 0 (no evidence), the grid border replicates.
+        // The output is written into d.filtered (a header on its storage: GaussianBlur
+        // keeps a destination of the right size and type).
+        d.filtered.resize(n);
         const cv::Mat src(d.ny, d.nx, CV_32F, d.raw.data());
-        cv::Mat dst;
+        cv::Mat dst(d.ny, d.nx, CV_32F, d.filtered.data());
         const int half = std::max(1, static_cast<int>(std::ceil(3.0 * sigma_cells)));
         cv::GaussianBlur(src, dst, cv::Size(2 * half + 1, 2 * half + 1), sigma_cells, sigma_cells,
                          cv::BORDER_REPLICATE);
-        d.filtered.assign(dst.ptr<float>(0), dst.ptr<float>(0) + n);
+        if (n > 0 && dst.ptr<float>(0) != d.filtered.data())
+            throw std::logic_error("differenceOccupancy: the low-pass reallocated its output");
     }
     else
         d.filtered = d.raw;
     d.mask.assign(n, 0);
     for (size_t k = 0; k < n; ++k)
         if (now.inside[k] && d.filtered[k] > threshold) d.mask[k] = 1;
-    return d;
 }
 
 hymm::core::OptionTable MotionDetector::Options::table()
@@ -133,15 +148,20 @@ size_t MotionDetector::differenceRegion(long id, const dense::OccupancyLayer& oc
                                         std::optional<OccupancySnapshot>& ref, MotionLayer& layer,
                                         double t, LastDifference& last, StepReport& rep)
 {
-    OccupancySnapshot now = OccupancySnapshot::take(occ, t);
+    // The snapshot and difference are built in reused storage and swapped in: no
+    // allocation per differencing once the scratch buffers have the grid's size.
+    OccupancySnapshot& now = scratch_now_;
+    now.assign(occ, t);
     if (!ref || !ref->sameGeometry(now))
     {
         // The grid was coarsened (Sec. 4.1.3) since: restart from the new grid.
         if (ref) ++rep.geometry_resets;
-        ref = std::move(now);
+        if (!ref) ref.emplace();
+        std::swap(*ref, now);
         return 0;
     }
-    Difference d = differenceOccupancy(*ref, now, sigmaCells(now.cell_size), options_.threshold);
+    Difference& d = scratch_diff_;
+    differenceOccupancy(*ref, now, sigmaCells(now.cell_size), options_.threshold, d);
     const size_t marked = d.marked();
     layer.orMask(now.origin, now.cell_size, now.nx, now.ny, d.mask);
     if (marked > 0)
@@ -149,9 +169,9 @@ size_t MotionDetector::differenceRegion(long id, const dense::OccupancyLayer& oc
         last.region = id;
         last.t_then = ref->t;
         last.t_now = t;
-        last.diff = std::move(d);
+        std::swap(last.diff, d);
     }
-    ref = std::move(now);
+    std::swap(*ref, now);
     return marked;
 }
 
@@ -163,12 +183,19 @@ MotionDetector::StepReport MotionDetector::step(
         const auto* local = map.localMap(id);
         return local ? local->layerAs<dense::OccupancyLayer>(dense::OccupancyLayer::kKind) : nullptr;
     };
-    std::set<long> view;
+    // Regions in view this call: marked by the call number (a duplicate id finds its mark),
+    // so no set of the view is built; the sorted list is kept for the next call.
+    const std::uint64_t call = ++calls_;
+    std::vector<long> view;
+    view.reserve(regions_in_view.size());
     for (long id : regions_in_view)
     {
         const auto* occ = occupancyOf(id);
-        if (!occ || !view.insert(id).second) continue;
+        if (!occ) continue;
         auto& st = regions_[id];
+        if (st.view_call == call) continue;  // a duplicate
+        st.view_call = call;
+        view.push_back(id);
         st.seen = true;
         if (!options_.enable_fast) continue;
         // Sec. 6.3.2: only the regions under the sensor's view, every fast_period_s.
@@ -185,10 +212,10 @@ MotionDetector::StepReport MotionDetector::step(
         // A region's first slow reference: when it leaves the view (a whole pass).
         for (long id : in_view_)
         {
-            if (view.count(id)) continue;
             const auto it = regions_.find(id);
+            if (it == regions_.end() || it->second.view_call == call) continue;  // gone, or in view
             const auto* occ = occupancyOf(id);
-            if (it == regions_.end() || !occ || it->second.slow_ref) continue;
+            if (!occ || it->second.slow_ref) continue;
             it->second.slow_ref = OccupancySnapshot::take(*occ, t);
             slow_due_.emplace(t + options_.slow_period_s, id);
         }
@@ -212,6 +239,7 @@ MotionDetector::StepReport MotionDetector::step(
         // Counting the due entries left would walk the queue; the top tells whether any is.
         if (!slow_due_.empty() && slow_due_.top().first <= t + 1e-9) rep.slow_pending = 1;
     }
+    std::sort(view.begin(), view.end());
     in_view_ = std::move(view);
     return rep;
 }
@@ -221,7 +249,8 @@ void MotionDetector::removeRegions(const std::vector<long>& region_ids)
     for (long id : region_ids)
     {
         regions_.erase(id);
-        in_view_.erase(id);
+        const auto it = std::lower_bound(in_view_.begin(), in_view_.end(), id);
+        if (it != in_view_.end() && *it == id) in_view_.erase(it);
     }
     // Queue entries of removed regions are skipped when they come due.
 }
@@ -238,6 +267,12 @@ const MotionLayer* MotionDetector::layer(MotionKind kind, long region_id) const
     const auto it = regions_.find(region_id);
     if (it == regions_.end()) return nullptr;
     return kind == MotionKind::Slow ? &it->second.slow : &it->second.fast;
+}
+
+bool MotionDetector::hasMarks(long region_id) const
+{
+    const auto it = regions_.find(region_id);
+    return it != regions_.end() && (it->second.slow.count() > 0 || it->second.fast.count() > 0);
 }
 
 size_t MotionDetector::markedCells(MotionKind kind) const
@@ -268,7 +303,24 @@ bool MotionDetector::isDynamic(MotionKind kind, const ltr::RegionPartition& part
 
 bool MotionDetector::isDynamic(const ltr::RegionPartition& partition, const Eigen::Vector2d& p) const
 {
-    return isDynamic(MotionKind::Slow, partition, p) || isDynamic(MotionKind::Fast, partition, p);
+    // isDynamic(Slow) || isDynamic(Fast), with one look-up of the regions holding p.
+    for (long id : partition.findRegions(p))
+    {
+        const auto it = regions_.find(id);
+        if (it == regions_.end()) continue;
+        const MotionLayer &slow = it->second.slow, &fast = it->second.fast;
+        if (slow.count() == 0 && fast.count() == 0) continue;
+        try
+        {
+            const Eigen::Vector2d r = partition.referenceToCurrent(id).inverseMapPoint(p);
+            if ((slow.count() > 0 && slow.at(r)) || (fast.count() > 0 && fast.at(r))) return true;
+        }
+        catch (const std::exception&)
+        {
+            // A folded current triangle has no reference -> current map: nothing to read.
+        }
+    }
+    return false;
 }
 
 void MotionDetector::paint(const std::vector<MotionKind>& kinds, const ltr::RegionPartition& partition,
