@@ -13,7 +13,7 @@
 // N regions (one call with every region in view, the case of a long run), and every call
 // also removes a region as the pipeline does after the partition dropped some: by id
 // (removeRegions, walk 0: what DenseSlam calls; should not grow with N) or by walking every
-// region held (removeStaleRegions, walk 1; grows with N).
+// region held (removeStaleRegions, walk 1; grows with N). view_m: the view's radius.
 //
 // BM_MotionStepAllInView: every region of the map in view at every call (fast layer):
 // the work per call is proportional to N, so is the time; reported per region.
@@ -65,6 +65,7 @@ void BM_MotionStepRemoval(benchmark::State& state)
 {
     LatticeMap m(static_cast<size_t>(state.range(0)));
     const bool walk = state.range(1) != 0;
+    const double view_m = static_cast<double>(state.range(2));
     // The slow differencing is BM_MotionStep's subject: here its period is longer than
     // the timed calls, so that the N slow references taken below (all regions leave the
     // view at once) do not put a backlog of N due entries into the timed calls.
@@ -72,8 +73,8 @@ void BM_MotionStepRemoval(benchmark::State& state)
     o.slow_period_s = 1000.0;
     hymm::dynamic::MotionDetector det(o);
     det.step(m.map, m.partition.regionIds(), 0.0);  // state for every region
-    det.step(m.map, m.inView(0.1), 0.1);            // their slow references
-    const auto views = m.viewSchedule(0.2, 0.1, static_cast<size_t>(state.max_iterations));
+    det.step(m.map, m.inView(0.1, view_m), 0.1);    // their slow references
+    const auto views = m.viewSchedule(0.2, 0.1, static_cast<size_t>(state.max_iterations), view_m);
     size_t held = 0, calls = 0, fast = 0, in_view = 0;
     for (auto _ : state)
     {
@@ -118,9 +119,13 @@ BENCHMARK(BM_MotionStep)
     ->Arg(8000)
     ->Iterations(3000)
     ->Unit(benchmark::kMicrosecond);
+// view_m 14: ~50 regions in view at every N; 32: ~260, for N >= 2000 only (the disc of
+// 36 m the view reaches needs ~330 regions), near the ~340 of the 25 m box used before.
 BENCHMARK(BM_MotionStepRemoval)
-    ->ArgsProduct({{100, 500, 2000, 8000}, {0, 1}})
-    ->ArgNames({"regions", "walk"})
+    ->ArgsProduct({{100, 500, 2000, 8000}, {0, 1}, {14}})
+    ->Args({2000, 0, 32})
+    ->Args({8000, 0, 32})
+    ->ArgNames({"regions", "walk", "view_m"})
     ->Iterations(3000)
     ->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_MotionStepAllInView)

@@ -87,10 +87,11 @@ struct LatticeMap
         return out;
     }
     /** inView at t0, t0 + dt, ... for `calls` calls: computed before the timed calls. */
-    std::vector<std::vector<long>> viewSchedule(double t0, double dt, size_t calls) const
+    std::vector<std::vector<long>> viewSchedule(double t0, double dt, size_t calls,
+                                                double radius = 14.0) const
     {
         std::vector<std::vector<long>> out(calls);
-        for (size_t k = 0; k < calls; ++k) out[k] = inView(t0 + dt * static_cast<double>(k));
+        for (size_t k = 0; k < calls; ++k) out[k] = inView(t0 + dt * static_cast<double>(k), radius);
         return out;
     }
 };

@@ -219,6 +219,14 @@ private:
     size_t differenceRegion(long id, const dense::OccupancyLayer& occ,
                             std::optional<OccupancySnapshot>& ref, MotionLayer& layer, double t,
                             LastDifference& last, StepReport& rep);
+    /** The storage of a removed region's snapshot, for the next region's first one: a
+     *  region that comes into view after another was removed allocates nothing. */
+    OccupancySnapshot spareSnapshot();
+    void keepSpare(RegionState& st);
+    static constexpr size_t kMaxSpare = 16;
+    /** The slow layer's part of step(): first references of the regions that left the
+     *  view (in view at the previous call, not at call `call`), then the due regions. */
+    void stepSlow(const dense::HybridMetricMap& map, std::uint64_t call, double t, StepReport& rep);
     /** Sets every cell of `out` whose centre lies on a cell marked in a layer of
      *  `kinds` to `value`. */
     void paint(const std::vector<MotionKind>& kinds, const ltr::RegionPartition& partition,
@@ -237,6 +245,7 @@ private:
      *  state of more regions (docs/benchmarks.md, motion layers). */
     OccupancySnapshot scratch_now_;
     Difference scratch_diff_;
+    std::vector<OccupancySnapshot> spare_;  //!< at most kMaxSpare
     /** (due time, region id), earliest first. */
     std::priority_queue<std::pair<double, long>, std::vector<std::pair<double, long>>,
                         std::greater<>>
