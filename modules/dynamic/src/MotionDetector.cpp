@@ -4,7 +4,6 @@
 #include <hymm/dense/OccupancyLayer.h>
 #include <hymm/dense/geometry.h>
 
-
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
