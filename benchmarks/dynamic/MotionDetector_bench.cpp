@@ -1,79 +1,30 @@
 // Cost of the motion-layer differencing (thesis Sec. 6.3) per call against map size.
-// A lattice map of N regions, every region's occupancy filled; the "vehicle" drives a
-// circle through it at 10 Hz, and each call steps the detector with the regions in a
-// 25 m box around it: fast differencing (1 s) of the regions in view only, slow
-// differencing (here 20 s, so that several periods fit in the timed calls) amortised
-// through the due queue. The time per call should not grow with N.
+// A lattice map of N regions (lattice_map.h), every region's occupancy filled; the
+// "vehicle" drives a 4 m circle around the map's centre at 10 Hz and each call steps the
+// detector with the regions within 14 m of it: the same ~50 regions at every N from 100
+// to 8000 (the in_view counter shows it). The lists of regions in view are computed
+// before the timed calls, so only MotionDetector's own work is timed.
+//
+// BM_MotionStep: fast differencing (1 s) of the regions in view, slow differencing (here
+// 20 s, so that several periods fit in the timed calls) amortised through the due queue.
+// The time per call should not grow with N.
 //
 // BM_MotionStepRemoval: the same (fast layer), but the detector first holds state for all
-// N regions (one call with every region in view), and every call also removes regions as the
-// pipeline does after the partition dropped some: by id (removeRegions, mode 0) or by
-// walking every region held (removeStaleRegions, mode 1). Mode 0 is what DenseSlam
-// calls; its time per call should not grow with N, mode 1's does.
-#include "synthetic_partition.h"
+// N regions (one call with every region in view, the case of a long run), and every call
+// also removes a region as the pipeline does after the partition dropped some: by id
+// (removeRegions, walk 0: what DenseSlam calls; should not grow with N) or by walking every
+// region held (removeStaleRegions, walk 1; grows with N). view_m: the view's radius.
+//
+// BM_MotionStepAllInView: every region of the map in view at every call (fast layer):
+// the work per call is proportional to N, so is the time; reported per region.
+#include "lattice_map.h"
 
 #include <benchmark/benchmark.h>
-#include <hymm/dense/HybridMetricMap.h>
 #include <hymm/dynamic/MotionDetector.h>
-
-#include <cmath>
-#include <memory>
 
 namespace
 {
-using namespace hymm::dense::synthetic;
-using V2 = Eigen::Vector2d;
-constexpr double kSpacing = 5.0;
-
-hymm::dense::ScanPoints ringScan()
-{
-    hymm::dense::ScanPoints s;
-    for (int k = 0; k < 181; ++k)
-    {
-        const double a = -M_PI / 2 + M_PI * k / 180.0;
-        s.points.emplace_back(6.0 * std::cos(a), 6.0 * std::sin(a));
-    }
-    return s;
-}
-
-/** The lattice map of about `regions` regions, every region's occupancy filled. */
-struct LatticeMap
-{
-    int side;
-    Lattice lattice;
-    IndependentLandmarksView view;
-    hymm::ltr::RegionPartition partition{permissivePartitionOptions()};
-    V2 centre;
-    hymm::dense::HybridMetricMap map;
-
-    static hymm::dense::HybridMetricMap::Options mapOptions()
-    {
-        hymm::dense::HybridMetricMap::Options mo;
-        mo.enable_points = false;
-        mo.occupancy.cell_size_m = 0.2;
-        return mo;
-    }
-    explicit LatticeMap(size_t regions)
-        : side(static_cast<int>(std::ceil(std::sqrt(static_cast<double>(regions) / 2.0))) + 2),
-          lattice{side, side, kSpacing, V2(0, 0)},
-          view(lattice.landmarks()),
-          centre(0.5 * kSpacing * (side - 1) * V2(1, 1)),
-          map(mapOptions())
-    {
-        addRegions(partition, view, lattice.triangles(centre), regions);
-        const auto scan = ringScan();
-        for (int i = 0; i < side; ++i)
-            for (int j = 0; j < side; ++j)
-                map.insertScan(scan, {kSpacing * (i + 0.5), kSpacing * (j + 0.5), 0.0}, partition);
-    }
-    /** Regions in the 25 m box around the vehicle on its circle at time t. */
-    std::vector<long> inView(double t) const
-    {
-        const double a = 0.05 * t;  // a lap every ~2 min
-        const V2 v = centre + 12.0 * V2(std::cos(a), std::sin(a));
-        return partition.regionsInBox(v - V2(25, 25), v + V2(25, 25));
-    }
-};
+using namespace hymm::dynamic::bench;
 
 hymm::dynamic::MotionDetector::Options benchOptions()
 {
@@ -82,32 +33,39 @@ hymm::dynamic::MotionDetector::Options benchOptions()
     return o;
 }
 
+void setCounters(benchmark::State& state, const LatticeMap& m, size_t calls, size_t in_view, size_t fast,
+                 size_t slow)
+{
+    const double c = static_cast<double>(calls);
+    state.counters["regions"] = static_cast<double>(m.partition.size());
+    state.counters["in_view"] = static_cast<double>(in_view) / c;
+    state.counters["fast_per_call"] = static_cast<double>(fast) / c;
+    state.counters["slow_per_call"] = static_cast<double>(slow) / c;
+}
+
 void BM_MotionStep(benchmark::State& state)
 {
     LatticeMap m(static_cast<size_t>(state.range(0)));
     hymm::dynamic::MotionDetector det(benchOptions());
-    double t = 0;
+    const auto views = m.viewSchedule(0.0, 0.1, static_cast<size_t>(state.max_iterations));
     size_t fast = 0, slow = 0, in_view = 0, calls = 0;
     for (auto _ : state)
     {
-        const auto ids = m.inView(t);
-        const auto r = det.step(m.map, ids, t);
+        const auto& ids = views[calls];
+        const auto r = det.step(m.map, ids, 0.1 * static_cast<double>(calls));
         fast += r.fast_differenced;
         slow += r.slow_differenced;
         in_view += ids.size();
         ++calls;
-        t += 0.1;
     }
-    state.counters["regions"] = static_cast<double>(m.partition.size());
-    state.counters["in_view"] = static_cast<double>(in_view) / static_cast<double>(calls);
-    state.counters["fast_per_call"] = static_cast<double>(fast) / static_cast<double>(calls);
-    state.counters["slow_per_call"] = static_cast<double>(slow) / static_cast<double>(calls);
+    setCounters(state, m, calls, in_view, fast, slow);
 }
 
 void BM_MotionStepRemoval(benchmark::State& state)
 {
     LatticeMap m(static_cast<size_t>(state.range(0)));
     const bool walk = state.range(1) != 0;
+    const double view_m = static_cast<double>(state.range(2));
     // The slow differencing is BM_MotionStep's subject: here its period is longer than
     // the timed calls, so that the N slow references taken below (all regions leave the
     // view at once) do not put a backlog of N due entries into the timed calls.
@@ -115,47 +73,67 @@ void BM_MotionStepRemoval(benchmark::State& state)
     o.slow_period_s = 1000.0;
     hymm::dynamic::MotionDetector det(o);
     det.step(m.map, m.partition.regionIds(), 0.0);  // state for every region
-    det.step(m.map, m.inView(0.1), 0.1);            // their slow references
-    double t = 0.2;
+    det.step(m.map, m.inView(0.1, view_m), 0.1);    // their slow references
+    const auto views = m.viewSchedule(0.2, 0.1, static_cast<size_t>(state.max_iterations), view_m);
     size_t held = 0, calls = 0, fast = 0, in_view = 0;
     for (auto _ : state)
     {
-        const auto ids = m.inView(t);
-        fast += det.step(m.map, ids, t).fast_differenced;
+        const auto& ids = views[calls];
+        fast += det.step(m.map, ids, 0.2 + 0.1 * static_cast<double>(calls)).fast_differenced;
         in_view += ids.size();
         // One region in view leaves the detector (the map keeps it, so the next call in
         // view brings it back: the number of regions held stays about N).
-        const std::vector<long> gone{ids[calls % ids.size()]};
         if (walk)
             det.removeStaleRegions(m.map);  // walks all N; removes none here
         else
-            det.removeRegions(gone);
+            det.removeRegions({ids[calls % ids.size()]});
         held += det.size();
         ++calls;
-        t += 0.1;
     }
-    state.counters["regions"] = static_cast<double>(m.partition.size());
+    setCounters(state, m, calls, in_view, fast, 0);
     state.counters["held"] = static_cast<double>(held) / static_cast<double>(calls);
-    state.counters["in_view"] = static_cast<double>(in_view) / static_cast<double>(calls);
-    state.counters["fast_per_call"] = static_cast<double>(fast) / static_cast<double>(calls);
+}
+
+void BM_MotionStepAllInView(benchmark::State& state)
+{
+    LatticeMap m(static_cast<size_t>(state.range(0)));
+    auto o = benchOptions();
+    o.enable_slow = false;  // no region ever leaves the view
+    hymm::dynamic::MotionDetector det(o);
+    const auto ids = m.partition.regionIds();
+    det.step(m.map, ids, 0.0);  // first snapshots, untimed
+    size_t fast = 0, calls = 0;
+    for (auto _ : state)
+    {
+        fast += det.step(m.map, ids, 0.1 * static_cast<double>(calls + 1)).fast_differenced;
+        ++calls;
+    }
+    setCounters(state, m, calls, ids.size() * calls, fast, 0);
 }
 
 BENCHMARK(BM_MotionStep)
+    ->ArgName("regions")
     ->Arg(100)
     ->Arg(500)
     ->Arg(2000)
+    ->Arg(8000)
     ->Iterations(3000)
-    ->Repetitions(3)
-    ->ReportAggregatesOnly(true)
     ->Unit(benchmark::kMicrosecond);
+// view_m 14: ~50 regions in view at every N; 32: ~260, for N >= 2000 only (the disc of
+// 36 m the view reaches needs ~330 regions), near the ~340 of the 25 m box used before.
 BENCHMARK(BM_MotionStepRemoval)
-    ->ArgsProduct({{500, 2000, 8000}, {0, 1}})
-    ->ArgNames({"regions", "walk"})
-    ->Iterations(2000)
-    ->Repetitions(5)
-    ->ReportAggregatesOnly(true)
+    ->ArgsProduct({{100, 500, 2000, 8000}, {0, 1}, {14}})
+    ->Args({2000, 0, 32})
+    ->Args({8000, 0, 32})
+    ->ArgNames({"regions", "walk", "view_m"})
+    ->Iterations(3000)
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_MotionStepAllInView)
+    ->ArgName("regions")
+    ->Arg(500)
+    ->Arg(2000)
+    ->Arg(8000)
+    ->Iterations(100)
     ->Unit(benchmark::kMicrosecond);
 
 }  // namespace
-
-BENCHMARK_MAIN();

@@ -4,9 +4,6 @@
 #include <hymm/dense/OccupancyLayer.h>
 #include <hymm/dense/geometry.h>
 
-#include <opencv2/core.hpp>
-#include <opencv2/imgproc.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -14,70 +11,6 @@
 namespace hymm::dynamic
 {
 const char* motionKindName(MotionKind k) { return k == MotionKind::Slow ? "slow" : "fast"; }
-
-size_t Difference::marked() const
-{
-    return static_cast<size_t>(std::count(mask.begin(), mask.end(), std::uint8_t{1}));
-}
-
-OccupancySnapshot OccupancySnapshot::take(const dense::OccupancyLayer& occ, double t)
-{
-    const auto& g = occ.grid();
-    OccupancySnapshot s;
-    s.t = t;
-    s.origin = g.origin();
-    s.cell_size = g.cellSize();
-    s.nx = g.sizeX();
-    s.ny = g.sizeY();
-    const size_t n = static_cast<size_t>(s.nx) * static_cast<size_t>(s.ny);
-    s.p.resize(n);
-    s.inside.resize(n);
-    for (int iy = 0; iy < s.ny; ++iy)
-        for (int ix = 0; ix < s.nx; ++ix)
-        {
-            const size_t k = static_cast<size_t>(iy) * static_cast<size_t>(s.nx) + static_cast<size_t>(ix);
-            s.p[k] = static_cast<float>(dense::logistic(g.logOdds(ix, iy)));
-            s.inside[k] = g.updatable(ix, iy) ? 1 : 0;
-        }
-    return s;
-}
-
-bool OccupancySnapshot::sameGeometry(const OccupancySnapshot& o) const
-{
-    return nx == o.nx && ny == o.ny && std::abs(cell_size - o.cell_size) < 1e-12 &&
-           (origin - o.origin).norm() < 1e-9;
-}
-
-Difference differenceOccupancy(
-    const OccupancySnapshot& then, const OccupancySnapshot& now, double sigma_cells, double threshold)
-{
-    if (!then.sameGeometry(now))
-        throw std::invalid_argument("differenceOccupancy: snapshots on different grids");
-    Difference d;
-    d.nx = now.nx;
-    d.ny = now.ny;
-    const size_t n = now.p.size();
-    d.raw.assign(n, 0.0f);
-    for (size_t k = 0; k < n; ++k)
-        if (now.inside[k] && then.inside[k]) d.raw[k] = std::abs(now.p[k] - then.p[k]);
-    if (sigma_cells > 0)
-    {
-        // Gaussian low-pass (Sec. 6.3.3, Fig. 6.9 d); kernel to +-3 sigma. Cells outside
-        // the triangle are 0 (no evidence), the grid border replicates.
-        const cv::Mat src(d.ny, d.nx, CV_32F, d.raw.data());
-        cv::Mat dst;
-        const int half = std::max(1, static_cast<int>(std::ceil(3.0 * sigma_cells)));
-        cv::GaussianBlur(src, dst, cv::Size(2 * half + 1, 2 * half + 1), sigma_cells, sigma_cells,
-                         cv::BORDER_REPLICATE);
-        d.filtered.assign(dst.ptr<float>(0), dst.ptr<float>(0) + n);
-    }
-    else
-        d.filtered = d.raw;
-    d.mask.assign(n, 0);
-    for (size_t k = 0; k < n; ++k)
-        if (now.inside[k] && d.filtered[k] > threshold) d.mask[k] = 1;
-    return d;
-}
 
 hymm::core::OptionTable MotionDetector::Options::table()
 {
@@ -129,19 +62,38 @@ double MotionDetector::sigmaCells(double cell_size) const
     return options_.lowpass ? options_.lowpass_sigma_m / cell_size : 0.0;
 }
 
+OccupancySnapshot MotionDetector::spareSnapshot()
+{
+    if (spare_.empty()) return {};
+    OccupancySnapshot s = std::move(spare_.back());
+    spare_.pop_back();
+    return s;
+}
+
+void MotionDetector::keepSpare(RegionState& st)
+{
+    for (auto* ref : {&st.fast_ref, &st.slow_ref})
+        if (*ref && spare_.size() < kMaxSpare) spare_.push_back(std::move(**ref));
+}
+
 size_t MotionDetector::differenceRegion(long id, const dense::OccupancyLayer& occ,
                                         std::optional<OccupancySnapshot>& ref, MotionLayer& layer,
                                         double t, LastDifference& last, StepReport& rep)
 {
-    OccupancySnapshot now = OccupancySnapshot::take(occ, t);
+    // The snapshot and difference are built in reused storage and swapped in: no
+    // allocation per differencing once the scratch buffers have the grid's size.
+    OccupancySnapshot& now = scratch_now_;
+    now.assign(occ, t);
     if (!ref || !ref->sameGeometry(now))
     {
         // The grid was coarsened (Sec. 4.1.3) since: restart from the new grid.
         if (ref) ++rep.geometry_resets;
-        ref = std::move(now);
+        if (!ref) ref = spareSnapshot();
+        std::swap(*ref, now);
         return 0;
     }
-    Difference d = differenceOccupancy(*ref, now, sigmaCells(now.cell_size), options_.threshold);
+    Difference& d = scratch_diff_;
+    differenceOccupancy(*ref, now, sigmaCells(now.cell_size), options_.threshold, d);
     const size_t marked = d.marked();
     layer.orMask(now.origin, now.cell_size, now.nx, now.ny, d.mask);
     if (marked > 0)
@@ -149,79 +101,104 @@ size_t MotionDetector::differenceRegion(long id, const dense::OccupancyLayer& oc
         last.region = id;
         last.t_then = ref->t;
         last.t_now = t;
-        last.diff = std::move(d);
+        std::swap(last.diff, d);
     }
-    ref = std::move(now);
+    std::swap(*ref, now);
     return marked;
 }
+
+namespace
+{
+const dense::OccupancyLayer* occupancyOf(const dense::HybridMetricMap& map, long id)
+{
+    const auto* local = map.localMap(id);
+    return local ? local->layerAs<dense::OccupancyLayer>(dense::OccupancyLayer::kKind) : nullptr;
+}
+}  // namespace
 
 MotionDetector::StepReport MotionDetector::step(
     const dense::HybridMetricMap& map, const std::vector<long>& regions_in_view, double t)
 {
     StepReport rep;
-    auto occupancyOf = [&](long id) -> const dense::OccupancyLayer* {
-        const auto* local = map.localMap(id);
-        return local ? local->layerAs<dense::OccupancyLayer>(dense::OccupancyLayer::kKind) : nullptr;
-    };
-    std::set<long> view;
+    // Regions in view this call: marked by the call number (a duplicate id finds its mark),
+    // so no set of the view is built; the sorted list is kept for the next call.
+    const std::uint64_t call = ++calls_;
+    std::vector<long> view;
+    view.reserve(regions_in_view.size());
     for (long id : regions_in_view)
     {
-        const auto* occ = occupancyOf(id);
-        if (!occ || !view.insert(id).second) continue;
+        const auto* occ = occupancyOf(map, id);
+        if (!occ) continue;
         auto& st = regions_[id];
+        if (st.view_call == call) continue;  // a duplicate
+        st.view_call = call;
+        view.push_back(id);
         st.seen = true;
         if (!options_.enable_fast) continue;
         // Sec. 6.3.2: only the regions under the sensor's view, every fast_period_s.
         if (!st.fast_ref)
-            st.fast_ref = OccupancySnapshot::take(*occ, t);
+        {
+            st.fast_ref = spareSnapshot();
+            st.fast_ref->assign(*occ, t);
+        }
         else if (t - st.fast_ref->t >= options_.fast_period_s - 1e-9)
         {
             rep.fast_cells_marked += differenceRegion(id, *occ, st.fast_ref, st.fast, t, last_fast_, rep);
             ++rep.fast_differenced;
         }
     }
-    if (options_.enable_slow)
-    {
-        // A region's first slow reference: when it leaves the view (a whole pass).
-        for (long id : in_view_)
-        {
-            if (view.count(id)) continue;
-            const auto it = regions_.find(id);
-            const auto* occ = occupancyOf(id);
-            if (it == regions_.end() || !occ || it->second.slow_ref) continue;
-            it->second.slow_ref = OccupancySnapshot::take(*occ, t);
-            slow_due_.emplace(t + options_.slow_period_s, id);
-        }
-        // Sec. 6.3.1: due regions, a bounded number per call (amortised).
-        int done = 0;
-        while (!slow_due_.empty() && slow_due_.top().first <= t + 1e-9 &&
-               done < options_.slow_max_regions_per_call)
-        {
-            const long id = slow_due_.top().second;
-            slow_due_.pop();
-            const auto it = regions_.find(id);
-            const auto* occ = occupancyOf(id);
-            if (it == regions_.end() || !occ || !it->second.slow_ref) continue;  // region gone
-            rep.slow_cells_marked +=
-                differenceRegion(id, *occ, it->second.slow_ref, it->second.slow, t, last_slow_, rep);
-            ++rep.slow_differenced;
-            ++done;
-            slow_due_.emplace(t + options_.slow_period_s, id);
-        }
-        rep.slow_pending = 0;
-        // Counting the due entries left would walk the queue; the top tells whether any is.
-        if (!slow_due_.empty() && slow_due_.top().first <= t + 1e-9) rep.slow_pending = 1;
-    }
+    if (options_.enable_slow) stepSlow(map, call, t, rep);
+    std::sort(view.begin(), view.end());
     in_view_ = std::move(view);
     return rep;
+}
+
+void MotionDetector::stepSlow(const dense::HybridMetricMap& map, std::uint64_t call, double t,
+                              StepReport& rep)
+{
+    // A region's first slow reference: when it leaves the view (a whole pass).
+    for (long id : in_view_)
+    {
+        const auto it = regions_.find(id);
+        if (it == regions_.end() || it->second.view_call == call) continue;  // gone, or in view
+        const auto* occ = occupancyOf(map, id);
+        if (!occ || it->second.slow_ref) continue;
+        it->second.slow_ref = spareSnapshot();
+        it->second.slow_ref->assign(*occ, t);
+        slow_due_.emplace(t + options_.slow_period_s, id);
+    }
+    // Sec. 6.3.1: due regions, a bounded number per call (amortised).
+    int done = 0;
+    while (!slow_due_.empty() && slow_due_.top().first <= t + 1e-9 &&
+           done < options_.slow_max_regions_per_call)
+    {
+        const long id = slow_due_.top().second;
+        slow_due_.pop();
+        const auto it = regions_.find(id);
+        const auto* occ = occupancyOf(map, id);
+        if (it == regions_.end() || !occ || !it->second.slow_ref) continue;  // region gone
+        rep.slow_cells_marked +=
+            differenceRegion(id, *occ, it->second.slow_ref, it->second.slow, t, last_slow_, rep);
+        ++rep.slow_differenced;
+        ++done;
+        slow_due_.emplace(t + options_.slow_period_s, id);
+    }
+    rep.slow_pending = 0;
+    // Counting the due entries left would walk the queue; the top tells whether any is.
+    if (!slow_due_.empty() && slow_due_.top().first <= t + 1e-9) rep.slow_pending = 1;
 }
 
 void MotionDetector::removeRegions(const std::vector<long>& region_ids)
 {
     for (long id : region_ids)
     {
-        regions_.erase(id);
-        in_view_.erase(id);
+        if (const auto st = regions_.find(id); st != regions_.end())
+        {
+            keepSpare(st->second);
+            regions_.erase(st);
+        }
+        const auto it = std::lower_bound(in_view_.begin(), in_view_.end(), id);
+        if (it != in_view_.end() && *it == id) in_view_.erase(it);
     }
     // Queue entries of removed regions are skipped when they come due.
 }
@@ -229,7 +206,13 @@ void MotionDetector::removeRegions(const std::vector<long>& region_ids)
 void MotionDetector::removeStaleRegions(const dense::HybridMetricMap& map)
 {
     for (auto it = regions_.begin(); it != regions_.end();)
-        it = map.localMap(it->first) ? std::next(it) : regions_.erase(it);
+        if (map.localMap(it->first))
+            ++it;
+        else
+        {
+            keepSpare(it->second);
+            it = regions_.erase(it);
+        }
     // Queue entries of removed regions are skipped when they come due.
 }
 
@@ -238,6 +221,12 @@ const MotionLayer* MotionDetector::layer(MotionKind kind, long region_id) const
     const auto it = regions_.find(region_id);
     if (it == regions_.end()) return nullptr;
     return kind == MotionKind::Slow ? &it->second.slow : &it->second.fast;
+}
+
+bool MotionDetector::hasMarks(long region_id) const
+{
+    const auto it = regions_.find(region_id);
+    return it != regions_.end() && (it->second.slow.count() > 0 || it->second.fast.count() > 0);
 }
 
 size_t MotionDetector::markedCells(MotionKind kind) const
@@ -268,7 +257,24 @@ bool MotionDetector::isDynamic(MotionKind kind, const ltr::RegionPartition& part
 
 bool MotionDetector::isDynamic(const ltr::RegionPartition& partition, const Eigen::Vector2d& p) const
 {
-    return isDynamic(MotionKind::Slow, partition, p) || isDynamic(MotionKind::Fast, partition, p);
+    // isDynamic(Slow) || isDynamic(Fast), with one look-up of the regions holding p.
+    for (long id : partition.findRegions(p))
+    {
+        const auto it = regions_.find(id);
+        if (it == regions_.end()) continue;
+        const MotionLayer &slow = it->second.slow, &fast = it->second.fast;
+        if (slow.count() == 0 && fast.count() == 0) continue;
+        try
+        {
+            const Eigen::Vector2d r = partition.referenceToCurrent(id).inverseMapPoint(p);
+            if ((slow.count() > 0 && slow.at(r)) || (fast.count() > 0 && fast.at(r))) return true;
+        }
+        catch (const std::exception&)
+        {
+            // A folded current triangle has no reference -> current map: nothing to read.
+        }
+    }
+    return false;
 }
 
 void MotionDetector::paint(const std::vector<MotionKind>& kinds, const ltr::RegionPartition& partition,

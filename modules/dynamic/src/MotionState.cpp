@@ -3,6 +3,7 @@
 // uninterrupted one would have.
 #include <hymm/core/state_archive.h>
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "hymm/dynamic/MotionDetector.h"
@@ -103,9 +104,15 @@ void OccupancySnapshot::loadState(mrpt::serialization::CArchive& in)
 void MotionDetector::saveState(mrpt::serialization::CArchive& out) const
 {
     writeTag(out, "MotionDetector");
-    writeSize(out, regions_.size());
-    for (const auto& [id, st] : regions_)
+    // By id (the map is hashed): the same bytes whatever the insertion history.
+    std::vector<long> ids;
+    ids.reserve(regions_.size());
+    for (const auto& kv : regions_) ids.push_back(kv.first);
+    std::sort(ids.begin(), ids.end());
+    writeSize(out, ids.size());
+    for (const long id : ids)
     {
+        const RegionState& st = regions_.at(id);
         writeLong(out, id);
         st.slow.saveState(out);
         st.fast.saveState(out);
@@ -113,7 +120,7 @@ void MotionDetector::saveState(mrpt::serialization::CArchive& out) const
         writeSnapshot(out, st.slow_ref);
         out << st.seen;
     }
-    writeIds(out, std::vector<long>(in_view_.begin(), in_view_.end()));
+    writeIds(out, in_view_);
     // The queue in its pop order (a copy; pushing them back rebuilds the same order).
     auto due = slow_due_;
     writeSize(out, due.size());
@@ -147,8 +154,9 @@ void MotionDetector::loadState(mrpt::serialization::CArchive& in)
         st.seen = readBool(in);
         regions_[id] = std::move(st);
     }
-    const auto view = readIds(in, "region in view");
-    in_view_ = std::set<long>(view.begin(), view.end());
+    in_view_ = readIds(in, "region in view");
+    std::sort(in_view_.begin(), in_view_.end());
+    in_view_.erase(std::unique(in_view_.begin(), in_view_.end()), in_view_.end());
     slow_due_ = {};
     const size_t nd = readSize(in, "slow differencing due");
     for (size_t i = 0; i < nd; ++i)

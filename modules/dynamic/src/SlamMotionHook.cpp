@@ -116,6 +116,57 @@ void SlamMotionHook::noteUpdate(const ekf::UpdateReport& report, double t)
         if (id >= 0) last_seen_[id] = t;
 }
 
+std::optional<std::pair<Eigen::Vector2d, Eigen::Vector2d>> SlamMotionHook::markedBox(
+    const ltr::RegionPartition& partition, const Eigen::Vector2d& vehicle) const
+{
+    // isDynamic(p) reads only the regions the partition's grid lists in p's cell, and a
+    // region is listed in the cells its current triangle's bounding box meets: a landmark
+    // in the view box can be flagged only within one grid cell of the bounding box of a
+    // region with a marked cell, listed in the cells of the view box. The margins (one
+    // cell, 1 m) keep the bound safe from rounding; the exact tests follow.
+    const double c = partition.options().grid_cell_size_m;
+    const Eigen::Vector2d pad = Eigen::Vector2d::Constant(options_.view_range_m + c + 1.0);
+    std::optional<std::pair<Eigen::Vector2d, Eigen::Vector2d>> box;
+    for (long id : partition.regionsInBox(vehicle - pad, vehicle + pad))
+    {
+        if (!detector_.hasMarks(id)) continue;
+        for (const auto& q : partition.region(id).current)
+        {
+            if (!box) box.emplace(q, q);
+            box->first = box->first.cwiseMin(q);
+            box->second = box->second.cwiseMax(q);
+        }
+    }
+    if (box)
+    {
+        box->first.array() -= c + 1.0;
+        box->second.array() += c + 1.0;
+    }
+    return box;
+}
+
+void SlamMotionHook::flagLandmarks(const ltr::RegionPartition& partition, const ekf::EkfSlam& ekf,
+                                   const Eigen::Vector2d& vehicle)
+{
+    const auto box = markedBox(partition, vehicle);
+    if (!box) return;  // no marked region near the view: no landmark can be flagged
+    // One pass over the state vector (no look-up per landmark): every EKF update moves
+    // every landmark's mean, so no index of positions kept across steps is exact.
+    const Eigen::VectorXd& x = ekf.mean();
+    for (const auto& b : ekf.layout().blocks())
+    {
+        if (b.dim != 2) continue;
+        const Eigen::Vector2d p = x.segment<2>(static_cast<Eigen::Index>(b.offset));
+        if ((p.array() < box->first.array()).any() || (p.array() > box->second.array()).any()) continue;
+        if ((p - vehicle).cwiseAbs().maxCoeff() > options_.view_range_m) continue;
+        if (!flagged_.count(b.id) && detector_.isDynamic(partition, p))
+        {
+            flagged_.insert(b.id);
+            ++stats_.landmarks_flagged;
+        }
+    }
+}
+
 std::vector<long> SlamMotionHook::afterFrame(const dense::HybridMetricMap& map,
                                              const ltr::RegionPartition& partition, ekf::EkfSlam& ekf,
                                              double t)
@@ -130,17 +181,7 @@ std::vector<long> SlamMotionHook::afterFrame(const dense::HybridMetricMap& map,
     for (auto it = flagged_.begin(); it != flagged_.end();)
         it = ekf.hasLandmark(*it) ? std::next(it) : flagged_.erase(it);
     if (!options_.flag_landmarks) return removed;
-    for (long id : ekf.landmarkIds())
-    {
-        if (ekf.landmarkBlock(id).dim != 2) continue;
-        const Eigen::Vector2d p = ekf.landmarkMean(id);
-        if ((p - v.head<2>()).cwiseAbs().maxCoeff() > options_.view_range_m) continue;
-        if (!flagged_.count(id) && detector_.isDynamic(partition, p))
-        {
-            flagged_.insert(id);
-            ++stats_.landmarks_flagged;
-        }
-    }
+    flagLandmarks(partition, ekf, v.head<2>());
     if (!options_.prune_flagged) return removed;
     for (auto it = flagged_.begin(); it != flagged_.end();)
     {

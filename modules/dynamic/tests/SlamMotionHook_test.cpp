@@ -9,6 +9,7 @@
 #include <mrpt/config/CConfigFileMemory.h>
 
 #include <cmath>
+#include <set>
 #include <stdexcept>
 
 namespace
@@ -208,6 +209,70 @@ TEST(SlamMotionHook, DropsObservationsOfFlaggedLandmarksWhenAsked)
     }
     EXPECT_EQ(removed, std::vector<long>{1});
     EXPECT_TRUE(ekf.hasLandmark(2));
+}
+
+TEST(SlamMotionHook, FlagsExactlyTheLandmarksInViewInADynamicCell)
+{
+    // afterFrame looks only at landmarks near the regions with marked cells: the set it
+    // flags must be the one of the definition, every landmark of the filter in the view
+    // box that lies in a dynamic cell. The removed container's slow marks, then a dense
+    // grid of landmarks over it and a coarse one over a wider area, the view box's edge
+    // (x = 8.1) cutting through the marks.
+    WallWorld w;
+    hymm::dense::HybridMetricMap map(wallMapOptions());
+    auto o = slowHookOptions(false);
+    o.prune_flagged = false;
+    SlamMotionHook hook(o);
+    hymm::ekf::EkfSlam ekf{hymm::ekf::EkfSlam::Options{}};
+    const Eigen::Vector3d here(1.0, 7.5, 0.0), away(200.0, 200.0, 0.0);
+    double t = 0;
+    auto visit = [&](bool box, const Eigen::Vector3d& at, double until) {
+        setVehicle(ekf, at);
+        for (; t < until; t += 0.1)
+        {
+            if (at == here) map.insertScan(scan(box), {1.0, 7.5, 0.0}, w.partition);
+            hook.afterFrame(map, w.partition, ekf, t);
+        }
+    };
+    visit(true, here, 3.0);
+    visit(true, away, 15.0);
+    visit(false, here, 18.0);
+    visit(false, away, 60.0);
+    ASSERT_GT(hook.detector().markedCells(hymm::dynamic::MotionKind::Slow), 0u);
+
+    std::vector<Eigen::Vector2d> pts;
+    for (double x = 7.0; x <= 9.2 + 1e-9; x += 0.1)
+        for (double y = 5.5; y <= 9.5 + 1e-9; y += 0.1) pts.emplace_back(x, y);
+    for (double x = -40.0; x <= 60.0; x += 5.0)
+        for (double y = -30.0; y <= 45.0; y += 5.0) pts.emplace_back(x, y);
+    const Eigen::Vector3d vehicle(8.1 - o.view_range_m, 7.5, 0.0);
+    Eigen::VectorXd x(3 + 2 * static_cast<Eigen::Index>(pts.size()));
+    x.head<3>() = vehicle;
+    std::vector<std::pair<long, int>> blocks;
+    for (size_t i = 0; i < pts.size(); ++i)
+    {
+        x.segment<2>(3 + 2 * static_cast<Eigen::Index>(i)) = pts[i];
+        blocks.push_back({100 + static_cast<long>(i), 2});
+    }
+    ekf.setActiveState(x, 1e-4 * Eigen::MatrixXd::Identity(x.size(), x.size()), blocks);
+    hook.afterFrame(map, w.partition, ekf, t);
+
+    std::set<long> expected;
+    size_t dynamic_outside = 0;
+    const auto& det = hook.detector();
+    for (size_t i = 0; i < pts.size(); ++i)
+    {
+        const bool dyn = det.isDynamic(w.partition, pts[i]);
+        // Either layer, as the two single-layer look-ups.
+        EXPECT_EQ(dyn, det.isDynamic(hymm::dynamic::MotionKind::Slow, w.partition, pts[i]) ||
+                           det.isDynamic(hymm::dynamic::MotionKind::Fast, w.partition, pts[i]));
+        const bool in_box = (pts[i] - vehicle.head<2>()).cwiseAbs().maxCoeff() <= o.view_range_m;
+        if (dyn && in_box) expected.insert(100 + static_cast<long>(i));
+        if (dyn && !in_box) ++dynamic_outside;
+    }
+    EXPECT_GE(expected.size(), 3u);
+    EXPECT_GE(dynamic_outside, 3u);  // the box's edge does cut the marks
+    EXPECT_EQ(hook.flagged(), expected);
 }
 
 TEST(SlamMotionHookOptions, ReadsBothSections)

@@ -48,11 +48,11 @@
 #include <mrpt/maps/COccupancyGridMap2D.h>
 
 #include <Eigen/Core>
-#include <map>
+#include <cstdint>
 #include <optional>
 #include <queue>
-#include <set>
 #include <string>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -89,6 +89,8 @@ struct OccupancySnapshot
     std::vector<std::uint8_t> inside;
 
     static OccupancySnapshot take(const dense::OccupancyLayer& occ, double t);
+    /** take(), into this snapshot's storage (no allocation once it has the size). */
+    void assign(const dense::OccupancyLayer& occ, double t);
     bool sameGeometry(const OccupancySnapshot& o) const;
     void saveState(mrpt::serialization::CArchive& out) const;
     void loadState(mrpt::serialization::CArchive& in);
@@ -99,6 +101,9 @@ struct OccupancySnapshot
 Difference differenceOccupancy(
     const OccupancySnapshot& then, const OccupancySnapshot& now, double sigma_cells,
     double threshold);
+/** The same, into `out`'s storage (no allocation once it has the size). */
+void differenceOccupancy(const OccupancySnapshot& then, const OccupancySnapshot& now,
+                         double sigma_cells, double threshold, Difference& out);
 
 class MotionDetector
 {
@@ -147,7 +152,7 @@ public:
                     double t);
 
     /** Drops the layers and snapshots of the regions `region_ids` (those the partition
-     *  just removed; unknown ids are ignored). O(removed * log(regions)): the pipeline
+     *  just removed; unknown ids are ignored). O(removed * regions in view): the pipeline
      *  calls it every step, so it must not walk the map. Their due-queue entries are
      *  skipped when they come due. */
     void removeRegions(const std::vector<long>& region_ids);
@@ -161,6 +166,9 @@ public:
     size_t size() const { return regions_.size(); }
     /** Cells set in the layers of `kind`, summed over regions. */
     size_t markedCells(MotionKind kind) const;
+    /** True if a layer of region `region_id` has a marked cell: isDynamic() is false at
+     *  every point outside the regions for which this holds. */
+    bool hasMarks(long region_id) const;
 
     /** True if the global point `p` lies in a cell marked in the layer of `kind` of the
      *  region whose CURRENT triangle contains it. */
@@ -203,6 +211,7 @@ private:
         MotionLayer slow, fast;
         std::optional<OccupancySnapshot> fast_ref, slow_ref;
         bool seen = false;  //!< in view at some call
+        std::uint64_t view_call = 0;  //!< the last call (calls_) that had it in view
     };
 
     /** Differences `st`'s snapshot against the region's occupancy now; ORs into
@@ -210,6 +219,14 @@ private:
     size_t differenceRegion(long id, const dense::OccupancyLayer& occ,
                             std::optional<OccupancySnapshot>& ref, MotionLayer& layer, double t,
                             LastDifference& last, StepReport& rep);
+    /** The storage of a removed region's snapshot, for the next region's first one: a
+     *  region that comes into view after another was removed allocates nothing. */
+    OccupancySnapshot spareSnapshot();
+    void keepSpare(RegionState& st);
+    static constexpr size_t kMaxSpare = 16;
+    /** The slow layer's part of step(): first references of the regions that left the
+     *  view (in view at the previous call, not at call `call`), then the due regions. */
+    void stepSlow(const dense::HybridMetricMap& map, std::uint64_t call, double t, StepReport& rep);
     /** Sets every cell of `out` whose centre lies on a cell marked in a layer of
      *  `kinds` to `value`. */
     void paint(const std::vector<MotionKind>& kinds, const ltr::RegionPartition& partition,
@@ -217,8 +234,18 @@ private:
     double sigmaCells(double cell_size) const;
 
     const Options options_;
-    std::map<long, RegionState> regions_;
-    std::set<long> in_view_;  //!< regions in view at the previous call
+    /** Hashed: a step looks up each region in view in O(1), not through log2(N) nodes
+     *  scattered over a heap that grows with the map; saveState() sorts the ids. */
+    std::unordered_map<long, RegionState> regions_;
+    std::vector<long> in_view_;  //!< regions in view at the previous call, sorted
+    std::uint64_t calls_ = 0;    //!< step() calls (marks RegionState::view_call)
+    /** Reused storage of differenceRegion. Allocating a snapshot and a difference per
+     *  differencing (and a set node per region in view) made the time per call grow
+     *  with the map at a fixed view: the allocator gets slower as the heap holds the
+     *  state of more regions (docs/benchmarks.md, motion layers). */
+    OccupancySnapshot scratch_now_;
+    Difference scratch_diff_;
+    std::vector<OccupancySnapshot> spare_;  //!< at most kMaxSpare
     /** (due time, region id), earliest first. */
     std::priority_queue<std::pair<double, long>, std::vector<std::pair<double, long>>,
                         std::greater<>>

@@ -31,8 +31,10 @@
 #include <mrpt/poses/CPose3D.h>
 
 #include <map>
+#include <optional>
 #include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace hymm::dynamic
@@ -114,6 +116,13 @@ private:
     /** The 2-D landmark of `ids` nearest to `p` within `max_distance`, or -1. */
     long nearestLandmark(const ekf::EkfSlam& ekf, const std::vector<long>& ids, const Eigen::Vector2d& p,
                          double max_distance) const;
+    /** Bounds (lo, hi) of where a landmark in view can sit in a dynamic cell: around the
+     *  regions with a marked cell near the view box; none if there is no such region. */
+    std::optional<std::pair<Eigen::Vector2d, Eigen::Vector2d>> markedBox(
+        const ltr::RegionPartition& partition, const Eigen::Vector2d& vehicle) const;
+    /** Flags the landmarks in the view box that sit in a dynamic cell (afterFrame). */
+    void flagLandmarks(const ltr::RegionPartition& partition, const ekf::EkfSlam& ekf,
+                       const Eigen::Vector2d& vehicle);
 
     Options options_;
     MotionDetector detector_;
