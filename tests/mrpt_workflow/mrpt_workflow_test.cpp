@@ -5,7 +5,8 @@
 //    pose estimate, its covariance and the laser scan; an occupancy grid MRPT builds
 //    from it agrees with the HYMM occupancy layer cell by cell;
 //  - run.rawlog (CRawlog::loadFromRawLogFile): the input observations, each frame
-//    after a CObservationRobotPose with the pose estimate of that step;
+//    after a CObservationRobotPose with the pose estimate of that step and a
+//    CObservationOdometry with the input's odometry up to it;
 //  - map.hymm, created through CMultiMetricMap from an .ini section: MRPT's
 //    CMonteCarloLocalization2D localises simulated runs of the same world (other
 //    seeds than the mapping run) on it, scored against the simulator's true path, and
@@ -27,6 +28,7 @@
 #include <mrpt/obs/CActionRobotMovement2D.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/obs/CObservationBearingRange.h>
+#include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/obs/CObservationRobotPose.h>
 #include <mrpt/obs/CRawlog.h>
 #include <mrpt/opengl/COpenGLScene.h>
@@ -136,16 +138,29 @@ TEST(MrptWorkflow, RunRawlogHoldsTheInputWithTheEstimatedPoses)
     ASSERT_TRUE(log.loadFromRawLogFile(r.out + "/run.rawlog"));
     const auto& path = r.app->slam().path();
     ASSERT_EQ(path.size(), 469u);
-    // Observation format (MRPT 2's default): pose, laser scan, landmarks per frame.
-    ASSERT_EQ(log.size(), 3 * path.size());
-    size_t poses = 0, scans = 0, landmarks = 0;
+    // The input's odometry at each frame: its actions' increments composed from the origin.
+    mrpt::obs::CRawlog input;
+    ASSERT_TRUE(input.loadFromRawLogFile(kSrc + "/rawlogs/ch3_objects.rawlog"));
+    std::vector<mrpt::poses::CPose2D> odometry;
+    mrpt::poses::CPose2D odo;
+    for (size_t i = 0; i < input.size(); ++i)
+        if (input.getType(i) == mrpt::obs::CRawlog::etActionCollection)
+        {
+            if (auto mov = input.getAsAction(i)->getBestMovementEstimation()) odo = odo + mov->poseChange->getMeanVal();
+        }
+        else if (input.getType(i) == mrpt::obs::CRawlog::etSensoryFrame)
+            odometry.push_back(odo);
+    ASSERT_EQ(odometry.size(), path.size());
+    // Observation format (MRPT 2's default): pose, odometry, laser scan, landmarks per frame.
+    ASSERT_EQ(log.size(), 4 * path.size());
+    size_t poses = 0, odometries = 0, scans = 0, landmarks = 0;
     for (size_t i = 0; i < log.size(); ++i)
     {
         ASSERT_EQ(log.getType(i), mrpt::obs::CRawlog::etObservation) << i;
         const auto o = log.getAsObservation(i);
         if (const auto p = std::dynamic_pointer_cast<mrpt::obs::CObservationRobotPose>(o))
         {
-            ASSERT_EQ(i % 3, 0u);
+            ASSERT_EQ(i % 4, 0u);
             EXPECT_EQ(p->sensorLabel, "HYMM_POSE");
             const auto& s = path.at(poses);
             EXPECT_EQ(p->pose.mean.x(), s.pose.x());
@@ -156,12 +171,24 @@ TEST(MrptWorkflow, RunRawlogHoldsTheInputWithTheEstimatedPoses)
             EXPECT_NEAR(mrpt::Clock::toDouble(p->timestamp), s.t, 1e-6);
             ++poses;
         }
+        else if (const auto d = std::dynamic_pointer_cast<mrpt::obs::CObservationOdometry>(o))
+        {
+            ASSERT_EQ(i % 4, 1u);
+            EXPECT_EQ(d->sensorLabel, "ODOMETRY");
+            const auto& want = odometry.at(odometries);
+            EXPECT_NEAR(d->odometry.x(), want.x(), 1e-9);
+            EXPECT_NEAR(d->odometry.y(), want.y(), 1e-9);
+            EXPECT_NEAR(d->odometry.phi(), want.phi(), 1e-12);
+            EXPECT_NEAR(mrpt::Clock::toDouble(d->timestamp), path.at(odometries).t, 1e-6);
+            ++odometries;
+        }
         else if (std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(o))
             ++scans;
         else if (std::dynamic_pointer_cast<mrpt::obs::CObservationBearingRange>(o))
             ++landmarks;
     }
     EXPECT_EQ(poses, path.size());
+    EXPECT_EQ(odometries, path.size());
     EXPECT_EQ(scans, path.size());
     EXPECT_EQ(landmarks, path.size());
 }

@@ -2,12 +2,14 @@
 #include <hymm/app/mrpt_outputs.h>
 
 #include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/obs/CObservationRobotPose.h>
 #include <mrpt/opengl/CSetOfLines.h>
 #include <mrpt/serialization/CArchive.h>
 #include <mrpt/opengl/CSetOfObjects.h>
 #include <mrpt/poses/CPosePDFGaussian.h>
 
+#include <algorithm>
 #include <optional>
 #include <stdexcept>
 
@@ -15,6 +17,18 @@ namespace hymm::app
 {
 void KeyframeRecorder::record(const DenseSlam& slam, const io::RawlogEntry& entry)
 {
+    // The input's odometry, as the pipeline reads it (DenseSlam::processEntry).
+    if (entry.actions)
+        if (auto mov = entry.actions->getBestMovementEstimation())
+        {
+            odometry_now_ = odometry_now_ + mov->poseChange->getMeanVal();
+            has_odometry_ = true;
+        }
+    if (const auto* odo = dynamic_cast<const mrpt::obs::CObservationOdometry*>(entry.observation.get()))
+    {
+        odometry_now_ = odo->odometry;
+        has_odometry_ = true;
+    }
     const size_t n = slam.path().size();
     if (n == path_size_) return;
     path_size_ = n;
@@ -24,7 +38,11 @@ void KeyframeRecorder::record(const DenseSlam& slam, const io::RawlogEntry& entr
         sf = mrpt::obs::CSensoryFrame::Create();
         sf->insert(entry.observation);
     }
-    if (sf) frames_.emplace_back(n - 1, sf);
+    if (!sf) return;
+    // Odometry first seen after some keyframes: those had none (the origin).
+    if (has_odometry_) odometry_.resize(frames_.size());
+    frames_.emplace_back(n - 1, sf);
+    if (has_odometry_) odometry_.push_back(odometry_now_);
 }
 
 namespace
@@ -66,8 +84,9 @@ void writeRunRawlog(const DenseSlam& slam, const KeyframeRecorder& recorder, con
     mrpt::io::CFileGZOutputStream f;
     if (!f.open(path, 1)) throw std::runtime_error("cannot write '" + path + "'");
     auto ar = mrpt::serialization::archiveFrom(f);
-    for (const auto& [i, sf] : recorder.frames())
+    for (size_t k = 0; k < recorder.frames().size(); ++k)
     {
+        const auto& [i, sf] = recorder.frames()[k];
         const auto& s = slam.path().at(i);
         auto pose = mrpt::obs::CObservationRobotPose::Create();
         pose->sensorLabel = "HYMM_POSE";
@@ -81,6 +100,17 @@ void writeRunRawlog(const DenseSlam& slam, const KeyframeRecorder& recorder, con
                 break;
             }
         ar << *pose;
+        const bool own_odometry = std::any_of(sf->begin(), sf->end(), [](const auto& o) {
+            return o && IS_CLASS(*o, mrpt::obs::CObservationOdometry);
+        });
+        if (k < recorder.odometry().size() && !own_odometry)
+        {
+            auto odo = mrpt::obs::CObservationOdometry::Create();
+            odo->sensorLabel = "ODOMETRY";
+            odo->timestamp = pose->timestamp;
+            odo->odometry = recorder.odometry()[k];
+            ar << *odo;
+        }
         for (const auto& o : *sf)
             if (o) ar << *o;
     }

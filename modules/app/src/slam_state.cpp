@@ -82,6 +82,9 @@ void KeyframeRecorder::saveState(mrpt::serialization::CArchive& out) const
     out << static_cast<std::uint64_t>(path_size_);
     writeSize(out, frames_.size());
     for (const auto& [i, sf] : frames_) out << static_cast<std::uint64_t>(i) << *sf;
+    out << has_odometry_ << odometry_now_.x() << odometry_now_.y() << odometry_now_.phi();
+    writeSize(out, odometry_.size());
+    for (const auto& p : odometry_) out << p.x() << p.y() << p.phi();
 }
 
 void KeyframeRecorder::loadState(mrpt::serialization::CArchive& in)
@@ -95,8 +98,20 @@ void KeyframeRecorder::loadState(mrpt::serialization::CArchive& in)
         sf = std::dynamic_pointer_cast<mrpt::obs::CSensoryFrame>(in.ReadObject());
         if (!sf || i >= path_size) throw std::runtime_error("corrupt state: keyframe");
     }
+    has_odometry_ = readBool(in);
+    double x = 0, y = 0, phi = 0;
+    in >> x >> y >> phi;
+    odometry_now_ = mrpt::poses::CPose2D(x, y, phi);
+    std::vector<mrpt::poses::CPose2D> odometry(readSize(in, "keyframe odometry"));
+    if (odometry.size() > frames.size()) throw std::runtime_error("corrupt state: keyframe odometry");
+    for (auto& p : odometry)
+    {
+        in >> x >> y >> phi;
+        p = mrpt::poses::CPose2D(x, y, phi);
+    }
     path_size_ = path_size;
     frames_ = std::move(frames);
+    odometry_ = std::move(odometry);
 }
 
 void saveRunState(const std::string& path, const RunInfo& info, const denseslam::DenseSlam& slam,

@@ -18,8 +18,11 @@
  *  - run.rawlog    the run for RawLogViewer, in MRPT 2's observation format: for each
  *                  keyframe a CObservationRobotPose (label HYMM_POSE, stamped like the
  *                  frame) holding the pose estimate of that step with its covariance
- *                  (the same filtered estimate as map.simplemap), then the frame's input
- *                  observations as they were read.
+ *                  (the same filtered estimate as map.simplemap), a CObservationOdometry
+ *                  (label ODOMETRY) with the input's odometry accumulated up to the frame
+ *                  when the input has odometry (actions, or its own CObservationOdometry),
+ *                  then the frame's input observations as they were read: a complete
+ *                  observation-format copy of the input that MRPT's icp-slam can map.
  * Source: mrpt_outputs.cpp.
  */
 #pragma once
@@ -50,6 +53,9 @@ public:
     void record(const DenseSlam& slam, const io::RawlogEntry& entry);
     /** Path index and frame of each keyframe, in path order. */
     const std::vector<std::pair<size_t, mrpt::obs::CSensoryFrame::Ptr>>& frames() const { return frames_; }
+    /** The input's odometry pose at each keyframe (the actions' increments composed from
+     *  the origin, or the latest CObservationOdometry); empty when the input has none. */
+    const std::vector<mrpt::poses::CPose2D>& odometry() const { return odometry_; }
     /** Saved run state (slam_state.h): the keyframes so far; loadState() replaces them
      *  (throws std::runtime_error on a corrupt state). Source: slam_state.cpp. */
     void saveState(mrpt::serialization::CArchive& out) const;
@@ -58,6 +64,9 @@ public:
 private:
     size_t path_size_ = 0;
     std::vector<std::pair<size_t, mrpt::obs::CSensoryFrame::Ptr>> frames_;
+    bool has_odometry_ = false;
+    mrpt::poses::CPose2D odometry_now_;
+    std::vector<mrpt::poses::CPose2D> odometry_;  //!< at each keyframe, when has_odometry_
 };
 
 /** The run's hybrid map as an MRPT map: a copy of the partition (refreshed to the final
