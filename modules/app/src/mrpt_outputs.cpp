@@ -17,18 +17,27 @@ namespace hymm::app
 {
 void KeyframeRecorder::record(const DenseSlam& slam, const io::RawlogEntry& entry)
 {
-    // The input's odometry, as the pipeline reads it (DenseSlam::processEntry).
-    if (entry.actions)
+    // The input's odometry as the pipeline used it (DenseSlam::processEntry): an action's
+    // increment only when the pipeline made a prediction of it (a NaN or absurd one is
+    // skipped there), a reading only when it is finite (the pipeline's reference).
+    const size_t predictions = slam.stats().predictions;
+    if (entry.actions && predictions > predictions_seen_)
         if (auto mov = entry.actions->getBestMovementEstimation())
         {
             odometry_now_ = odometry_now_ + mov->poseChange->getMeanVal();
             has_odometry_ = true;
         }
+    predictions_seen_ = predictions;
     if (const auto* odo = dynamic_cast<const mrpt::obs::CObservationOdometry*>(entry.observation.get()))
-    {
-        odometry_now_ = odo->odometry;
-        has_odometry_ = true;
-    }
+        if (std::isfinite(odo->odometry.x()) && std::isfinite(odo->odometry.y()) &&
+            std::isfinite(odo->odometry.phi()))
+        {
+            odometry_now_ = odo->odometry;
+            has_odometry_ = true;
+        }
+    // Odometry first seen after some keyframes: those had none (the origin); one pose per
+    // keyframe from here on.
+    if (has_odometry_) odometry_.resize(frames_.size());
     const size_t n = slam.path().size();
     if (n == path_size_) return;
     path_size_ = n;
@@ -39,8 +48,6 @@ void KeyframeRecorder::record(const DenseSlam& slam, const io::RawlogEntry& entr
         sf->insert(entry.observation);
     }
     if (!sf) return;
-    // Odometry first seen after some keyframes: those had none (the origin).
-    if (has_odometry_) odometry_.resize(frames_.size());
     frames_.emplace_back(n - 1, sf);
     if (has_odometry_) odometry_.push_back(odometry_now_);
 }

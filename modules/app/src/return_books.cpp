@@ -19,7 +19,8 @@ struct OutsideCauses
 OutsideCauses outsideCauses(const DenseSlam& slam)
 {
     OutsideCauses c;
-    const denseslam::VirtualLandmarkView view(slam.ekf(), slam.virtualLandmarkIds());
+    const denseslam::VirtualLandmarkView view(slam.ekf(), slam.virtualLandmarkIds(),
+                                              slam.options().pose_landmark_vertices);
     // Per cell of the tally, at the mean position of its returns (DenseSlam.h).
     for (const auto& r : slam.outsideReturnCells())
     {

@@ -82,7 +82,8 @@ void KeyframeRecorder::saveState(mrpt::serialization::CArchive& out) const
     out << static_cast<std::uint64_t>(path_size_);
     writeSize(out, frames_.size());
     for (const auto& [i, sf] : frames_) out << static_cast<std::uint64_t>(i) << *sf;
-    out << has_odometry_ << odometry_now_.x() << odometry_now_.y() << odometry_now_.phi();
+    out << has_odometry_ << static_cast<std::uint64_t>(predictions_seen_) << odometry_now_.x()
+        << odometry_now_.y() << odometry_now_.phi();
     writeSize(out, odometry_.size());
     for (const auto& p : odometry_) out << p.x() << p.y() << p.phi();
 }
@@ -98,19 +99,25 @@ void KeyframeRecorder::loadState(mrpt::serialization::CArchive& in)
         sf = std::dynamic_pointer_cast<mrpt::obs::CSensoryFrame>(in.ReadObject());
         if (!sf || i >= path_size) throw std::runtime_error("corrupt state: keyframe");
     }
-    has_odometry_ = readBool(in);
-    double x = 0, y = 0, phi = 0;
-    in >> x >> y >> phi;
-    odometry_now_ = mrpt::poses::CPose2D(x, y, phi);
-    std::vector<mrpt::poses::CPose2D> odometry(readSize(in, "keyframe odometry"));
-    if (odometry.size() > frames.size()) throw std::runtime_error("corrupt state: keyframe odometry");
+    const bool has_odometry = readBool(in);
+    const size_t predictions_seen = readU64(in);
+    double now_x = 0, now_y = 0, now_phi = 0;
+    in >> now_x >> now_y >> now_phi;
+    // Either no odometry or one pose per keyframe (record()).
+    const size_t n = readSize(in, "keyframe odometry");
+    if (n != (has_odometry ? frames.size() : 0)) throw std::runtime_error("corrupt state: keyframe odometry");
+    std::vector<mrpt::poses::CPose2D> odometry(n);
     for (auto& p : odometry)
     {
+        double x = 0, y = 0, phi = 0;
         in >> x >> y >> phi;
         p = mrpt::poses::CPose2D(x, y, phi);
     }
     path_size_ = path_size;
     frames_ = std::move(frames);
+    has_odometry_ = has_odometry;
+    predictions_seen_ = predictions_seen;
+    odometry_now_ = mrpt::poses::CPose2D(now_x, now_y, now_phi);
     odometry_ = std::move(odometry);
 }
 

@@ -83,8 +83,9 @@ std::vector<std::string> runWarnings(const DenseSlam& slam)
     else if (2 * not_used > s.rawlog_observations)
         w.push_back("most observations were not used: " + std::to_string(not_used) + " of " +
                     std::to_string(s.rawlog_observations) + why);
-    // Per-scan sources (scan landmarks) update the filter with their own observations.
-    size_t source_changes = 0;
+    // Per-scan sources (scan landmarks) and HLLs update the filter with their own
+    // observations.
+    size_t source_changes = slam.highLevelLandmarks() ? slam.highLevelLandmarks()->mapChanges() : 0;
     for (const auto& src : slam.scanSources()) source_changes += src->mapChanges();
     if (s.rawlog_observations > 0 && s.observations == 0 && source_changes == 0)
         w.push_back("no landmark observation reached the filter (" + std::to_string(s.frames) +

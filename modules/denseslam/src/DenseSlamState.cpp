@@ -32,6 +32,14 @@ std::vector<size_t*> counters(DenseSlam::Stats& s)
             &s.observations_invalid_geometry};
 }
 
+/** Counts by point source: every key a registered source (LandmarkSources.h). */
+void requirePointSources(const std::map<std::string, size_t>& counts)
+{
+    for (const auto& [name, n] : counts)
+        if (!findPointSourceKind(name))
+            throw std::runtime_error("corrupt state: unknown point source '" + name.substr(0, 60) + "'");
+}
+
 void writeStats(mrpt::serialization::CArchive& out, const DenseSlam::Stats& stats)
 {
     auto s = stats;
@@ -48,6 +56,8 @@ DenseSlam::Stats readStats(mrpt::serialization::CArchive& in)
     readCounts(in, s.unsupported, "unsupported class");
     readCounts(in, s.point_features, "point source");
     readCounts(in, s.point_duplicates, "point source");
+    requirePointSources(s.point_features);
+    requirePointSources(s.point_duplicates);
     return s;
 }
 
@@ -167,6 +177,7 @@ void DenseSlam::loadState(mrpt::serialization::CArchive& in)
         if (!findPointSourceKind(f.created_by))
             throw std::runtime_error("corrupt state: unknown point source '" + f.created_by.substr(0, 60) + "'");
         readCounts(in, f.observations, "point source");
+        requirePointSources(f.observations);
         in >> f.first_t >> f.last_t;
         features_[id] = f;
     }

@@ -65,6 +65,7 @@ private:
     size_t path_size_ = 0;
     std::vector<std::pair<size_t, mrpt::obs::CSensoryFrame::Ptr>> frames_;
     bool has_odometry_ = false;
+    size_t predictions_seen_ = 0;  //!< the pipeline's predictions at the last record()
     mrpt::poses::CPose2D odometry_now_;
     std::vector<mrpt::poses::CPose2D> odometry_;  //!< at each keyframe, when has_odometry_
 };
