@@ -44,18 +44,24 @@ struct TempDir
     ~TempDir() { fs::remove_all(path); }
 };
 
-// Occupied / free / unknown by MRPT's convention (cell value = P(free)).
-TEST(MrptApps, Observations2mapOnTheSimplemapBuildsAGridAgreeingWithOurs)
+/** hymm-slam on the bundled chapter-3 sample into `dir`/run (0: the whole rawlog). */
+hymm::app::SlamApp::Args ch3Run(const TempDir& dir, size_t stop_after)
 {
-    if (!installed("observations2map")) GTEST_SKIP() << "MRPT's observations2map is not installed";
-    TempDir dir;
     hymm::app::SlamApp::Args a;
     a.config = kSrc + "/configs/ch3_slam.ini";
     a.rawlog = kSrc + "/rawlogs/ch3_objects.rawlog";
     a.out_dir = (dir.path / "run").string();
     a.quiet = true;
     a.png = false;
-    a.stop_after = 200;
+    a.stop_after = stop_after;
+    return a;
+}
+
+TEST(MrptApps, Observations2mapOnTheSimplemapBuildsAGridAgreeingWithOurs)
+{
+    if (!installed("observations2map")) GTEST_SKIP() << "MRPT's observations2map is not installed";
+    TempDir dir;
+    const auto a = ch3Run(dir, 200);
     std::ostringstream log;
     hymm::app::SlamApp(a).run(log);
 
@@ -84,12 +90,7 @@ TEST(MrptApps, IcpSlamMapsTheRunRawlog)
     const std::string demo = "/usr/share/mrpt/config_files/icp-slam/icp-slam_demo_classic.ini";
     if (!installed("icp-slam") || !fs::exists(demo)) GTEST_SKIP() << "MRPT's icp-slam or its demo config is missing";
     TempDir dir;
-    hymm::app::SlamApp::Args a;
-    a.config = kSrc + "/configs/ch3_slam.ini";
-    a.rawlog = kSrc + "/rawlogs/ch3_objects.rawlog";
-    a.out_dir = (dir.path / "run").string();
-    a.quiet = true;
-    a.png = false;
+    const auto a = ch3Run(dir, 0);
     std::ostringstream log;
     hymm::app::SlamApp slam(a);
     slam.run(log);
