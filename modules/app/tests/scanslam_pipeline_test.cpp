@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <hymm/app/ScanSlamStudy.h>
 #include <hymm/core/config_utils.h>
+#include <hymm/dense/ScanPoints.h>
 #include <hymm/dense/outline_metrics.h>
 #include <hymm/denseslam/DenseSlam.h>
 #include <hymm/eval/nees.h>
@@ -110,18 +111,10 @@ TEST(ScanSlamPipeline, RegionsOnScanLandmarksMakeADenseMapOfAWorldWithoutPoints)
         hymm::denseslam::testing::runFrames(sim, slam, [&](const hymm::sim::SimFrame& f) {
             if (!f.scan || scans++ % 5 != 0) return;
             const Eigen::Vector3d v = slam.ekf().vehiclePose();
-            const mrpt::poses::CPose2D pose = mrpt::poses::CPose2D(v[0], v[1], v[2]) +
-                                              mrpt::poses::CPose2D(f.scan->sensorPose);
-            const auto& sc = *f.scan;
-            for (size_t i = 0; i < sc.getScanSize(); ++i)
-            {
-                if (!sc.getScanRangeValidity(i) || sc.getScanRange(i) > 25) continue;
-                const double b = -0.5 * sc.aperture + sc.aperture * static_cast<double>(i) /
-                                                          static_cast<double>(sc.getScanSize() - 1);
-                const double r = sc.getScanRange(i);
-                const auto g = pose + mrpt::math::TPoint2D(r * std::cos(b), r * std::sin(b));
-                at_the_time.emplace_back(g.x, g.y);
-            }
+            // Returns within 25 m (the dense range), placed as the pipeline places them.
+            const auto world = hymm::dense::ScanPoints::fromRangeScan(*f.scan).toWorld({v[0], v[1], v[2]}, 25.0);
+            for (const auto& b : world.beams)
+                if (b.hit) at_the_time.push_back(b.end);
         });
         final_pose.push_back(slam.ekf().vehiclePose());
         ASSERT_NE(slam.partition(), nullptr);
