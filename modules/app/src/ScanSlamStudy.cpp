@@ -105,75 +105,79 @@ void scoreTemplates(const denseslam::DenseSlam& slam, const sim::World& world, S
     run.template_outline_mean_m =
         pts.empty() || outlines.empty() ? std::nan("") : dense::evaluateOutlines(pts, outlines).mean_distance_m;
 }
-}  // namespace
 
-ScanSlamRun runScanSlamStudy(const sim::Scenario& scenario,
-                             const mrpt::config::CConfigFileBase& slam_cfg, double closure_min_age_s)
+// CPU time of this thread: the cost of the step, not the machine's load.
+double threadCpuSeconds()
 {
-    auto slam = denseslam::DenseSlam::fromConfig(slam_cfg);
-    sim::Simulator sim(scenario);
-    sim::SimFrame f;
-    ScanSlamRun run;
-    std::map<long, Eigen::Vector3d> truth;  // landmark id -> true frame pose
+    timespec ts{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+/** One simulated frame through the pipeline (odometry, then the frame), scored. */
+ScanSlamRun::Step processSimFrame(denseslam::DenseSlam& slam, const sim::SimFrame& f)
+{
+    const double t0 = threadCpuSeconds();
+    slam.processOdometry(mrpt::poses::CPosePDFGaussian(
+        mrpt::poses::CPose2D(f.odometry_mean[0], f.odometry_mean[1], f.odometry_mean[2]),
+        mrpt::math::CMatrixDouble33(f.odometry_cov)));
+    mrpt::obs::CSensoryFrame sf;
+    if (f.scan) sf.insert(f.scan);
+    if (f.detections) sf.insert(f.detections);
+    slam.processFrame(sf);
+    ScanSlamRun::Step s;
+    s.seconds = threadCpuSeconds() - t0;
+    s.dead_reckoning = f.dr_pose;
+    s.t = f.t;
+    s.truth = f.true_pose;
+    s.estimate = slam.ekf().vehiclePose();
+    s.cov = slam.ekf().vehicleCov();
+    const auto v = eval::nees(poseError(s.estimate, s.truth), s.cov);
+    s.nees = v.ok() ? v.value : std::nan("");
+    return s;
+}
+
+/** The true frame pose of each scan landmark (where the true sensor saw its template
+ *  made) and the loop closure: the first re-observation of a landmark made more than
+ *  min_age_s earlier. */
+struct ClosureWatch
+{
+    double min_age_s = 0;
+    std::map<long, Eigen::Vector3d> truth;        // landmark id -> true frame pose
+    std::map<long, Eigen::Vector3d> made_from;    // id -> true sensor pose at creation
     std::map<long, std::pair<double, int>> seen;  // id -> (creation time, times_seen)
-    std::map<long, Eigen::Vector3d> made_from;  // id -> true sensor pose at creation
     bool closed = false;
-    // CPU time of this thread: the cost of the step, not the machine's load.
-    const auto cpu = [] {
-        timespec ts{};
-        clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-        return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-    };
-    while (sim.next(f))
+
+    /** Books the frame's landmarks; true if the frame closes the loop. */
+    bool frame(const denseslam::ScanLandmarksSource& src, const ekf::EkfSlam& ekf, const sim::SimFrame& f,
+               const Eigen::Vector3d& sensor_true)
     {
-        // Scores of the state before this frame (the closure is found after it).
-        const auto before = closed ? ScanSlamRun::LandmarkErrors{} : landmarkErrors(slam, truth);
-        const double t0 = cpu();
-        slam.processOdometry(mrpt::poses::CPosePDFGaussian(
-            mrpt::poses::CPose2D(f.odometry_mean[0], f.odometry_mean[1], f.odometry_mean[2]),
-            mrpt::math::CMatrixDouble33(f.odometry_cov)));
-        mrpt::obs::CSensoryFrame sf;
-        if (f.scan) sf.insert(f.scan);
-        if (f.detections) sf.insert(f.detections);
-        slam.processFrame(sf);
-        ScanSlamRun::Step s;
-        s.seconds = cpu() - t0;
-        s.dead_reckoning = f.dr_pose;
-        s.t = f.t;
-        s.truth = f.true_pose;
-        s.estimate = slam.ekf().vehiclePose();
-        s.cov = slam.ekf().vehicleCov();
-        const auto v = eval::nees(poseError(s.estimate, s.truth), s.cov);
-        s.nees = v.ok() ? v.value : std::nan("");
-        run.steps.push_back(s);
-        const auto* src = slam.scanLandmarks();
-        if (!src || !f.scan) continue;
-        const auto& sp = f.scan->sensorPose;
-        const Eigen::Vector3d sensor(sp.x(), sp.y(), sp.yaw());
-        for (const auto& [id, tpl] : src->map().templates())
+        bool closes = false;
+        for (const auto& [id, tpl] : src.map().templates())
         {
-            const int times = slam.ekf().landmarkBlock(id).times_seen;
+            const int times = ekf.landmarkBlock(id).times_seen;
             const auto [it, fresh] = seen.try_emplace(id, f.t, times);
             if (fresh)
             {
-                truth[id] = compose(compose(f.true_pose, sensor), tpl.frame_in_sensor);
-                made_from[id] = compose(f.true_pose, sensor);
+                truth[id] = compose(sensor_true, tpl.frame_in_sensor);
+                made_from[id] = sensor_true;
                 continue;
             }
-            if (!closed && times > it->second.second && f.t - it->second.first > closure_min_age_s)
-            {
-                closed = true;
-                run.closure_t = f.t;
-                run.closure_step = run.steps.size() - 1;
-                run.before_closure = before;
-            }
+            if (!closed && times > it->second.second && f.t - it->second.first > min_age_s)
+                closed = closes = true;
             it->second.second = times;
         }
-        scoreObservations(src->map(), f.t, compose(f.true_pose, sensor), truth, made_from, run);
+        return closes;
     }
-    run.duration_s = f.t;
-    run.after_closure = landmarkErrors(slam, truth);
-    if (!closed)
+};
+
+/** Path and landmark scores of the whole run, once its last frame is in. */
+void finishRun(ScanSlamRun& run, const denseslam::DenseSlam& slam, const sim::World& world,
+               const ClosureWatch& watch, double duration_s)
+{
+    run.duration_s = duration_s;
+    run.after_closure = landmarkErrors(slam, watch.truth);
+    if (!watch.closed)
     {
         run.before_closure = run.after_closure;
         run.closure_step = run.steps.size();
@@ -184,9 +188,39 @@ ScanSlamRun runScanSlamStudy(const sim::Scenario& scenario,
     double dr = 0;
     for (const auto& s : run.steps) dr += (s.dead_reckoning - s.truth).head<2>().squaredNorm();
     run.dead_reckoning_rmse_m = std::sqrt(dr / static_cast<double>(std::max<size_t>(run.steps.size(), 1)));
-    scoreTemplates(slam, sim.world(), run);
+    scoreTemplates(slam, world, run);
     run.stats = slam.stats();
     run.counters = slam.scanSourceCounters();
+}
+}  // namespace
+
+ScanSlamRun runScanSlamStudy(const sim::Scenario& scenario,
+                             const mrpt::config::CConfigFileBase& slam_cfg, double closure_min_age_s)
+{
+    auto slam = denseslam::DenseSlam::fromConfig(slam_cfg);
+    sim::Simulator sim(scenario);
+    sim::SimFrame f;
+    ScanSlamRun run;
+    ClosureWatch watch;
+    watch.min_age_s = closure_min_age_s;
+    while (sim.next(f))
+    {
+        // Scores of the state before this frame (the closure is found after it).
+        const auto before = watch.closed ? ScanSlamRun::LandmarkErrors{} : landmarkErrors(slam, watch.truth);
+        run.steps.push_back(processSimFrame(slam, f));
+        const auto* src = slam.scanLandmarks();
+        if (!src || !f.scan) continue;
+        const auto& sp = f.scan->sensorPose;
+        const Eigen::Vector3d sensor_true = compose(f.true_pose, Eigen::Vector3d(sp.x(), sp.y(), sp.yaw()));
+        if (watch.frame(*src, slam.ekf(), f, sensor_true))
+        {
+            run.closure_t = f.t;
+            run.closure_step = run.steps.size() - 1;
+            run.before_closure = before;
+        }
+        scoreObservations(src->map(), f.t, sensor_true, watch.truth, watch.made_from, run);
+    }
+    finishRun(run, slam, sim.world(), watch, f.t);
     return run;
 }
 

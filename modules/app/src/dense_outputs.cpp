@@ -1,7 +1,9 @@
 // The dense maps of a run: their files (writeDenseOutputs) and their counters and outline
-// metrics (writeDenseMetrics). What is per layer kind comes from layer_outputs.cpp.
+// metrics (writeDenseMetrics). What is per layer kind comes from the
+// kind's output hooks (dense::LayerKind::outputs).
 #include <hymm/dense/CHybridMetricMap.h>
 #include <hymm/app/slam_outputs.h>
+#include <hymm/core/serialized_file.h>
 #include <hymm/dense/map_images.h>
 #include <hymm/eval/se2_alignment.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
@@ -10,7 +12,7 @@
 #include <cmath>
 #include <limits>
 
-#include "layer_outputs.h"
+#include "output_helpers.h"
 #include "return_books.h"
 
 namespace hymm::app
@@ -111,8 +113,10 @@ void writeLayerCounts(eval::MetricsJson& dj, const DenseSlam& slam)
         lj.set("items", static_cast<unsigned long>(valueOr0(items, kind)));
         lj.set("memory_bytes", static_cast<unsigned long>(valueOr0(bytes, kind)));
     }
-    for (const auto* layer : enabledLayerOutputs(slam))
-        if (layer->counts) layer->counts(dj.object(layer->kind), slam);
+    for (const auto* k : enabledLayerKinds(slam))
+        if (k->outputs.counts)
+            for (const auto& counter : k->outputs.counts(layerOutputContext(slam)))
+                setCounter(dj.object(k->name), counter);
 }
 
 // Region, return and delayed-store counters, then the layers' counts.
@@ -203,7 +207,7 @@ void writeFallbackMetrics(eval::MetricsJson& dj, const DenseSlam& slam, const Tr
         mrpt::maps::COccupancyGridMap2D grid;
         hybrid->renderOccupancy(*slam.partition(), hybrid->options().occupancy.cell_size_m, grid,
                                 dense::HybridMetricMap::Content::Fallback);
-        setOutlineMetrics(fj.object("occupancy"), dense::occupiedCellCentres(grid, kOccupiedProbability),
+        setOutlineMetrics(fj.object("occupancy"), dense::occupiedCellCentres(grid, dense::kOccupiedProbability),
                           truth);
     }
 }
@@ -213,12 +217,12 @@ void writeDenseOutputs(const DenseSlam& slam, const std::string& dir, bool png)
 {
     const std::string d = dir.empty() || dir.back() == '/' ? dir : dir + "/";
     if (const auto* partition = slam.partition()) partition->saveToFile(d + "regions.txt");
-    for (const auto* layer : enabledLayerOutputs(slam)) layer->write(slam, d, png);
+    for (const auto* k : enabledLayerKinds(slam)) k->outputs.write(layerOutputContext(slam), d, png);
     if (const auto* classic = slam.classicGrid())
     {
         mrpt::maps::COccupancyGridMap2D grid;
         classic->toOccupancyGridMap(grid);
-        writeSerialized(dense::freeProbabilityGrid(grid), d + "classic_grid.gridmap");  // P(free)
+        core::writeSerializedGz(dense::freeProbabilityGrid(grid), d + "classic_grid.gridmap");  // P(free)
         if (png) dense::saveOccupancyPng(grid, d + "classic_grid.png");
     }
 }
@@ -245,15 +249,15 @@ void writeDenseMetrics(eval::MetricsJson& j, const DenseSlam& slam,
     truth.surfaces = outlines;
     for (const auto& t : true_landmarks) truth.surfaces.push_back(dense::circlePolygon(t.centre, t.radius));
     writeLandmarkAlignment(dj, slam, true_landmarks, truth);
-    for (const auto* layer : enabledLayerOutputs(slam))
-        setOutlineMetrics(dj.object(layer->kind), layer->scored_points(slam), truth);
+    for (const auto* k : enabledLayerKinds(slam))
+        setOutlineMetrics(dj.object(k->name), k->outputs.scored_points(layerOutputContext(slam)), truth);
     writeFallbackMetrics(dj, slam, truth);
     if (const auto* classic = slam.classicGrid())
     {
         mrpt::maps::COccupancyGridMap2D grid;
         classic->toOccupancyGridMap(grid);
         setOutlineMetrics(dj.object("classic_grid"),
-                          dense::occupiedCellCentres(grid, kOccupiedProbability), truth);
+                          dense::occupiedCellCentres(grid, dense::kOccupiedProbability), truth);
     }
 }
 

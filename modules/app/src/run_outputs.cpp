@@ -11,7 +11,7 @@
 #include <iomanip>
 #include <stdexcept>
 
-#include "layer_outputs.h"
+#include "output_helpers.h"
 
 namespace hymm::app
 {

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "layer_outputs.h"
+#include "output_helpers.h"
 #include "return_books.h"
 
 namespace hymm::app
@@ -25,8 +25,8 @@ void writeLayerSummary(std::ostream& f, const DenseSlam& slam)
     {
         const size_t n = valueOr0(items, kind);
         f << std::setprecision(1) << "layer " << std::left << std::setw(15) << kind << std::right;
-        if (const auto* layer = findLayerOutput(kind))
-            layer->describe(f, slam, n);
+        if (const auto* k = dense::findLayerKind(kind); k && slam.partition())
+            k->outputs.describe(f, layerOutputContext(slam), n);
         else
             f << n << " items";
         f << ", " << valueOr0(bytes, kind) / 1024.0 << " KiB\n" << std::setprecision(3);

@@ -4,6 +4,8 @@
  */
 #include "hymm/dense/LayerRegistry.h"
 
+#include "layer_outputs.h"
+
 namespace hymm::dense
 {
 namespace
@@ -12,10 +14,10 @@ using Options = HybridMetricMap::Options;
 using Vertices = hymm::ltr::TriangleFrame::Vertices;
 
 /** One row: `Layer` with its options in the member `member` of HybridMetricMap::Options
- *  (read from the section named like the class), its switch `flag` with its `doc`, and
- *  the expression that builds a layer from the options `o` and the region's `reference`
- *  triangle. */
-#define HYMM_LAYER_KIND(Layer, member, flag, doc, make_expr)                                                        \
+ *  (read from the section named like the class), its switch `flag` with its `doc`, the
+ *  expression that builds a layer from the options `o` and the region's `reference`
+ *  triangle, and its output hooks `outputs` (layer_outputs.h). */
+#define HYMM_LAYER_KIND(Layer, member, flag, doc, make_expr, outputs)                                                        \
     LayerKind                                                                                                  \
     {                                                                                                          \
         Layer::kKind, #Layer, doc, &Options::flag,                                                                  \
@@ -25,7 +27,7 @@ using Vertices = hymm::ltr::TriangleFrame::Vertices;
             },                                                                                                 \
             [](Options& o, const mrpt::config::CConfigFileBase& cfg) { o.member.loadFromConfigFile(cfg, #Layer); }, \
             [](const Options& o, mrpt::config::CConfigFileBase& cfg) { o.member.saveToConfigFile(cfg, #Layer); },   \
-            [](const Options& o) { o.member.validate(#Layer); }                                                \
+            [](const Options& o) { o.member.validate(#Layer); }, outputs                                       \
     }
 }  // namespace
 
@@ -34,15 +36,18 @@ const std::vector<LayerKind>& layerKinds()
     // The order is the order of the layers in a region and of the outputs.
     static const std::vector<LayerKind> kinds = {
         HYMM_LAYER_KIND(PointsLayer, points, enable_points, "keep raw returns (Sec. 3.9)",
-                        std::make_unique<PointsLayer>(o.points, reference)),
+                        std::make_unique<PointsLayer>(o.points, reference), pointsLayerOutputs()),
         HYMM_LAYER_KIND(OccupancyLayer, occupancy, enable_occupancy, "keep occupancy grids (Sec. 4.1)",
-                        std::make_unique<OccupancyLayer>(o.occupancy, reference)),
+                        std::make_unique<OccupancyLayer>(o.occupancy, reference),
+                        occupancyLayerOutputs()),
         HYMM_LAYER_KIND(ParticlesLayer, particles, enable_particles, "keep particle sets (Sec. 4.2)",
-                        std::make_unique<ParticlesLayer>(o.particles, reference)),
+                        std::make_unique<ParticlesLayer>(o.particles, reference),
+                        particlesLayerOutputs()),
         HYMM_LAYER_KIND(SogLayer, sog, enable_sog, "keep sums of Gaussians (Sec. 4.3)",
-                        std::make_unique<SogLayer>(o.sog)),
+                        std::make_unique<SogLayer>(o.sog), sogLayerOutputs()),
         HYMM_LAYER_KIND(PropertyLayer, property, enable_property, "keep scalar property grids",
-                        std::make_unique<PropertyLayer>(o.property, reference)),
+                        std::make_unique<PropertyLayer>(o.property, reference),
+                        propertyLayerOutputs()),
     };
     return kinds;
 }

@@ -1,15 +1,24 @@
 /**
  * @file LayerRegistry_test.cpp
  * @brief The table of layer kinds: each row builds a layer of its own kind, only when its
- *        switch is on, and owns its options section (load, save, check).
+ *        switch is on, owns its options section (load, save, check) and its outputs
+ *        (files MRPT reads back, counters, the points its outline metrics score, a
+ *        summary line).
  */
 #include "hymm/dense/LayerRegistry.h"
 
+#include "synthetic_partition.h"
+
 #include <gtest/gtest.h>
 #include <mrpt/config/CConfigFileMemory.h>
+#include <mrpt/io/CFileGZInputStream.h>
+#include <mrpt/serialization/CArchive.h>
 
+#include <filesystem>
 #include <set>
+#include <sstream>
 #include <string>
+#include <unistd.h>
 
 namespace
 {
@@ -67,6 +76,63 @@ TEST(LayerRegistryTest, EachKindReadsAndChecksItsOwnSection)
         EXPECT_NO_THROW(k.load(o, saved)) << k.section;
         EXPECT_NO_THROW(k.validate(o)) << k.section;
     }
+}
+
+TEST(LayerRegistryTest, EachKindWritesItsFilesCountsAndScoresWhatItHolds)
+{
+    using namespace hymm::dense::synthetic;
+    namespace fs = std::filesystem;
+    const fs::path root = fs::temp_directory_path() / ("hymm_layer_outputs_" + std::to_string(::getpid()));
+    for (const LayerKind& k : layerKinds())
+    {
+        ASSERT_TRUE(k.outputs.write && k.outputs.scored_points && k.outputs.describe) << k.name;
+        HybridMetricMap::Options o;
+        for (const LayerKind& other : layerKinds()) o.*(other.enabled) = false;
+        o.*(k.enabled) = true;
+        WallWorld w;
+        HybridMetricMap map(o);
+        // A wall seen five times; the returns carry values (the property layer maps them).
+        ScanPoints scan = wallScan(kVehicle, kMount, kWallX, kBeams, kHalfFov);
+        scan.values.assign(scan.points.size(), 42.0);
+        scan.value_stds.assign(scan.points.size(), 0.5);
+        for (int i = 0; i < 5; ++i) map.insertScan(scan, kVehicle, w.partition);
+        const LayerOutputContext c{map, w.partition, 5 * scan.points.size()};
+
+        // What it scores lies on the wall (within a cell or a particle's spread).
+        const auto scored = k.outputs.scored_points(c);
+        EXPECT_GT(scored.size(), 10u) << k.name;
+        for (const auto& p : scored) EXPECT_NEAR(p.x(), kWallX, 0.5) << k.name;
+
+        // Its files carry its name and MRPT reads back every serialised one.
+        const fs::path dir = root / k.name;
+        fs::create_directories(dir);
+        k.outputs.write(c, dir.string() + "/", true);
+        size_t files = 0, objects = 0;
+        for (const auto& f : fs::directory_iterator(dir))
+        {
+            ++files;
+            const std::string name = f.path().filename().string();
+            EXPECT_EQ(name.rfind(k.name, 0), 0u) << name;
+            EXPECT_GT(fs::file_size(f.path()), 0u) << name;
+            const std::string ext = f.path().extension().string();
+            if (ext != ".bin" && ext != ".gridmap") continue;
+            mrpt::io::CFileGZInputStream in(f.path().string());
+            EXPECT_TRUE(mrpt::serialization::archiveFrom(in).ReadObject()) << name;
+            ++objects;
+        }
+        EXPECT_GE(files, 2u) << k.name;
+        EXPECT_GE(objects, 1u) << k.name;
+
+        // Counters have names; the summary line starts with what the layer holds.
+        if (k.outputs.counts)
+        {
+            for (const auto& counter : k.outputs.counts(c)) EXPECT_FALSE(counter.first.empty()) << k.name;
+        }
+        std::ostringstream line;
+        k.outputs.describe(line, c, 123);
+        EXPECT_EQ(line.str().rfind("123 ", 0), 0u) << line.str();
+    }
+    fs::remove_all(root);
 }
 
 }  // namespace

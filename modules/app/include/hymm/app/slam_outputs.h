@@ -6,8 +6,8 @@
  *        metrics; outline metrics of every dense map).
  *
  * Sources: run_outputs.cpp (path, landmarks, figure, timing, run metrics), summary.cpp,
- * dense_outputs.cpp and dense_metrics.cpp (the dense maps, one entry per layer kind in
- * layer_outputs.cpp).
+ * dense_outputs.cpp (the dense maps: each layer kind's files, counters, scored points and
+ * summary line come from its output hooks, dense::LayerKind::outputs).
  */
 #pragma once
 

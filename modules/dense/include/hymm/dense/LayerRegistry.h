@@ -5,20 +5,25 @@
  *
  * A kind is one row of layerKinds(): its name (DenseLayer::kind(), the item of
  * `[DenseSlam] dense_layers`, the stem of its output files), the ini section of its
- * options, its `enable_*` switch and options in HybridMetricMap::Options, and its
- * factory. HybridMetricMap (layer
- * construction for regions, fallback tiles and saved states, options loading, saving and
- * checking), DenseSlam (`dense_layers`) and the application's outputs iterate over it.
- * Each layer draws itself (DenseLayer::renderInto, through HybridMetricMap::renderLayer).
+ * options, its `enable_*` switch and options in HybridMetricMap::Options, its factory
+ * and its output hooks (files, metrics.json counters, the points its outline metrics
+ * score, its summary line: LayerOutputs.h). HybridMetricMap (layer construction for
+ * regions, fallback tiles and saved states, options loading, saving and checking),
+ * DenseSlam (`dense_layers`) and hymm-slam's outputs, metrics and summary iterate over
+ * it. Each layer draws itself (DenseLayer::renderInto, through
+ * HybridMetricMap::renderLayer, which is also what the MRPT map wrapper and the 3D scene
+ * show).
  *
- * Adding a kind: the layer's files (class, options with their section) and one row here
- * (LayerRegistry.cpp); the application adds its files and metrics in the table of
- * app/src/layer_outputs.cpp, which a test keeps in step with this one (the app module is
- * above `dense`: metrics.json and the run counters are not known here).
+ * Adding a kind touches this module only: the layer's files (class, options with their
+ * section, `src/<Layer>Outputs.cpp` with its hooks), its options member and switch in
+ * HybridMetricMap::Options (typed, so that code configuring a layer is checked by the
+ * compiler) and one row in LayerRegistry.cpp (modules/dense/README.md, "Adding a layer
+ * kind").
  */
 #pragma once
 
 #include "hymm/dense/HybridMetricMap.h"
+#include "hymm/dense/LayerOutputs.h"
 
 #include <memory>
 #include <string>
@@ -40,6 +45,8 @@ struct LayerKind
     void (*load)(HybridMetricMap::Options& options, const mrpt::config::CConfigFileBase& cfg);
     void (*save)(const HybridMetricMap::Options& options, mrpt::config::CConfigFileBase& cfg);
     void (*validate)(const HybridMetricMap::Options& options);
+    /** What a run writes, counts, scores and summarises of the kind. */
+    LayerOutputs outputs;
 };
 
 /** Every kind, in the order regions hold them and outputs list them. */
