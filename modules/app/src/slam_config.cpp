@@ -10,6 +10,9 @@
 #include <hymm/extract/TreeExtractor.h>
 #include <hymm/scanslam/CorrelativeMatcher.h>
 #include <hymm/scanslam/IcpMatcher.h>
+#include <hymm/scanslam/ScanLandmarkMap.h>
+#include <hymm/scanslam/SegmentAcceptance.h>
+#include <hymm/scanslam/Segmenter.h>
 #include <hymm/scanslam/SogMatcher.h>
 #include <hymm/sim/Scenario.h>
 
@@ -75,6 +78,9 @@ const std::vector<OptionSection>& optionSections()
         declared<dense::ClassicOccupancyGrid::Options>("dense", "ClassicOccupancyGrid"),
         declared<dynamic::SlamMotionHook::Options>("dynamic", "DynamicSlam"),
         declared<dynamic::MotionDetector::Options>("dynamic", "MotionDetector"),
+        declared<scanslam::ScanLandmarkMap::Options>("scanslam", "ScanLandmarks"),
+        declared<scanslam::Segmenter::Options>("scanslam", "ScanSegmentation"),
+        declared<scanslam::SegmentAcceptance::Options>("scanslam", "ScanAcceptance"),
         declared<scanslam::SogMatcher::Options>("scanslam", "SogMatcher"),
         declared<scanslam::IcpMatcher::Options>("scanslam", "IcpMatcher"),
         declared<scanslam::CorrelativeMatcher::Options>("scanslam", "CorrelativeMatcher"),

@@ -1,7 +1,8 @@
 /**
  * @file RegionPartition.cpp
- * @brief Region bookkeeping, point lookup grid, removal and persistence.
- *        Growth (candidate proposal) lives in RegionPartitionGrowth.cpp.
+ * @brief Region bookkeeping, point lookup grid and removal. Growth (candidate
+ *        proposal) lives in RegionPartitionGrowth.cpp, the text format in
+ *        RegionPartitionText.cpp, the run state in RegionPartitionState.cpp.
  */
 #include "hymm/ltr/RegionPartition.h"
 #include <hymm/core/output_files.h>
@@ -21,7 +22,6 @@ namespace hymm::ltr
 {
 namespace
 {
-constexpr const char* kFileHeader = "hymm-ltr-partition 1";
 // Closed-triangle tolerance of the point lookup, in local (barycentric) units.
 constexpr double kLookupTol = 1e-12;
 
@@ -36,61 +36,6 @@ std::optional<Eigen::Vector2d> localIn(const TriangleFrame::Vertices& v, const E
     return Eigen::Vector2d(d.inverse() * (p - v[0]));
 }
 }  // namespace
-
-// ---------------------------------------------------------------------------------
-// Options
-// ---------------------------------------------------------------------------------
-hymm::core::OptionTable RegionPartition::Options::table()
-{
-    using namespace hymm::core;
-    OptionTable t = conditions.table();
-    t.real("search_radius_m", search_radius_m, "m", above(0, 1e4), "candidate vertices lie this close to the vehicle");
-    t.real("grid_cell_size_m", grid_cell_size_m, "m", above(0, 1e4), "cell of the point-lookup grid");
-    t.integer("max_new_regions_per_update", max_new_regions_per_update, "", 0, 100000,
-              "bound on the regions created per update");
-    t.integer("max_seed_landmarks", max_seed_landmarks, "", 3, 1000,
-              "nearest eligible landmarks tried when seeding");
-    t.flag("local_refresh", local_refresh,
-           "grow around the vehicle only (updateNear); far regions refreshed after a large correction");
-    t.real("full_refresh_correction_m", full_refresh_correction_m, "m", atLeast(0, 1e4),
-           "with local_refresh: a larger vehicle correction refreshes every region");
-    return t;
-}
-
-void RegionPartition::Options::loadFromConfigFile(
-    const mrpt::config::CConfigFileBase& cfg, const std::string& s)
-{
-    table().load(cfg, s);
-    validate(s);
-}
-
-void RegionPartition::Options::saveToConfigFile(
-    mrpt::config::CConfigFileBase& cfg, const std::string& s) const
-{
-    auto copy = *this;
-    copy.table().save(cfg, s);
-}
-
-void RegionPartition::Options::validate(const std::string& s) const
-{
-    using hymm::core::throwConfigError;
-    conditions.validate(s);
-    if (!(search_radius_m > 0))
-        throwConfigError(s, "search_radius_m", std::to_string(search_radius_m), "must be > 0");
-    if (!(grid_cell_size_m > 0))
-        throwConfigError(s, "grid_cell_size_m", std::to_string(grid_cell_size_m), "must be > 0");
-    if (max_new_regions_per_update < 0)
-        throwConfigError(
-            s, "max_new_regions_per_update", std::to_string(max_new_regions_per_update),
-            "must be >= 0");
-    if (max_seed_landmarks < 3)
-        throwConfigError(
-            s, "max_seed_landmarks", std::to_string(max_seed_landmarks), "must be >= 3");
-    if (!(full_refresh_correction_m >= 0))
-        throwConfigError(
-            s, "full_refresh_correction_m", std::to_string(full_refresh_correction_m),
-            "must be >= 0");
-}
 
 // ---------------------------------------------------------------------------------
 // Bookkeeping
@@ -434,79 +379,6 @@ void RegionPartition::clear()
     by_landmark_.clear();
     grid_.clear();
     next_id_ = 0;
-}
-
-// ---------------------------------------------------------------------------------
-// Persistence
-// ---------------------------------------------------------------------------------
-void RegionPartition::save(std::ostream& out) const
-{
-    out << kFileHeader << "\n" << "next_id " << next_id_ << "\n" << "regions " << regions_.size()
-        << "\n";
-    out << std::setprecision(17);
-    for (const auto& [id, r] : regions_)
-    {
-        out << id << ' ' << r.vertex_ids[0] << ' ' << r.vertex_ids[1] << ' ' << r.vertex_ids[2]
-            << ' ' << r.creation_time;
-        for (const auto* tri : {&r.reference, &r.current})
-            for (const auto& p : *tri) out << ' ' << p.x() << ' ' << p.y();
-        out << "\n";
-    }
-}
-
-void RegionPartition::load(std::istream& in)
-{
-    auto bad = [](int line, const std::string& what) {
-        throw std::runtime_error(
-            "RegionPartition::load: line " + std::to_string(line) + ": " + what);
-    };
-    std::string line;
-    if (!std::getline(in, line) || line != kFileHeader)
-        bad(1, std::string("expected header '") + kFileHeader + "'");
-    std::string word;
-    long next_id = 0;
-    size_t n = 0;
-    if (!std::getline(in, line) || !(std::istringstream(line) >> word >> next_id) ||
-        word != "next_id")
-        bad(2, "expected 'next_id <n>'");
-    if (!std::getline(in, line) || !(std::istringstream(line) >> word >> n) || word != "regions")
-        bad(3, "expected 'regions <n>'");
-    std::vector<Region> loaded;
-    for (size_t i = 0; i < n; ++i)
-    {
-        const int ln = static_cast<int>(i) + 4;
-        if (!std::getline(in, line)) bad(ln, "missing region line");
-        std::istringstream is(line);
-        Region r;
-        is >> r.id >> r.vertex_ids[0] >> r.vertex_ids[1] >> r.vertex_ids[2] >> r.creation_time;
-        for (auto* tri : {&r.reference, &r.current})
-            for (auto& p : *tri) is >> p.x() >> p.y();
-        if (!is) bad(ln, "expected 'id v1 v2 v3 time' and 12 coordinates");
-        const std::string why = TriangleFrame::degeneracyReason(r.reference, FrameLimits());
-        if (!why.empty()) bad(ln, "degenerate reference triangle: " + why);
-        loaded.push_back(std::move(r));
-    }
-    clear();
-    for (auto& r : loaded)
-    {
-        if (regions_.count(r.id)) bad(0, "duplicate region id " + std::to_string(r.id));
-        insertRegion(std::move(r));
-    }
-    next_id_ = std::max(next_id_, next_id);
-}
-
-void RegionPartition::saveToFile(const std::string& path) const
-{
-    core::AtomicTextFile f(path);
-    save(f);
-    f.commit();
-}
-
-void RegionPartition::loadFromFile(const std::string& path)
-{
-    std::ifstream f(path);
-    if (!f) throw std::runtime_error("RegionPartition: cannot open '" + path + "'");
-    load(f);
 }
 
 }  // namespace hymm::ltr

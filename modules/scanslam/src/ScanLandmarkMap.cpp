@@ -26,72 +26,80 @@ void declareWideKeys(hymm::core::OptionTable& t, ScanLandmarkMap::Options& o)
     using namespace hymm::core;
     t.flag("wide_search", o.wide_search,
            "templates refused by max_prediction_std_m are searched over their +-3 sigma window");
-    t.real("wide_coarse_step_m", o.wide.coarse_step_m, "m", above(0), "wide search: level-A step and likelihood std");
-    t.real("wide_fine_step_m", o.wide.fine_step_m, "m", above(0), "wide search: level-B step");
-    t.real("wide_fine_sigma_m", o.wide.fine_sigma_m, "m", above(0), "wide search: level-B likelihood std");
+    t.real("wide_coarse_step_m", o.wide.coarse_step_m, "m", above(0, 100), "wide search: level-A step and likelihood std");
+    t.real("wide_fine_step_m", o.wide.fine_step_m, "m", above(0, 100), "wide search: level-B step");
+    t.real("wide_fine_sigma_m", o.wide.fine_sigma_m, "m", above(0, 100), "wide search: level-B likelihood std");
     t.integer("wide_candidates", o.wide.candidates, "", 1, 1000, "wide search: level-A peaks refined");
     t.integer("wide_max_points", o.wide.max_points, "", 3, 100000, "wide search: template points scored (subsample)");
-    t.real("wide_peak_separation_m", o.wide.peak_separation_m, "m", above(0),
+    t.real("wide_peak_separation_m", o.wide.peak_separation_m, "m", above(0, 1000),
            "wide search: peaks moving the template less than this are one");
     t.real("wide_max_ambiguity", o.wide.max_ambiguity, "", between(0, 1),
            "wide search: second separate peak's goodness / best's below this");
     t.real("wide_min_matched_fraction", o.wide.min_matched_fraction, "", between(0, 1),
            "wide search: template points within the gate at the best pose");
-    t.real("wide_max_xy_m", o.wide_max_xy_m, "m", above(0), "wide search: largest +-3 sigma half window in x, y");
-    t.real("wide_max_phi_deg", o.wide_max_phi, "deg", above(0), "wide search: largest half window in angle", M_PI / 180);
+    t.real("wide_max_xy_m", o.wide_max_xy_m, "m", above(0, 10000), "wide search: largest +-3 sigma half window in x, y");
+    t.real("wide_max_phi_deg", o.wide_max_phi, "deg", above(0, 180), "wide search: largest half window in angle", M_PI / 180);
     t.integer("wide_max_per_scan", o.wide_max_per_scan, "", 1, 1000, "wide searches per scan");
     t.integer("wide_retry_scans", o.wide_retry_scans, "", 1, 1000000, "scans between wide searches of one template");
     t.integer("wide_confirm_scans", o.wide_confirm_scans, "", 0, 1000000,
               "wide answers fused only when another template's within this many scans agrees (0: at once)");
-    t.real("wide_confirm_xy_m", o.wide_confirm_xy_m, "m", above(0), "agreement of the implied vehicle corrections in x, y");
-    t.real("wide_confirm_phi_deg", o.wide_confirm_phi, "deg", above(0), "and in heading", M_PI / 180);
+    t.real("wide_confirm_xy_m", o.wide_confirm_xy_m, "m", above(0, 1000), "agreement of the implied vehicle corrections in x, y");
+    t.real("wide_confirm_phi_deg", o.wide_confirm_phi, "deg", above(0, 180), "and in heading", M_PI / 180);
 }
 }  // namespace
 
-void ScanLandmarkMap::Options::load(const mrpt::config::CConfigFileBase& cfg,
-                                    const std::string& s)
+core::OptionTable ScanLandmarkMap::Options::table()
 {
     using namespace hymm::core;
-    // Declared once (core::OptionTable): the unknown-key check, ranges and errors come
-    // from the declaration.
     OptionTable t;
     t.choice("matcher", matcher,
              {{"sog", std::string("sog")}, {"icp", std::string("icp")},
               {"correlative", std::string("correlative")}},
              "scan matcher that observes the templates");
-    t.real("std_range_m", noise.std_range_m, "m", above(0), "range noise of a return (templates)");
-    t.real("std_bearing_deg", noise.std_bearing, "deg", above(0), "bearing noise of a return",
+    t.real("std_range_m", noise.std_range_m, "m", above(0, 10), "range noise of a return (templates)");
+    t.real("std_bearing_deg", noise.std_bearing, "deg", above(0, 60), "bearing noise of a return",
            M_PI / 180);
     t.real("in_view_fraction", in_view_fraction, "", between(0, 1),
            "share of a template's points in the sensor's view to attempt an alignment (5.3)");
-    t.real("gate_prob", gate_prob, "", between(0, 1), "NN gate after alignment (5.5)");
-    t.real("explain_distance_m", explain_distance_m, "m", atLeast(0),
+    t.real("gate_prob", gate_prob, "", between(0, 1), "NN gate on the aligned observation, chi-square(3) probability (5.5; 0 or 1: none)");
+    t.real("explain_distance_m", explain_distance_m, "m", atLeast(0, 100),
            "a return this close to an aligned template is explained");
-    t.real("max_creation_range_m", max_creation_range_m, "m", above(0),
+    t.real("max_creation_range_m", max_creation_range_m, "m", above(0, 10000),
            "segments farther away create no landmark");
     t.real("min_spread_ratio", min_spread_ratio, "", between(0, 1),
            "collinearity test: minor/major spread of a segment");
     t.flag("create_landmarks", create_landmarks,
            "segments of unexplained returns become new landmarks (false: observe only)");
-    t.real("visible_bin_deg", visible_bin, "deg", atLeast(0),
+    t.real("visible_bin_deg", visible_bin, "deg", atLeast(0, 180),
            "align only the template points visible from the prediction, bearing bins of this size (0: all)",
            M_PI / 180);
-    t.real("visible_depth_tol_m", visible_depth_tol_m, "m", atLeast(0),
+    t.real("visible_depth_tol_m", visible_depth_tol_m, "m", atLeast(0, 100),
            "a template point this close behind the nearest of its bearing bin is visible");
-    t.real("view_std_xy_m", view_std_xy_m, "m", atLeast(0),
+    t.real("view_std_xy_m", view_std_xy_m, "m", atLeast(0, 100),
            "alignment std added in x and y at any viewpoint (measured, see above)");
-    t.real("view_std_xy_per_m", view_std_xy_per_m, "", atLeast(0),
+    t.real("view_std_xy_per_m", view_std_xy_per_m, "", atLeast(0, 10),
            "its growth per metre the template frame moved in the sensor frame since it was made");
-    t.real("view_std_phi_deg", view_std_phi, "deg", atLeast(0), "same for the angle", M_PI / 180);
-    t.real("view_std_phi_deg_per_m", view_std_phi_per_m, "deg/m", atLeast(0),
+    t.real("view_std_phi_deg", view_std_phi, "deg", atLeast(0, 180), "same for the angle", M_PI / 180);
+    t.real("view_std_phi_deg_per_m", view_std_phi_per_m, "deg/m", atLeast(0, 180),
            "growth of the angle's std per metre of viewpoint change", M_PI / 180);
-    t.real("max_view_change_m", max_view_change_m, "m", atLeast(0),
+    t.real("max_view_change_m", max_view_change_m, "m", atLeast(0, 10000),
            "> 0: templates whose frame moved more than this in the sensor frame are not aligned");
-    t.real("max_prediction_std_m", max_prediction_std_m, "m", atLeast(0),
+    t.real("max_prediction_std_m", max_prediction_std_m, "m", atLeast(0, 10000),
            "> 0: templates whose predicted position has a larger std are not aligned");
     declareWideKeys(t, *this);
     t.integer("seed", seed, "", 0, std::numeric_limits<uint32_t>::max(), "acceptance test's random seed");
-    t.load(cfg, s);
+    return t;
+}
+
+void ScanLandmarkMap::Options::load(const mrpt::config::CConfigFileBase& cfg, const std::string& section)
+{
+    table().load(cfg, section);
+}
+
+void ScanLandmarkMap::Options::save(mrpt::config::CConfigFileBase& cfg, const std::string& section) const
+{
+    auto copy = *this;
+    copy.table().save(cfg, section);
 }
 
 std::vector<std::pair<std::string, size_t>> ScanLandmarkMap::Stats::list() const

@@ -11,24 +11,34 @@
 
 namespace hymm::scanslam
 {
-void SegmentAcceptance::Options::load(const mrpt::config::CConfigFileBase& cfg,
-                                      const std::string& section)
+core::OptionTable SegmentAcceptance::Options::table()
 {
     using namespace hymm::core;
-    checkKnownKeys(cfg, section,
-                   {"trials", "displacement_xy_m", "displacement_phi_deg", "max_error_fraction",
-                    "max_cov_trace", "min_extent_m"});
-    trials = static_cast<int>(readInt(cfg, section, "trials", trials));
-    if (trials < 1) throwConfigError(section, "trials", std::to_string(trials), "must be >= 1");
-    displacement_xy_m = readDoubleMin(cfg, section, "displacement_xy_m", displacement_xy_m, 0, false);
-    displacement_phi = M_PI / 180 * readDoubleMin(cfg, section, "displacement_phi_deg",
-                                                  displacement_phi * 180 / M_PI, 0, false);
+    OptionTable t;
+    t.integer("trials", trials, "", 1, 1000, "perturbed copies per segment; all must pass");
+    t.real("displacement_xy_m", displacement_xy_m, "m", atLeast(0, 100),
+           "length of the random translation (random direction)");
+    t.real("displacement_phi_deg", displacement_phi, "deg", atLeast(0, 180), "size of the random rotation (random sign)",
+           M_PI / 180);
+    t.real("max_error_fraction", max_error_fraction, "", above(0, 100),
+           "RMS point error / RMS point displacement (thesis 10 %)");
+    t.real("max_cov_trace", max_cov_trace, "m^2", atLeast(0, 1e6),
+           "also require trace of the xy covariance below this (0: off)");
+    t.real("min_extent_m", min_extent_m, "m", atLeast(0, 1000), "segments shorter end to end are `too_small`");
+    return t;
+}
+
+void SegmentAcceptance::Options::load(const mrpt::config::CConfigFileBase& cfg, const std::string& section)
+{
+    table().load(cfg, section);
     if (displacement_xy_m <= 0 && displacement_phi <= 0)
-        throwConfigError(section, "displacement_xy_m", "0", "some displacement is needed");
-    max_error_fraction =
-        readDoubleMin(cfg, section, "max_error_fraction", max_error_fraction, 0, true);
-    max_cov_trace = readDoubleMin(cfg, section, "max_cov_trace", max_cov_trace, 0, false);
-    min_extent_m = readDoubleMin(cfg, section, "min_extent_m", min_extent_m, 0, false);
+        core::throwConfigError(section, "displacement_xy_m", "0", "some displacement is needed");
+}
+
+void SegmentAcceptance::Options::save(mrpt::config::CConfigFileBase& cfg, const std::string& section) const
+{
+    auto copy = *this;
+    copy.table().save(cfg, section);
 }
 
 const char* SegmentAcceptance::outcomeName(Outcome o)

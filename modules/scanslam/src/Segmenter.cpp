@@ -7,7 +7,6 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "hymm/core/config_utils.h"
 
 namespace hymm::scanslam
 {
@@ -20,20 +19,27 @@ Segmenter::Options Segmenter::Options::thesisRealData()
     return o;
 }
 
-void Segmenter::Options::load(const mrpt::config::CConfigFileBase& cfg,
-                              const std::string& section)
+core::OptionTable Segmenter::Options::table()
 {
     using namespace hymm::core;
-    checkKnownKeys(cfg, section,
-                   {"min_points", "max_range_gap_m", "max_angle_gap_deg", "max_range_m"});
-    const long n = readInt(cfg, section, "min_points", static_cast<long>(min_points));
-    if (n < 2) throwConfigError(section, "min_points", std::to_string(n), "must be >= 2");
-    min_points = static_cast<size_t>(n);
-    max_range_gap_m = readDoubleMin(cfg, section, "max_range_gap_m", max_range_gap_m, 0, true);
-    max_angle_gap = M_PI / 180 *
-                    readDoubleMin(cfg, section, "max_angle_gap_deg", max_angle_gap * 180 / M_PI,
-                                  0, true);
-    max_range_m = readDoubleMin(cfg, section, "max_range_m", max_range_m, 0, false);
+    OptionTable t;
+    t.integer("min_points", min_points, "", 2, 1000000, "fewest points in a segment");
+    t.real("max_range_gap_m", max_range_gap_m, "m", above(0, 1000), "neighbours differ in range by less than this");
+    t.real("max_angle_gap_deg", max_angle_gap, "deg", above(0, 180), "and in bearing by less than this", M_PI / 180);
+    t.real("max_range_m", max_range_m, "m", atLeast(0, 10000),
+           "returns beyond this end a segment and are ignored (0: none)");
+    return t;
+}
+
+void Segmenter::Options::load(const mrpt::config::CConfigFileBase& cfg, const std::string& section)
+{
+    table().load(cfg, section);
+}
+
+void Segmenter::Options::save(mrpt::config::CConfigFileBase& cfg, const std::string& section) const
+{
+    auto copy = *this;
+    copy.table().save(cfg, section);
 }
 
 std::vector<Segmenter::Segment> Segmenter::segment(const PointSet& scan, size_t* short_runs) const

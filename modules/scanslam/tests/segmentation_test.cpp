@@ -5,6 +5,7 @@
  */
 #include <gtest/gtest.h>
 #include <hymm/scanslam/IcpMatcher.h>
+#include <hymm/scanslam/ScanLandmarkMap.h>
 #include <hymm/scanslam/SegmentAcceptance.h>
 #include <hymm/scanslam/Segmenter.h>
 #include <hymm/scanslam/SogMatcher.h>
@@ -13,6 +14,7 @@
 
 #include <cmath>
 #include <limits>
+#include <string>
 
 #include "sim_scenes.h"
 
@@ -122,6 +124,69 @@ TEST(SegmenterTest, OptionsLoadAndThesisPreset)
     EXPECT_THROW(o.load(bad, "Seg"), std::exception);
     mrpt::config::CConfigFileMemory bad2("[Seg]\nmin_points = 1\n");
     EXPECT_THROW(o.load(bad2, "Seg"), std::exception);
+}
+
+// [ScanLandmarks], [ScanSegmentation], [ScanAcceptance]: each key declared once, so what
+// a section saves it loads back, and absurd values are refused naming the key.
+TEST(ScanSlamOptionsTest, SectionsSaveWhatTheyLoadAndRefuseAbsurdValues)
+{
+    mrpt::config::CConfigFileMemory cfg(
+        "[ScanLandmarks]\nmatcher = icp\nmax_creation_range_m = 12\nwide_search = true\n"
+        "view_std_phi_deg = 2\n[ScanSegmentation]\nmin_points = 40\nmax_angle_gap_deg = 2.5\n"
+        "[ScanAcceptance]\ntrials = 4\ndisplacement_phi_deg = 5\nmax_cov_trace = 0.01\n");
+    ScanLandmarkMap::Options m;
+    Segmenter::Options g;
+    SegmentAcceptance::Options a;
+    m.load(cfg, "ScanLandmarks");
+    g.load(cfg, "ScanSegmentation");
+    a.load(cfg, "ScanAcceptance");
+    EXPECT_EQ(m.matcher, "icp");
+    EXPECT_DOUBLE_EQ(m.max_creation_range_m, 12.0);
+    EXPECT_TRUE(m.wide_search);
+    EXPECT_EQ(g.min_points, 40u);
+    EXPECT_EQ(a.trials, 4);
+    EXPECT_NEAR(a.displacement_phi, 5 * M_PI / 180, 1e-15);
+
+    mrpt::config::CConfigFileMemory saved;
+    m.save(saved, "ScanLandmarks");
+    g.save(saved, "ScanSegmentation");
+    a.save(saved, "ScanAcceptance");
+    ScanLandmarkMap::Options m2;
+    Segmenter::Options g2;
+    SegmentAcceptance::Options a2;
+    m2.load(saved, "ScanLandmarks");
+    g2.load(saved, "ScanSegmentation");
+    a2.load(saved, "ScanAcceptance");
+    EXPECT_EQ(m2.matcher, m.matcher);
+    EXPECT_DOUBLE_EQ(m2.max_creation_range_m, m.max_creation_range_m);
+    EXPECT_EQ(m2.wide_search, m.wide_search);
+    EXPECT_NEAR(m2.view_std_phi, m.view_std_phi, 1e-15);
+    EXPECT_EQ(g2.min_points, g.min_points);
+    EXPECT_NEAR(g2.max_angle_gap, g.max_angle_gap, 1e-15);
+    EXPECT_EQ(a2.trials, a.trials);
+    EXPECT_NEAR(a2.displacement_phi, a.displacement_phi, 1e-15);
+    EXPECT_DOUBLE_EQ(a2.max_cov_trace, a.max_cov_trace);
+
+    const auto refused = [](const std::string& section, const std::string& text, const std::string& key) {
+        mrpt::config::CConfigFileMemory bad("[" + section + "]\n" + text + "\n");
+        try
+        {
+            if (section == "ScanLandmarks") ScanLandmarkMap::Options().load(bad, section);
+            if (section == "ScanSegmentation") Segmenter::Options().load(bad, section);
+            if (section == "ScanAcceptance") SegmentAcceptance::Options().load(bad, section);
+        }
+        catch (const std::exception& e)
+        {
+            return std::string(e.what()).find(key) != std::string::npos;
+        }
+        return false;
+    };
+    EXPECT_TRUE(refused("ScanLandmarks", "max_creation_range_m = 1e308", "max_creation_range_m"));
+    EXPECT_TRUE(refused("ScanLandmarks", "wide_max_phi_deg = 720", "wide_max_phi_deg"));
+    EXPECT_TRUE(refused("ScanSegmentation", "max_range_gap_m = 0", "max_range_gap_m"));
+    EXPECT_TRUE(refused("ScanAcceptance", "trials = 5000000000", "trials"));
+    EXPECT_TRUE(refused("ScanAcceptance", "displacement_xy_m = 0\ndisplacement_phi_deg = 0", "displacement_xy_m"));
+    EXPECT_TRUE(refused("ScanAcceptance", "max_eror_fraction = 0.2", "max_eror_fraction"));
 }
 
 TEST(ScanTemplateTest, FrameAtCentroidAndInViewFraction)

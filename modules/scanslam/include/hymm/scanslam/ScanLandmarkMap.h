@@ -98,8 +98,11 @@ public:
         double wide_confirm_xy_m = 1.5;    //!< corrections agree within this in x, y [m]
         double wide_confirm_phi = 4 * M_PI / 180;  //!< and this in heading [rad] (ini: wide_confirm_phi_deg)
 
+        /** Every key, declared once (loader, unknown-key check, saver, README table). */
+        core::OptionTable table();
         /** Reads [section]; unknown keys and bad values throw naming the key. */
         void load(const mrpt::config::CConfigFileBase& cfg, const std::string& section);
+        void save(mrpt::config::CConfigFileBase& cfg, const std::string& section) const;
     };
 
     /** Counters of a run, by reason. */

@@ -13,6 +13,7 @@
  */
 #pragma once
 
+#include <hymm/core/OptionTable.h>
 #include <mrpt/random/RandomGenerators.h>
 #include <mrpt/serialization/CArchive.h>
 
@@ -35,7 +36,12 @@ public:
         double max_cov_trace = 0;          //!< also require trace(R_xy) below this [m^2] (0: off)
         double min_extent_m = 0.5;         //!< segments shorter end to end are rejected [m]
 
+        /** Every key, declared once (loader, unknown-key check, saver, README table). */
+        core::OptionTable table();
+        /** Reads [section]; unknown keys, bad values and no displacement at all throw
+         *  naming the key. */
         void load(const mrpt::config::CConfigFileBase& cfg, const std::string& section);
+        void save(mrpt::config::CConfigFileBase& cfg, const std::string& section) const;
     };
 
     enum class Outcome

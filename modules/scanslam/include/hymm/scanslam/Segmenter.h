@@ -10,6 +10,7 @@
  */
 #pragma once
 
+#include <hymm/core/OptionTable.h>
 #include <mrpt/config/CConfigFileBase.h>
 
 #include <string>
@@ -32,8 +33,11 @@ public:
         /** Thesis 5.7, car park: 100 points, 5 m, 3 deg. */
         static Options thesisRealData();
 
+        /** Every key, declared once (loader, unknown-key check, saver, README table). */
+        core::OptionTable table();
         /** Reads [section]; unknown keys and bad values throw naming the key. */
         void load(const mrpt::config::CConfigFileBase& cfg, const std::string& section);
+        void save(mrpt::config::CConfigFileBase& cfg, const std::string& section) const;
     };
 
     /** Indices into a PointSet, in scan order. */
