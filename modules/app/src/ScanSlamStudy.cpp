@@ -5,6 +5,7 @@
 #include <hymm/eval/nees.h>
 #include <hymm/scanslam/PointSet.h>
 #include <hymm/sim/Simulator.h>
+#include <hymm/sim/frame_feed.h>
 #include <mrpt/math/wrap2pi.h>
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/poses/CPosePDFGaussian.h>
@@ -118,13 +119,8 @@ double threadCpuSeconds()
 ScanSlamRun::Step processSimFrame(denseslam::DenseSlam& slam, const sim::SimFrame& f)
 {
     const double t0 = threadCpuSeconds();
-    slam.processOdometry(mrpt::poses::CPosePDFGaussian(
-        mrpt::poses::CPose2D(f.odometry_mean[0], f.odometry_mean[1], f.odometry_mean[2]),
-        mrpt::math::CMatrixDouble33(f.odometry_cov)));
-    mrpt::obs::CSensoryFrame sf;
-    if (f.scan) sf.insert(f.scan);
-    if (f.detections) sf.insert(f.detections);
-    slam.processFrame(sf);
+    slam.processOdometry(sim::odometryIncrement(f));
+    slam.processFrame(sim::sensoryFrame(f));
     ScanSlamRun::Step s;
     s.seconds = threadCpuSeconds() - t0;
     s.dead_reckoning = f.dr_pose;

@@ -10,12 +10,14 @@
 #include <hymm/extract/TreeExtractor.h>
 #include <hymm/scanslam/CorrelativeMatcher.h>
 #include <hymm/scanslam/IcpMatcher.h>
+#include <hymm/dense/LayerRegistry.h>
 #include <hymm/scanslam/ScanLandmarkMap.h>
 #include <hymm/scanslam/SegmentAcceptance.h>
 #include <hymm/scanslam/Segmenter.h>
 #include <hymm/scanslam/SogMatcher.h>
 #include <hymm/sim/Scenario.h>
 
+#include <algorithm>
 #include <fstream>
 #include <memory>
 #include <sstream>
@@ -57,10 +59,25 @@ denseslam::DenseSlam loadSlamConfig(const std::string& path)
     return loadSlamConfig(core::StrictConfigFile(path));
 }
 
-const std::vector<OptionSection>& optionSections()
+namespace
+{
+// The dense layer kinds' sections, from the layer table (dense/LayerRegistry.h).
+std::vector<OptionSection> layerSections()
+{
+    std::vector<OptionSection> out;
+    for (const dense::LayerKind& k : dense::layerKinds())
+        out.push_back({"dense", k.section, [&k](std::shared_ptr<void>& hold) {
+                           auto o = std::make_shared<dense::HybridMetricMap::Options>();
+                           hold = o;
+                           return k.table(*o);
+                       }});
+    return out;
+}
+
+std::vector<OptionSection> declaredSections()
 {
     using namespace hymm;
-    static const std::vector<OptionSection> all = {
+    std::vector<OptionSection> all = {
         declared<denseslam::DenseSlam::Options>("denseslam", "DenseSlam"),
         declared<denseslam::DenseSlam::LaserOptions>("denseslam", "Laser"),
         declared<ekf::EkfSlam::Options>("ekf", "EkfSlam"),
@@ -70,11 +87,6 @@ const std::vector<OptionSection>& optionSections()
         declared<ltr::VirtualLandmarkOptions>("ltr", "VirtualLandmarks"),
         declared<uif::DelayedDenseStore::Options>("uif", "DelayedDenseStore"),
         declared<dense::HybridMetricMap::Options>("dense", "HybridMetricMap"),
-        declared<dense::OccupancyLayer::Options>("dense", "OccupancyLayer"),
-        declared<dense::PointsLayer::Options>("dense", "PointsLayer"),
-        declared<dense::ParticlesLayer::Options>("dense", "ParticlesLayer"),
-        declared<dense::SogLayer::Options>("dense", "SogLayer"),
-        declared<dense::PropertyLayer::Options>("dense", "PropertyLayer"),
         declared<dense::ClassicOccupancyGrid::Options>("dense", "ClassicOccupancyGrid"),
         declared<dynamic::SlamMotionHook::Options>("dynamic", "DynamicSlam"),
         declared<dynamic::MotionDetector::Options>("dynamic", "MotionDetector"),
@@ -99,6 +111,17 @@ const std::vector<OptionSection>& optionSections()
         declared<sim::LandmarkDetector::Options>("sim", "LandmarkDetector"),
         declared<sim::WorldPlot::Options>("sim", "WorldPlot"),
     };
+    const auto layers = layerSections();
+    const auto hybrid = std::find_if(all.begin(), all.end(),
+                                     [](const OptionSection& o) { return o.section == "HybridMetricMap"; });
+    all.insert(hybrid + 1, layers.begin(), layers.end());
+    return all;
+}
+}  // namespace
+
+const std::vector<OptionSection>& optionSections()
+{
+    static const std::vector<OptionSection> all = declaredSections();
     return all;
 }
 

@@ -27,7 +27,8 @@ using Vertices = hymm::ltr::TriangleFrame::Vertices;
             },                                                                                                 \
             [](Options& o, const mrpt::config::CConfigFileBase& cfg) { o.member.loadFromConfigFile(cfg, #Layer); }, \
             [](const Options& o, mrpt::config::CConfigFileBase& cfg) { o.member.saveToConfigFile(cfg, #Layer); },   \
-            [](const Options& o) { o.member.validate(#Layer); }, outputs                                       \
+            [](const Options& o) { o.member.validate(#Layer); },                                               \
+            [](Options& o) { return o.member.table(); }, outputs                                             \
     }
 }  // namespace
 

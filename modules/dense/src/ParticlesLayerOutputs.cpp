@@ -2,7 +2,7 @@
  * @file ParticlesLayerOutputs.cpp
  * @brief The particles layer's outputs: particles.bin (MRPT CPointsMapXYZI, the weight
  *        P(occupied) as intensity), particles.txt and particles.png; its outline metrics
- *        score the particles above kOccupiedProbability.
+ *        score the particles above kParticleOccupiedWeight.
  */
 #include "layer_outputs.h"
 
@@ -22,8 +22,10 @@ namespace hymm::dense
 {
 namespace
 {
-/** The thesis (Sec. 4.2.3) reports the fractions of particle weights above
- *  kOccupiedProbability and below this. */
+/** Particles with a weight above this are the occupied content (the P > 0.8 of the
+ *  occupancy maps, Fig. 4.3); the thesis (Sec. 4.2.3) reports the fractions of weights
+ *  above it and below kParticleLowWeight (the metrics' names carry both values). */
+constexpr double kParticleOccupiedWeight = 0.8;
 constexpr double kParticleLowWeight = 0.5;
 
 // Every particle at its current position, the weight P(occupied) as intensity.
@@ -36,7 +38,7 @@ mrpt::maps::CPointsMapXYZI renderParticles(const LayerOutputContext& c)
 
 struct ParticleWeights
 {
-    size_t count = 0, above = 0, below = 0;  // w > kOccupiedProbability, w < kParticleLowWeight
+    size_t count = 0, above = 0, below = 0;  // w > kParticleOccupiedWeight, w < kParticleLowWeight
     std::vector<Eigen::Vector2d> occupied;   // positions of the `above` particles
     double fraction(size_t n) const
     {
@@ -52,7 +54,7 @@ ParticleWeights particleWeights(const mrpt::maps::CPointsMapXYZI& pts)
     {
         const double v = pts.getPointIntensity(i);
         if (v < kParticleLowWeight) ++w.below;
-        if (v > kOccupiedProbability)
+        if (v > kParticleOccupiedWeight)
         {
             ++w.above;
             w.occupied.emplace_back(pts.getPointsBufferRef_x()[i], pts.getPointsBufferRef_y()[i]);
@@ -79,7 +81,7 @@ std::vector<LayerCounter> particleCounts(const LayerOutputContext& c)
 {
     const ParticleWeights w = particleWeights(renderParticles(c));
     return {{"particles", static_cast<unsigned long>(w.count)},
-            {"occupied_min_weight", kOccupiedProbability},
+            {"occupied_min_weight", kParticleOccupiedWeight},
             {"weight_fraction_above_0_8", w.fraction(w.above)},
             {"weight_fraction_below_0_5", w.fraction(w.below)}};
 }

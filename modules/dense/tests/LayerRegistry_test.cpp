@@ -15,9 +15,11 @@
 #include <mrpt/serialization/CArchive.h>
 
 #include <filesystem>
+#include <map>
 #include <set>
 #include <sstream>
 #include <string>
+#include <variant>
 #include <unistd.h>
 
 namespace
@@ -83,6 +85,11 @@ TEST(LayerRegistryTest, EachKindWritesItsFilesCountsAndScoresWhatItHolds)
     using namespace hymm::dense::synthetic;
     namespace fs = std::filesystem;
     const fs::path root = fs::temp_directory_path() / ("hymm_layer_outputs_" + std::to_string(::getpid()));
+    struct RemoveAtExit
+    {
+        fs::path p;
+        ~RemoveAtExit() { fs::remove_all(p); }
+    } cleanup{root};
     for (const LayerKind& k : layerKinds())
     {
         ASSERT_TRUE(k.outputs.write && k.outputs.scored_points && k.outputs.describe) << k.name;
@@ -123,16 +130,37 @@ TEST(LayerRegistryTest, EachKindWritesItsFilesCountsAndScoresWhatItHolds)
         EXPECT_GE(files, 2u) << k.name;
         EXPECT_GE(objects, 1u) << k.name;
 
-        // Counters have names; the summary line starts with what the layer holds.
+        // Its counters say what it holds: as many Gaussians and at least as many particles
+        // as it scores, the cells with a value, and no note that the scans carried none.
         if (k.outputs.counts)
         {
-            for (const auto& counter : k.outputs.counts(c)) EXPECT_FALSE(counter.first.empty()) << k.name;
+            std::map<std::string, std::variant<unsigned long, double, std::string>> counters;
+            for (const auto& [name, value] : k.outputs.counts(c)) counters[name] = value;
+            const auto count = [&](const char* name) { return std::get<unsigned long>(counters.at(name)); };
+            const std::string kind = k.name;
+            if (kind == "sog")
+            {
+                EXPECT_EQ(count("gaussians"), scored.size());
+            }
+            if (kind == "particles")
+            {
+                EXPECT_GE(count("particles"), scored.size());
+            }
+            if (kind == "occupancy")
+            {
+                EXPECT_GT(count("regions_fine") + count("regions_coarse"), 0u);
+            }
+            if (kind == "property")
+            {
+                EXPECT_EQ(count("rendered_cells"), scored.size());
+                EXPECT_GT(count("cells"), 0u);
+                EXPECT_EQ(counters.count("note"), 0u);
+            }
         }
         std::ostringstream line;
         k.outputs.describe(line, c, 123);
         EXPECT_EQ(line.str().rfind("123 ", 0), 0u) << line.str();
     }
-    fs::remove_all(root);
 }
 
 }  // namespace

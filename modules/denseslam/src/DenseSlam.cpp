@@ -1,36 +1,22 @@
 /**
  * @file DenseSlam.cpp
  * @brief The pipeline's construction and its per-entry steps (DenseSlam.h): odometry
- *        (step 1), then per frame: usable observations, duplicate check, landmark
- *        observations (steps 2-3: DenseSlamLandmarks.cpp), path sample, dense part
- *        (steps 4-6: DenseSlamDense.cpp), HLL search (step 7).
+ *        (step 1), then per frame: usable observations, duplicate check, each
+ *        observation to its landmark sources (steps 2-3; the sources and the update in
+ *        DenseSlamLandmarks.cpp), path sample, then the dense part (steps 4-6) and the
+ *        HLL search (step 7), both in DenseSlamDense.cpp.
  */
 #include "hymm/denseslam/DenseSlam.h"
-#include "hymm/denseslam/VirtualLandmarkView.h"
 #include "usable_covariance.h"
 
-#include <cstring>
-#include <hymm/uif/DelayedDenseStore.h>
-
-#include <hymm/core/config_utils.h>
 #include <hymm/dense/LayerRegistry.h>
-#include <hymm/dense/ScanPoints.h>
-#include <hymm/dense/geometry.h>
-#include <hymm/denseslam/EkfCovarianceView.h>
-#include <mrpt/math/wrap2pi.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
 #include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/system/datetime.h>
 
-#include <hymm/ltr/position_error.h>
-
-#include <Eigen/Eigenvalues>
-
 #include <algorithm>
 #include <cmath>
-#include <limits>
-#include <sstream>
-#include <unordered_map>
+#include <cstring>
 
 namespace hymm::denseslam
 {

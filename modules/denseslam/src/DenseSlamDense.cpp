@@ -137,7 +137,7 @@ void DenseSlam::fuseDelayed()
 void DenseSlam::storeUnassigned(const dense::ScanPoints& pts, const dense::HybridMetricMap::InsertStats& st,
                                 double t)
 {
-    // Step 5b: what no region holds waits in the store as passive states, kept as the
+    // Step 5d: what no region holds waits in the store as passive states, kept as the
     // sensor measured it (range, bearing in the scan's sensor frame, Eq. 3.25); the tag
     // is the return's index in the scan.
     std::vector<Eigen::Vector2d> z;
@@ -148,8 +148,11 @@ void DenseSlam::storeUnassigned(const dense::ScanPoints& pts, const dense::Hybri
             z.push_back(pts.rangeBearing(st.unassigned_source[i]));
             tags.push_back(static_cast<long>(st.unassigned_source[i]));
         }
-    stats_.returns_dropped += z.size();
-    if (!store_ || z.empty()) return;
+    if (!store_ || z.empty())
+    {
+        stats_.returns_dropped += z.size();
+        return;
+    }
     const Eigen::Matrix2d R = Eigen::Vector2d(options_.laser_std_range * options_.laser_std_range,
                                               options_.laser_std_bearing * options_.laser_std_bearing)
                                   .asDiagonal();

@@ -240,17 +240,6 @@ void DenseSlam::DenseOptions::loadFromConfigFile(const mrpt::config::CConfigFile
     hll = hll::HighLevelLandmarks::loadOptions(&cfg);
 }
 
-core::OptionTable DenseSlam::LaserOptions::table()
-{
-    using namespace hymm::core;
-    OptionTable t;
-    t.real("std_range_m", std_range_m, "m", above(0, 10),
-           "range noise of a laser return: delayed store covariances, particle and SOG sensor models");
-    t.real("std_bearing_deg", std_bearing_deg, "deg", openInterval(0, 60),
-           "bearing noise of a laser return (same users)");
-    return t;
-}
-
 namespace
 {
 /** [Laser] owns the raw-return noise; the keys it replaces are deprecated. */

@@ -26,7 +26,7 @@ void DenseSlamStats::add(const dense::HybridMetricMap::InsertStats& st, size_t f
 void DenseSlamStats::add(const uif::DelayedDenseStore::AddReport& r)
 {
     delayed_stored += r.stored;
-    returns_dropped -= r.stored;
+    returns_dropped += r.offered - r.stored;
     delayed_outside_potential += r.outside_potential;
     delayed_thinned += r.thinned;
     delayed_evicted += r.evicted_points;

@@ -16,6 +16,7 @@
 #include <hymm/denseslam/DenseSlam.h>
 #include <hymm/eval/laser_coverage.h>
 #include <hymm/sim/Simulator.h>
+#include <hymm/sim/frame_feed.h>
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/poses/CPosePDFGaussian.h>
@@ -86,12 +87,8 @@ TEST(SinglePassTest, TheStoreMapsWhatTheLaserSawBeforeRegionsExisted)
     hymm::sim::SimFrame f;
     while (sim.next(f))
     {
-        const mrpt::poses::CPosePDFGaussian odo(
-            mrpt::poses::CPose2D(f.odometry_mean[0], f.odometry_mean[1], f.odometry_mean[2]),
-            mrpt::math::CMatrixDouble33(f.odometry_cov));
-        mrpt::obs::CSensoryFrame sf;
-        if (f.scan) sf.insert(f.scan);
-        if (f.detections) sf.insert(f.detections);
+        const mrpt::poses::CPosePDFGaussian odo = hymm::sim::odometryIncrement(f);
+        const mrpt::obs::CSensoryFrame sf = hymm::sim::sensoryFrame(f);
         for (DenseSlam* slam : {off.get(), on.get()})
         {
             slam->processOdometry(odo);
@@ -179,13 +176,8 @@ TEST(SinglePassTest, StoreBudgetDropsAreCountedInThePipelineStats)
     size_t max_waiting = 0;
     while (sim.next(f))
     {
-        slam->processOdometry(mrpt::poses::CPosePDFGaussian(
-            mrpt::poses::CPose2D(f.odometry_mean[0], f.odometry_mean[1], f.odometry_mean[2]),
-            mrpt::math::CMatrixDouble33(f.odometry_cov)));
-        mrpt::obs::CSensoryFrame sf;
-        if (f.scan) sf.insert(f.scan);
-        if (f.detections) sf.insert(f.detections);
-        slam->processFrame(sf);
+        slam->processOdometry(hymm::sim::odometryIncrement(f));
+        slam->processFrame(hymm::sim::sensoryFrame(f));
         max_waiting = std::max(max_waiting, slam->delayedStore()->numStoredPoints());
     }
     const auto& st = slam->stats();

@@ -7,8 +7,7 @@
 
 #include <hymm/denseslam/DenseSlam.h>
 #include <hymm/sim/Simulator.h>
-#include <mrpt/obs/CSensoryFrame.h>
-#include <mrpt/poses/CPosePDFGaussian.h>
+#include <hymm/sim/frame_feed.h>
 
 #include <functional>
 #include <stdexcept>
@@ -24,13 +23,8 @@ inline void runFrames(hymm::sim::Simulator& sim, DenseSlam& slam,
     hymm::sim::SimFrame f;
     while (sim.next(f))
     {
-        slam.processOdometry(mrpt::poses::CPosePDFGaussian(
-            mrpt::poses::CPose2D(f.odometry_mean[0], f.odometry_mean[1], f.odometry_mean[2]),
-            mrpt::math::CMatrixDouble33(f.odometry_cov)));
-        mrpt::obs::CSensoryFrame sf;
-        if (f.scan) sf.insert(f.scan);
-        if (f.detections) sf.insert(f.detections);
-        slam.processFrame(sf);
+        slam.processOdometry(hymm::sim::odometryIncrement(f));
+        slam.processFrame(hymm::sim::sensoryFrame(f));
         probe(f);
     }
 }

@@ -4,6 +4,7 @@
  *        initialisation from the next observation, observation by scan alignment.
  */
 #include "hymm/hll/HighLevelLandmarks.h"
+#include <hymm/core/laser_noise.h>
 
 #include <hymm/ekf/pose_landmark_model.h>
 
@@ -28,8 +29,10 @@ core::OptionTable HighLevelLandmarks::Options::table()
     t.real("gate_prob", gate_prob, "", between(0, 1), "NN gate on an aligned observation");
     t.integer("template_max_points", template_max_points, "", 3, 100000000,
               "an HLL template keeps at most this many Gaussians (even stride)");
-    t.real("std_range_m", std_range_m, "m", above(0), "range noise of the scan points aligned to");
-    t.real("std_bearing_deg", std_bearing, "deg", above(0), "bearing noise of the scan points",
+    t.real("std_range_m", std_range_m, "m", above(0, 10),
+           "range noise of the scan points aligned to; deprecated: [Laser] std_range_m");
+    t.real("std_bearing_deg", std_bearing, "deg", above(0, 60),
+           "bearing noise of the scan points; deprecated: [Laser] std_bearing_deg",
            M_PI / 180);
     t.real("visible_bin_deg", visible_bin, "deg", above(0),
            "only the template points visible from the prediction are aligned: bearing bins of this size",
@@ -66,6 +69,8 @@ HighLevelLandmarks::Options HighLevelLandmarks::loadOptions(const mrpt::config::
     if (cfg)
     {
         o.table().load(*cfg, "HighLevelLandmarks");
+        core::applyLaserNoise(*cfg, "HighLevelLandmarks", "std_range_m", "std_bearing_deg", o.std_range_m,
+                              o.std_bearing);
         // The matcher's section is checked (and so known to a strict file) even when
         // the HLLs are off: the same file runs with and without them.
         (void)scanslam::makeMatcher(o.matcher, cfg, "HllMatcher");

@@ -8,12 +8,14 @@
 #include <hymm/sim/LaserSimulator.h>
 #include <hymm/sim/World.h>
 
+#include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/core/Clock.h>
 
 #include <Eigen/Cholesky>
 
 #include <cmath>
 #include <iostream>
+#include <string>
 
 namespace
 {
@@ -179,6 +181,28 @@ TEST(HighLevelLandmarks, SearchIsDueEveryPeriodOfLogTime)
     EXPECT_FALSE(hll->due(159.9));
     EXPECT_TRUE(hll->due(160.0));
     EXPECT_FALSE(hll->due(std::nan("")));
+}
+
+// [Laser] owns a laser return's noise: it sets the HLL templates' noise, and the section's
+// own key for the same quantity is then an error naming it.
+TEST(HighLevelLandmarks, LaserSectionSetsTheTemplateNoise)
+{
+    mrpt::config::CConfigFileMemory laser("[Laser]\nstd_range_m = 0.2\nstd_bearing_deg = 2\n");
+    const auto o = HighLevelLandmarks::loadOptions(&laser);
+    EXPECT_DOUBLE_EQ(o.std_range_m, 0.2);
+    EXPECT_NEAR(o.std_bearing, 2 * M_PI / 180, 1e-15);
+    mrpt::config::CConfigFileMemory own("[HighLevelLandmarks]\nstd_range_m = 0.3\n");
+    EXPECT_DOUBLE_EQ(HighLevelLandmarks::loadOptions(&own).std_range_m, 0.3);  // deprecated, still read
+    mrpt::config::CConfigFileMemory both("[HighLevelLandmarks]\nstd_range_m = 0.3\n[Laser]\nstd_range_m = 0.2\n");
+    try
+    {
+        (void)HighLevelLandmarks::loadOptions(&both);
+        ADD_FAILURE() << "both sections set the range noise";
+    }
+    catch (const std::exception& e)
+    {
+        EXPECT_NE(std::string(e.what()).find("[HighLevelLandmarks] std_range_m"), std::string::npos) << e.what();
+    }
 }
 
 }  // namespace

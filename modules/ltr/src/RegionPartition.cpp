@@ -5,17 +5,11 @@
  *        RegionPartitionText.cpp, the run state in RegionPartitionState.cpp.
  */
 #include "hymm/ltr/RegionPartition.h"
-#include <hymm/core/output_files.h>
-
-#include <hymm/core/config_utils.h>
 
 #include <Eigen/LU>
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
-#include <iomanip>
-#include <sstream>
 #include <stdexcept>
 
 namespace hymm::ltr

@@ -9,6 +9,7 @@
 #include "hymm/scanslam/ScanLandmarkMap.h"
 
 #include <hymm/core/config_utils.h>
+#include <hymm/core/laser_noise.h>
 #include <hymm/ekf/pose_landmark_model.h>
 
 #include <Eigen/Eigenvalues>
@@ -56,8 +57,8 @@ core::OptionTable ScanLandmarkMap::Options::table()
              {{"sog", std::string("sog")}, {"icp", std::string("icp")},
               {"correlative", std::string("correlative")}},
              "scan matcher that observes the templates");
-    t.real("std_range_m", noise.std_range_m, "m", above(0, 10), "range noise of a return (templates)");
-    t.real("std_bearing_deg", noise.std_bearing, "deg", above(0, 60), "bearing noise of a return",
+    t.real("std_range_m", noise.std_range_m, "m", above(0, 10), "range noise of a return (templates); deprecated: [Laser] std_range_m");
+    t.real("std_bearing_deg", noise.std_bearing, "deg", above(0, 60), "bearing noise of a return; deprecated: [Laser] std_bearing_deg",
            M_PI / 180);
     t.real("in_view_fraction", in_view_fraction, "", between(0, 1),
            "share of a template's points in the sensor's view to attempt an alignment (5.3)");
@@ -143,6 +144,8 @@ std::unique_ptr<ScanLandmarkMap> ScanLandmarkMap::fromConfig(const mrpt::config:
     if (cfg)
     {
         o.load(*cfg, "ScanLandmarks");
+        core::applyLaserNoise(*cfg, "ScanLandmarks", "std_range_m", "std_bearing_deg", o.noise.std_range_m,
+                              o.noise.std_bearing);
         seg.load(*cfg, "ScanSegmentation");
         acc.load(*cfg, "ScanAcceptance");
     }

@@ -7,7 +7,6 @@
 #include <cmath>
 #include <stdexcept>
 
-
 namespace hymm::scanslam
 {
 Segmenter::Options Segmenter::Options::thesisRealData()

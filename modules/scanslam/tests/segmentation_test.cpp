@@ -128,52 +128,71 @@ TEST(SegmenterTest, OptionsLoadAndThesisPreset)
 
 // [ScanLandmarks], [ScanSegmentation], [ScanAcceptance]: each key declared once, so what
 // a section saves it loads back, and absurd values are refused naming the key.
+namespace
+{
+/** The three sections the Scan-SLAM source reads. */
+struct ScanSlamSections
+{
+    ScanLandmarkMap::Options map;
+    Segmenter::Options segmentation;
+    SegmentAcceptance::Options acceptance;
+    void load(const mrpt::config::CConfigFileBase& cfg)
+    {
+        map.load(cfg, "ScanLandmarks");
+        segmentation.load(cfg, "ScanSegmentation");
+        acceptance.load(cfg, "ScanAcceptance");
+    }
+    void save(mrpt::config::CConfigFileBase& cfg) const
+    {
+        map.save(cfg, "ScanLandmarks");
+        segmentation.save(cfg, "ScanSegmentation");
+        acceptance.save(cfg, "ScanAcceptance");
+    }
+};
+}  // namespace
+
 TEST(ScanSlamOptionsTest, SectionsSaveWhatTheyLoadAndRefuseAbsurdValues)
 {
     mrpt::config::CConfigFileMemory cfg(
         "[ScanLandmarks]\nmatcher = icp\nmax_creation_range_m = 12\nwide_search = true\n"
         "view_std_phi_deg = 2\n[ScanSegmentation]\nmin_points = 40\nmax_angle_gap_deg = 2.5\n"
         "[ScanAcceptance]\ntrials = 4\ndisplacement_phi_deg = 5\nmax_cov_trace = 0.01\n");
-    ScanLandmarkMap::Options m;
-    Segmenter::Options g;
-    SegmentAcceptance::Options a;
-    m.load(cfg, "ScanLandmarks");
-    g.load(cfg, "ScanSegmentation");
-    a.load(cfg, "ScanAcceptance");
-    EXPECT_EQ(m.matcher, "icp");
-    EXPECT_DOUBLE_EQ(m.max_creation_range_m, 12.0);
-    EXPECT_TRUE(m.wide_search);
-    EXPECT_EQ(g.min_points, 40u);
-    EXPECT_EQ(a.trials, 4);
-    EXPECT_NEAR(a.displacement_phi, 5 * M_PI / 180, 1e-15);
+    ScanSlamSections o;
+    o.load(cfg);
+    EXPECT_EQ(o.map.matcher, "icp");
+    EXPECT_DOUBLE_EQ(o.map.max_creation_range_m, 12.0);
+    EXPECT_TRUE(o.map.wide_search);
+    EXPECT_EQ(o.segmentation.min_points, 40u);
+    EXPECT_EQ(o.acceptance.trials, 4);
+    EXPECT_NEAR(o.acceptance.displacement_phi, 5 * M_PI / 180, 1e-15);
 
     mrpt::config::CConfigFileMemory saved;
-    m.save(saved, "ScanLandmarks");
-    g.save(saved, "ScanSegmentation");
-    a.save(saved, "ScanAcceptance");
-    ScanLandmarkMap::Options m2;
-    Segmenter::Options g2;
-    SegmentAcceptance::Options a2;
-    m2.load(saved, "ScanLandmarks");
-    g2.load(saved, "ScanSegmentation");
-    a2.load(saved, "ScanAcceptance");
-    EXPECT_EQ(m2.matcher, m.matcher);
-    EXPECT_DOUBLE_EQ(m2.max_creation_range_m, m.max_creation_range_m);
-    EXPECT_EQ(m2.wide_search, m.wide_search);
-    EXPECT_NEAR(m2.view_std_phi, m.view_std_phi, 1e-15);
-    EXPECT_EQ(g2.min_points, g.min_points);
-    EXPECT_NEAR(g2.max_angle_gap, g.max_angle_gap, 1e-15);
-    EXPECT_EQ(a2.trials, a.trials);
-    EXPECT_NEAR(a2.displacement_phi, a.displacement_phi, 1e-15);
-    EXPECT_DOUBLE_EQ(a2.max_cov_trace, a.max_cov_trace);
+    o.save(saved);
+    ScanSlamSections back;
+    back.load(saved);
+    EXPECT_EQ(back.map.matcher, o.map.matcher);
+    EXPECT_DOUBLE_EQ(back.map.max_creation_range_m, o.map.max_creation_range_m);
+    EXPECT_EQ(back.map.wide_search, o.map.wide_search);
+    EXPECT_NEAR(back.map.view_std_phi, o.map.view_std_phi, 1e-15);
+    EXPECT_EQ(back.segmentation.min_points, o.segmentation.min_points);
+    EXPECT_NEAR(back.segmentation.max_angle_gap, o.segmentation.max_angle_gap, 1e-15);
+    EXPECT_EQ(back.acceptance.trials, o.acceptance.trials);
+    EXPECT_NEAR(back.acceptance.displacement_phi, o.acceptance.displacement_phi, 1e-15);
+    EXPECT_DOUBLE_EQ(back.acceptance.max_cov_trace, o.acceptance.max_cov_trace);
+    // Every key, as each section writes it.
+    const auto keysOf = [](ScanSlamSections& x) {
+        std::vector<std::string> out;
+        for (const hymm::core::OptionTable& t : {x.map.table(), x.segmentation.table(), x.acceptance.table()})
+            for (const auto& k : t.keys()) out.push_back(k.name + "=" + k.format());
+        return out;
+    };
+    EXPECT_EQ(keysOf(back), keysOf(o));
 
     const auto refused = [](const std::string& section, const std::string& text, const std::string& key) {
         mrpt::config::CConfigFileMemory bad("[" + section + "]\n" + text + "\n");
         try
         {
-            if (section == "ScanLandmarks") ScanLandmarkMap::Options().load(bad, section);
-            if (section == "ScanSegmentation") Segmenter::Options().load(bad, section);
-            if (section == "ScanAcceptance") SegmentAcceptance::Options().load(bad, section);
+            ScanSlamSections().load(bad);
         }
         catch (const std::exception& e)
         {
@@ -184,9 +203,31 @@ TEST(ScanSlamOptionsTest, SectionsSaveWhatTheyLoadAndRefuseAbsurdValues)
     EXPECT_TRUE(refused("ScanLandmarks", "max_creation_range_m = 1e308", "max_creation_range_m"));
     EXPECT_TRUE(refused("ScanLandmarks", "wide_max_phi_deg = 720", "wide_max_phi_deg"));
     EXPECT_TRUE(refused("ScanSegmentation", "max_range_gap_m = 0", "max_range_gap_m"));
-    EXPECT_TRUE(refused("ScanAcceptance", "trials = 5000000000", "trials"));
+    EXPECT_TRUE(refused("ScanAcceptance", "trials = 1001", "trials"));
+    EXPECT_TRUE(refused("ScanSegmentation", "max_angle_gap_deg = 181", "max_angle_gap_deg"));
+    EXPECT_TRUE(refused("ScanSegmentation", "min_points = 1", "min_points"));
     EXPECT_TRUE(refused("ScanAcceptance", "displacement_xy_m = 0\ndisplacement_phi_deg = 0", "displacement_xy_m"));
     EXPECT_TRUE(refused("ScanAcceptance", "max_eror_fraction = 0.2", "max_eror_fraction"));
+}
+
+// [Laser] owns a laser return's noise: it sets the templates' noise, and [ScanLandmarks]'
+// own key for the same quantity is then an error naming it.
+TEST(ScanSlamOptionsTest, LaserSectionSetsTheTemplateNoise)
+{
+    mrpt::config::CConfigFileMemory laser("[Laser]\nstd_range_m = 0.2\nstd_bearing_deg = 2\n");
+    const auto map = ScanLandmarkMap::fromConfig(&laser);
+    EXPECT_DOUBLE_EQ(map->options().noise.std_range_m, 0.2);
+    EXPECT_NEAR(map->options().noise.std_bearing, 2 * M_PI / 180, 1e-15);
+    mrpt::config::CConfigFileMemory both("[ScanLandmarks]\nstd_bearing_deg = 1\n[Laser]\nstd_bearing_deg = 2\n");
+    try
+    {
+        (void)ScanLandmarkMap::fromConfig(&both);
+        ADD_FAILURE() << "both sections set the bearing noise";
+    }
+    catch (const std::exception& e)
+    {
+        EXPECT_NE(std::string(e.what()).find("[ScanLandmarks] std_bearing_deg"), std::string::npos) << e.what();
+    }
 }
 
 TEST(ScanTemplateTest, FrameAtCentroidAndInViewFraction)

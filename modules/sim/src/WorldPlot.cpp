@@ -83,6 +83,35 @@ void WorldPlot::add(const Eigen::Vector3d& pose, const mrpt::obs::CObservation2D
     }
 }
 
+namespace
+{
+// Title, legend and scale bar in the header band of `img` (map at `res` m/pixel).
+void drawHeader(cv::Mat& img, const std::string& title, double res)
+{
+    cv::line(img, {0, kHeaderPx - 1}, {img.cols, kHeaderPx - 1}, {180, 180, 180}, 1);
+    const double font = 0.6;
+    cv::putText(img, title, {10, 25}, cv::FONT_HERSHEY_SIMPLEX, font, {0, 0, 0}, 1, cv::LINE_AA);
+    int y = 50;
+    for (const auto& [text, color] :
+         std::vector<std::pair<std::string, cv::Scalar>>{{"true path", kPath},
+                                                         {"landmarks", kLandmark},
+                                                         {"objects", kObjectEdge},
+                                                         {"moving/changing objects", kChangingEdge},
+                                                         {"laser returns (true pose)", kReturn}})
+    {
+        cv::rectangle(img, {10, y - 10}, {22, y + 2}, color, cv::FILLED);
+        cv::putText(img, text, {30, y}, cv::FONT_HERSHEY_SIMPLEX, font * 0.8, {0, 0, 0}, 1,
+                    cv::LINE_AA);
+        y += 20;
+    }
+    const int bar = static_cast<int>(kScaleBarM / res), y0 = kHeaderPx - 12;
+    const int x0 = img.cols - 10 - bar;
+    cv::line(img, {x0, y0}, {x0 + bar, y0}, {0, 0, 0}, 2);
+    cv::putText(img, "10 m", {x0, y0 - 6}, cv::FONT_HERSHEY_SIMPLEX, font * 0.8, {0, 0, 0}, 1,
+                cv::LINE_AA);
+}
+}  // namespace
+
 void WorldPlot::save(const std::string& png_path, const World& world,
                      const std::string& title) const
 {
@@ -126,28 +155,7 @@ void WorldPlot::save(const std::string& png_path, const World& world,
         cv::circle(img, cv_map.px(lm.position), std::max(3, static_cast<int>(lm.radius / res)),
                    kLandmark, cv::FILLED, cv::LINE_AA);
 
-    // Title, legend and scale bar in the header band.
-    cv::line(img, {0, kHeaderPx - 1}, {img.cols, kHeaderPx - 1}, {180, 180, 180}, 1);
-    const double font = 0.6;
-    cv::putText(img, title, {10, 25}, cv::FONT_HERSHEY_SIMPLEX, font, {0, 0, 0}, 1, cv::LINE_AA);
-    int y = 50;
-    for (const auto& [text, color] :
-         std::vector<std::pair<std::string, cv::Scalar>>{{"true path", kPath},
-                                                         {"landmarks", kLandmark},
-                                                         {"objects", kObjectEdge},
-                                                         {"moving/changing objects", kChangingEdge},
-                                                         {"laser returns (true pose)", kReturn}})
-    {
-        cv::rectangle(img, {10, y - 10}, {22, y + 2}, color, cv::FILLED);
-        cv::putText(img, text, {30, y}, cv::FONT_HERSHEY_SIMPLEX, font * 0.8, {0, 0, 0}, 1,
-                    cv::LINE_AA);
-        y += 20;
-    }
-    const int bar = static_cast<int>(kScaleBarM / res), y0 = kHeaderPx - 12;
-    const int x0 = img.cols - 10 - bar;
-    cv::line(img, {x0, y0}, {x0 + bar, y0}, {0, 0, 0}, 2);
-    cv::putText(img, "10 m", {x0, y0 - 6}, cv::FONT_HERSHEY_SIMPLEX, font * 0.8, {0, 0, 0}, 1,
-                cv::LINE_AA);
+    drawHeader(img, title, res);
 
     std::vector<uchar> png;
     if (!cv::imencode(".png", img, png))

@@ -46,6 +46,41 @@ std::string RunSummary::toString() const
     return ss.str();
 }
 
+namespace
+{
+/** What a run records frame by frame for its ground-truth files. */
+struct RunRecord
+{
+    std::vector<hymm::io::StampedPose2D> gt, dr;
+    std::vector<double> frame_t, frame_stamps;
+};
+
+/** The ground-truth files, the effective config and (with `plot`) the figure of a
+ *  finished run; sum.files names the first six, the others are appended. */
+void writeRunFiles(RunSummary& sum, const Scenario& scenario, const World& world, const RunRecord& rec,
+                   const std::string& base, const WorldPlot* plot)
+{
+    hymm::io::writeTum(sum.files[1], rec.gt);
+    hymm::io::writeTum(sum.files[2], rec.dr);
+    writeLandmarks(sum.files[3], world);
+    writeObjectOutlines(sum.files[4], world, rec.frame_t, rec.frame_stamps);
+    writeText(sum.files[5], "; Effective configuration of the HYMM simulator run '" +
+                                scenario.run.name + "' (hymm-simul --config this file)\n" +
+                                scenario.toIniText());
+    if (scenario.laser.enabled && scenario.laser.intensity)
+    {
+        sum.files.push_back(base + "_gt_properties.txt");
+        writeSurfaceProperties(sum.files.back(), world);
+    }
+    if (plot)
+    {
+        sum.files.push_back(base + ".png");
+        plot->save(sum.files.back(), world,
+                   "HYMM simulator: " + scenario.run.name + " (seed " + std::to_string(scenario.run.seed) + ")");
+    }
+}
+}  // namespace
+
 RunSummary runScenario(const Scenario& scenario, const std::string& out_dir, bool png)
 {
     std::error_code ec;
@@ -65,8 +100,7 @@ RunSummary runScenario(const Scenario& scenario, const std::string& out_dir, boo
     // Best gzip compression: the samples are committed to the repository.
     hymm::io::OdometryRawlogWriter rawlog(sum.files[0], 9);
     WorldPlot plot(scenario.plot);
-    std::vector<hymm::io::StampedPose2D> gt, dr;
-    std::vector<double> frame_t, frame_stamps;
+    RunRecord rec;
     SimFrame f;
     while (sim.next(f))
     {
@@ -74,40 +108,21 @@ RunSummary runScenario(const Scenario& scenario, const std::string& out_dir, boo
                                                         f.odometry_mean[2]),
                           f.odometry_cov, {f.scan, f.detections});
         const double stamp = mrpt::Clock::toDouble(f.stamp);
-        if (!gt.empty())
+        if (!rec.gt.empty())
             sum.path_length_m +=
-                std::hypot(f.true_pose[0] - gt.back().x, f.true_pose[1] - gt.back().y);
-        gt.push_back(stamped(stamp, f.true_pose));
-        dr.push_back(stamped(stamp, f.dr_pose));
-        frame_t.push_back(f.t);
-        frame_stamps.push_back(stamp);
+                std::hypot(f.true_pose[0] - rec.gt.back().x, f.true_pose[1] - rec.gt.back().y);
+        rec.gt.push_back(stamped(stamp, f.true_pose));
+        rec.dr.push_back(stamped(stamp, f.dr_pose));
+        rec.frame_t.push_back(f.t);
+        rec.frame_stamps.push_back(stamp);
         sum.scans += f.scan ? 1 : 0;
         sum.detections += f.detections ? f.detections->sensedData.size() : 0;
         if (png) plot.add(f.true_pose, f.scan.get());
     }
     rawlog.close();
     sum.frames = rawlog.frames();
-    sum.duration_s = frame_t.empty() ? 0 : frame_t.back();
-
-    hymm::io::writeTum(sum.files[1], gt);
-    hymm::io::writeTum(sum.files[2], dr);
-    writeLandmarks(sum.files[3], sim.world());
-    writeObjectOutlines(sum.files[4], sim.world(), frame_t, frame_stamps);
-    writeText(sum.files[5], "; Effective configuration of the HYMM simulator run '" +
-                                scenario.run.name + "' (hymm-simul --config this file)\n" +
-                                scenario.toIniText());
-    if (scenario.laser.enabled && scenario.laser.intensity)
-    {
-        sum.files.push_back(base + "_gt_properties.txt");
-        writeSurfaceProperties(sum.files.back(), sim.world());
-    }
-    if (png)
-    {
-        sum.files.push_back(base + ".png");
-        plot.save(sum.files.back(), sim.world(),
-                  "HYMM simulator: " + scenario.run.name + " (seed " +
-                      std::to_string(scenario.run.seed) + ")");
-    }
+    sum.duration_s = rec.frame_t.empty() ? 0 : rec.frame_t.back();
+    writeRunFiles(sum, scenario, sim.world(), rec, base, png ? &plot : nullptr);
     return sum;
 }
 

@@ -104,33 +104,11 @@ void writeTiming(const std::vector<FrameTiming>& timing, const std::string& file
 std::vector<dense::Polygon> loadObjectOutlines(const std::string& file);
 
 /**
- * Dense-map outputs (only what the run built), into the folder `dir`:
- *  - points.png, points.bin (CSimplePointsMap, MRPT-serialised, gzip) and points.txt
- *    (x y per line, CPointsMap::save2D_to_text_file): the points layer rendered at the
- *    current landmark estimates;
- *  - occupancy.png (with the triangle edges) and occupancy.gridmap (COccupancyGridMap2D,
- *    MRPT-serialised, gzip, as MRPT's map tools read it): the occupancy layer rendered
- *    at its cell size;
- *  - occupancy_regions.csv: per region with an occupancy layer "id,coarse,cell_size_m,
- *    cells,occupied,free,memory_bytes" (cells meeting the triangle; occupied: P > 0.8;
- *    free: P < [OccupancyLayer] coarsen_min_prob; Sec. 4.1.3 per-region resolution);
- *  - particles.bin (mrpt::maps::CPointsMapXYZI, MRPT-serialised, gzip: every particle at
- *    its current position, intensity = weight P(occupied)), particles.txt ("x y weight"
- *    per line after a '#' header) and particles.png (coloured by weight, Fig. 4.10);
- *  - sog.bin (mrpt::poses::CPointPDFSOG, gzip: one mode per Gaussian at z = 0 with zero
- *    z variance; weight 2 pi sqrt|P| so evaluatePDF(p, true) gives the peak-1 surface
- *    of Fig. 4.12 b, not a normalised PDF), sog_surface.png (that surface, 0.1 m cells,
- *    drawn as log(1 + value): sums of tens of Gaussians next to single ones) and
- *    sog_ellipses.png (1-sigma ellipses and the triangles, 0.05 m pixels, Fig. 4.13);
- *  - property.gridmap and property_std.gridmap (mrpt::maps::CHeightGridMap2D, gzip, at
- *    [PropertyLayer] cell_size_m: h = mean resp. standard deviation, w = values fused;
- *    MRPT serialises only h and w of a cell, hence two files), property_mean.png and
- *    property_std.png (colour maps, cells without a value white). Written also when the
- *    layer is empty (scans without intensities);
- *  - classic_grid.png and classic_grid.gridmap: the classic baseline;
- *  - regions.txt: RegionPartition::save.
- * Each layer's files are written only when the layer is enabled. `png` = false skips the
- * images. Throws if a file cannot be written.
+ * Dense-map outputs (only what the run built), into the folder `dir`: each enabled layer
+ * kind's files, written by its output hooks (modules/dense/README.md, "Files of each
+ * layer kind"); classic_grid.png and classic_grid.gridmap, the classic baseline;
+ * regions.txt (RegionPartition::save). `png` = false skips the images. Throws if a file
+ * cannot be written.
  */
 void writeDenseOutputs(const DenseSlam& slam, const std::string& dir, bool png = true);
 

@@ -18,7 +18,7 @@
  * section, `src/<Layer>Outputs.cpp` with its hooks), its options member and switch in
  * HybridMetricMap::Options (typed, so that code configuring a layer is checked by the
  * compiler) and one row in LayerRegistry.cpp (modules/dense/README.md, "Adding a layer
- * kind").
+ * kind"); hymm-options-doc takes its key table from the row too.
  */
 #pragma once
 
@@ -45,6 +45,8 @@ struct LayerKind
     void (*load)(HybridMetricMap::Options& options, const mrpt::config::CConfigFileBase& cfg);
     void (*save)(const HybridMetricMap::Options& options, mrpt::config::CConfigFileBase& cfg);
     void (*validate)(const HybridMetricMap::Options& options);
+    /** Its options' declarations (in `options`), for the key table of modules/dense/README.md. */
+    core::OptionTable (*table)(HybridMetricMap::Options& options);
     /** What a run writes, counts, scores and summarises of the kind. */
     LayerOutputs outputs;
 };

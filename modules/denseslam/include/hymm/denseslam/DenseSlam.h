@@ -18,7 +18,11 @@
  *  5. dense: every CObservation2DRangeScan of the frame is fused into the
  *     HybridMetricMap (and the ClassicOccupancyGrid baseline) at the vehicle pose
  *     estimate of observation time; the scan's own sensorPose places the sensor on the
- *     vehicle (ScanPoints::fromRangeScan).
+ *     vehicle (ScanPoints::fromRangeScan): 5a stored returns into the regions now
+ *     covering them, 5b the scan into the layers, 5c virtual landmarks for returns no
+ *     region holds, 5d the rest into the delayed store;
+ *  6. motion layers (below);
+ *  7. the HLL search, when due (Sec. 6.1).
  * Information flows one way (Sec. 3.2, UIF): the dense part reads the filter through
  * EkfCovarianceView and never writes to it, so the feature map and the path are the
  * same, bit for bit, with or without dense layers.
@@ -140,8 +144,8 @@ public:
     const hll::HighLevelLandmarks* highLevelLandmarks() const { return hll_.get(); }
     /** The motion layers and their use (Sec. 6.3); nullptr unless [DynamicSlam] enabled. */
     const dynamic::SlamMotionHook* motionHook() const { return motion_.get(); }
-    /** The returns that fell in no region when seen, per cell (OutsideReturnCell). */
-    /** One entry per cell holding returns, ordered by cell. */
+    /** The returns that fell in no region when seen, per cell (OutsideReturnCell): one
+     *  entry per cell holding returns, ordered by cell. */
     std::vector<OutsideReturnCell> outsideReturnCells() const;
     /** The classic grid baseline; nullptr unless classic_grid is on. */
     const dense::ClassicOccupancyGrid* classicGrid() const { return classic_.get(); }
@@ -199,7 +203,7 @@ private:
      *  sources `by` (one name per observation). */
     void recordFeatures(const ekf::UpdateReport& report, const std::vector<const std::string*>& by,
                         double t);
-    /** Step 6: virtual landmarks for returns no region holds (Sec. 3.5.1). */
+    /** Step 5c: virtual landmarks for returns no region holds (Sec. 3.5.1). */
     void createVirtualLandmarks(const std::vector<Eigen::Vector2d>& unassigned, double t);
     /** One apex of `p` at `depth` as a passive state and its region; false (and the
      *  passive state gone) when the partition refuses the region. */
@@ -230,7 +234,7 @@ private:
                          const dense::HybridMetricMap::RegionFilter& accept, double t);
     /** Step 5a: stored returns into the regions that exist now (Sec. 3.7.3). */
     void fuseDelayed();
-    /** Step 5b: returns no region holds and the fallback did not keep (counted as
+    /** Step 5d: returns no region holds and the fallback did not keep (counted as
      *  dropped) into the delayed store as passive states, as raw (range, bearing). */
     void storeUnassigned(const dense::ScanPoints& pts, const dense::HybridMetricMap::InsertStats& st,
                          double t);

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <hymm/core/OptionTable.h>
+#include <hymm/core/laser_noise.h>
 #include <hymm/dense/ClassicOccupancyGrid.h>
 #include <hymm/dense/HybridMetricMap.h>
 #include <hymm/denseslam/LandmarkSources.h>
@@ -90,22 +91,10 @@ struct DenseSlamOptions : public mrpt::config::CLoadableOptions
                           const std::string& section) const override;
 };
 
-/**
- * Ini section [Laser]: the laser scanner's raw-return noise, one place for every part
- * that models a return: the delayed store's covariances (Options::laser_std_*) and the
- * particle and SOG layers' sensor model (ParticlesLayer / SogLayer range_std_m,
- * bearing_std_deg, used when a scan carries no noise of its own). The extractors'
- * std_range / std_bearing_deg are the noise of an extracted feature (a trunk centre),
- * not of a return, and stay in their sections. fromConfig: a [Laser] key overrides the
- * four places; the old per-section keys are deprecated (a warning on stderr) and an
- * error when [Laser] sets the same quantity.
- */
-struct LaserOptions
-{
-    double std_range_m = 0.1;      //!< [m]
-    double std_bearing_deg = 1.0;  //!< [deg]
-    core::OptionTable table();
-};
+/** Ini section [Laser]: the laser's raw-return noise (core/laser_noise.h). fromConfig: a
+ *  [Laser] key overrides the delayed store's, the particle and SOG layers' (and the
+ *  Scan-SLAM and HLL templates') noise; their own keys are deprecated. */
+using LaserOptions = core::LaserNoise;
 
 /** Settings of the dense part; read from [LtrPartition], [VirtualLandmarks],
  *  [DelayedDenseStore], [HybridMetricMap] with the sections of its layer kinds,

@@ -120,7 +120,7 @@ struct DenseSlamStats
     void add(const ekf::UpdateReport& r);
     /** One scan into the dense layers, with the readings ScanPoints skipped. */
     void add(const dense::HybridMetricMap::InsertStats& st, size_t failed_readings);
-    /** Returns offered to the delayed store: the stored ones leave returns_dropped. */
+    /** Returns offered to the delayed store: those it did not store are dropped. */
     void add(const uif::DelayedDenseStore::AddReport& r);
     /** The store's returns fused into regions or the fallback, or lost. */
     void add(const uif::DelayedDenseStore::FuseReport& r);
