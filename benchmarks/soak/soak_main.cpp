@@ -20,7 +20,8 @@
  * symmetric part, largest |P - P^T|) and the smallest eigenvalue of the Schur complement
  * P_pp - P_pa P_aa^-1 P_ap over the passive blocks (>= 0 iff the joint covariance of the
  * block with the active states is PSD), regions, and the items stored per dense layer,
- * fallback tiles and delayed-store returns. --profile adds the pipeline's and the dense
+ * fallback tiles and delayed-store returns (the CSV also: the points and SOG components of the
+ * fullest region). --profile adds the pipeline's and the dense
  * map's CTimeLogger sections, per lap, in ms per step.
  * Exit code 0; 1 on error (bad arguments, a config the pipeline rejects).
  */
@@ -154,6 +155,7 @@ struct LapRow
     size_t regions = 0, regions_with_content = 0;
     std::map<std::string, size_t> items;  //!< per layer kind
     size_t max_region_points = 0;  //!< points of the fullest region (or fallback tile)
+    size_t max_region_sog = 0;     //!< SOG components of the fullest region
     size_t fallback_tiles = 0;
     size_t delayed_points = 0, delayed_scans = 0;
     double dense_mb = 0;  //!< HybridMetricMap::memoryBytes()
@@ -233,7 +235,7 @@ void printCsvHeader(std::ostream& o, const std::vector<std::string>& sections)
 {
     o << "lap,steps,sim_t_s,wall_s,rss_mb,step_median_ms,step_p95_ms,step_max_ms,cpu_median_ms,cpu_p95_ms,"
          "landmarks,passive_blocks,p_min_eig,p_max_asym,passive_schur_min_eig,regions,regions_with_content,"
-         "max_region_points";
+         "max_region_points,max_region_sog";
     for (const char* k : kKinds) o << ',' << k;
     o << ",fallback_tiles,delayed_points,delayed_scans,dense_mb";
     for (const auto& s : sections) o << ",ms_per_step:" << s;
@@ -245,7 +247,7 @@ void printCsvRow(std::ostream& o, const LapRow& r, const std::vector<std::string
     o << r.lap << ',' << r.steps << ',' << r.sim_t << ',' << r.wall_s << ',' << r.rss_mb << ',' << r.median_ms << ','
       << r.p95_ms << ',' << r.max_ms << ',' << r.cpu_median_ms << ',' << r.cpu_p95_ms << ',' << r.landmarks << ','
       << r.passive_blocks << ',' << r.p_min_eig << ',' << r.p_asym << ',' << r.passive_min_eig << ',' << r.regions
-      << ',' << r.regions_with_content << ',' << r.max_region_points;
+      << ',' << r.regions_with_content << ',' << r.max_region_points << ',' << r.max_region_sog;
     for (const char* k : kKinds)
     {
         const auto it = r.items.find(k);
@@ -348,8 +350,12 @@ int main(int argc, char** argv)
             r.regions_with_content = h->size();
             r.items = h->sizeByKind();
             for (const long id : h->regionIds())
+            {
                 if (const auto* pl = h->localMap(id)->layer("points"))
                     r.max_region_points = std::max(r.max_region_points, pl->size());
+                if (const auto* sl = h->localMap(id)->layer("sog"))
+                    r.max_region_sog = std::max(r.max_region_sog, sl->size());
+            }
             r.fallback_tiles = h->fallbackTiles();
             if (const auto* st = slam->delayedStore())
             {

@@ -105,6 +105,11 @@ hymm::core::OptionTable SogLayer::Options::table()
            "a map Gaussian moved by an insert's fusions that lies within this of another is merged with it (the older "
            "stays, the younger goes), so fused means that drift together become one component (0 = the thesis, "
            "Sec. 4.3.2); at most `d_min_m`");
+    t.real("max_mean_per_cell", max_mean_per_cell, "", between(0, 1e6),
+           "a region or fallback tile keeps at most this many components per square cell of side `d_min_m` that "
+           "their means occupy: beyond, the closest pairs are merged into one Gaussian with their mean and "
+           "covariance (the subsampling Sec. 4.3.3 leaves out), so revisits do not add components where the area "
+           "is covered; 0 = unbounded (the thesis)");
     return t;
 }
 
@@ -135,6 +140,8 @@ void SogLayer::Options::validate(const std::string& s) const
     positive("cutoff_sigmas", cutoff_sigmas);
     if (!(merge_within_m >= 0) || merge_within_m > d_min_m)
         throwConfigError(s, "merge_within_m", std::to_string(merge_within_m), "must be in [0, d_min_m]");
+    if (!(max_mean_per_cell >= 0) || !std::isfinite(max_mean_per_cell))
+        throwConfigError(s, "max_mean_per_cell", std::to_string(max_mean_per_cell), "must be finite and >= 0");
 }
 
 RangeBearingNoise SogLayer::Options::noise() const { return {range_std_m, bearing_std_deg * M_PI / 180.0}; }
@@ -222,8 +229,12 @@ void SogLayer::insert(const RegionScan& scan)
         }
     }
     if (options_.merge_within_m > 0 && prior > 1) mergeMoved(prior, moved);
+    const size_t kept = gaussians_.size();
     for (size_t i = 0; i < obs.size(); ++i)
         if (!used[i]) gaussians_.push_back(obs[i]);
+    // Only births can take a region over its bound (moves may shrink the area a little;
+    // the next birth sees it): a mature region is not walked once more per scan.
+    if (gaussians_.size() > kept) capComponents();
 }
 
 void SogLayer::mergeMoved(size_t prior, const std::vector<char>& moved)
