@@ -204,17 +204,16 @@ TEST(SogLayerTest, RevisitsAreAbsorbedWithinDMin)
     }
 }
 
-TEST(SogLayerTest, RevisitsMergeComponentsThatDriftTogether)
+/** Scans of the wall x = 5 seen from the origin (+-20 deg, 81 beams at a random bearing
+ *  offset) with Gaussian range noise of `std_m`; the same seed gives the same scans. */
+struct NoisyWall
 {
-    // Many revisits of a wall with noise of half d_min: the tails keep giving birth to
-    // components beyond d_min of the map, and the fused means wander. Absorbing alone
-    // keeps adding components; merging the moved ones that come within d_min / 2 of
-    // another levels the count off.
-    auto o = opts();
-    std::mt19937_64 rng(11);
-    std::normal_distribution<double> noise(0.0, 0.5 * o.d_min_m);
-    std::uniform_real_distribution<double> shift(0.0, 0.5);
-    const auto wall = [&]() {
+    std::mt19937_64 rng{11};
+    std::normal_distribution<double> noise;
+    std::uniform_real_distribution<double> shift{0.0, 0.5};
+    explicit NoisyWall(double std_m) : noise(0.0, std_m) {}
+    RegionScan operator()()
+    {
         RegionScan s;
         s.sensor = V2(0, 0);
         const double offset = shift(rng);
@@ -225,7 +224,17 @@ TEST(SogLayerTest, RevisitsMergeComponentsThatDriftTogether)
             s.hits.emplace_back(r * std::cos(th), r * std::sin(th));
         }
         return s;
-    };
+    }
+};
+
+TEST(SogLayerTest, RevisitsMergeComponentsThatDriftTogether)
+{
+    // Many revisits of a wall with noise of half d_min: the tails keep giving birth to
+    // components beyond d_min of the map, and the fused means wander. Absorbing alone
+    // keeps adding components; merging the moved ones that come within d_min / 2 of
+    // another levels the count off.
+    auto o = opts();
+    NoisyWall wall(0.5 * o.d_min_m);
     o.absorb_within_d_min = true;
     o.max_mean_per_cell = 0;  // the cap: RevisitsCapComponentsPerRegionAndStayOnTheSurface
     o.merge_within_m = 0.5 * o.d_min_m;
@@ -306,21 +315,7 @@ TEST(SogLayerTest, RevisitsAreBoundedByTheAreaAndStayOnTheSurface)
     // pairs once the region holds more than 3 per d_min cell its means occupy, so the
     // count levels off, and the mixture still lies on, and covers, the wall.
     auto o = opts();
-    std::mt19937_64 rng(11);
-    std::normal_distribution<double> noise(0.0, 0.5 * o.d_min_m);
-    std::uniform_real_distribution<double> shift(0.0, 0.5);
-    const auto wall = [&]() {
-        RegionScan s;
-        s.sensor = V2(0, 0);
-        const double offset = shift(rng);
-        for (int k = -40; k <= 40; ++k)
-        {
-            const double th = (k * 0.5 + offset) * M_PI / 180;
-            const double r = 5.0 / std::cos(th) + noise(rng);
-            s.hits.emplace_back(r * std::cos(th), r * std::sin(th));
-        }
-        return s;
-    };
+    NoisyWall wall(0.5 * o.d_min_m);
     o.merge_within_m = 0;
     ASSERT_EQ(o.max_mean_per_cell, 3.0);  // the default
     SogLayer capped(o);
