@@ -106,17 +106,16 @@ void writeLayerCounts(eval::MetricsJson& dj, const DenseSlam& slam)
     const auto items = hybrid->sizeByKind();
     const auto bytes = hybrid->memoryBytesByKind();
     auto& mj = dj.object("memory_bytes_by_kind");
-    for (const std::string& kind : hybrid->enabledKinds())
-    {
-        mj.set(kind, static_cast<unsigned long>(valueOr0(bytes, kind)));
-        auto& lj = dj.object(kind);
-        lj.set("items", static_cast<unsigned long>(valueOr0(items, kind)));
-        lj.set("memory_bytes", static_cast<unsigned long>(valueOr0(bytes, kind)));
-    }
+    const auto context = layerOutputContext(slam);
     for (const auto* k : enabledLayerKinds(slam))
+    {
+        mj.set(k->name, static_cast<unsigned long>(valueOr0(bytes, k->name)));
+        auto& lj = dj.object(k->name);
+        lj.set("items", static_cast<unsigned long>(valueOr0(items, k->name)));
+        lj.set("memory_bytes", static_cast<unsigned long>(valueOr0(bytes, k->name)));
         if (k->outputs.counts)
-            for (const auto& counter : k->outputs.counts(layerOutputContext(slam)))
-                setCounter(dj.object(k->name), counter);
+            for (const auto& counter : k->outputs.counts(context)) setCounter(lj, counter);
+    }
 }
 
 // Region, return and delayed-store counters, then the layers' counts.

@@ -18,18 +18,14 @@ namespace
 // One line per enabled layer: what it holds and its memory.
 void writeLayerSummary(std::ostream& f, const DenseSlam& slam)
 {
-    const auto* hybrid = slam.hybridMap();
-    const auto items = hybrid->sizeByKind();
-    const auto bytes = hybrid->memoryBytesByKind();
-    for (const std::string& kind : hybrid->enabledKinds())
+    const auto items = slam.hybridMap()->sizeByKind();
+    const auto bytes = slam.hybridMap()->memoryBytesByKind();
+    const auto context = layerOutputContext(slam);
+    for (const auto* k : enabledLayerKinds(slam))
     {
-        const size_t n = valueOr0(items, kind);
-        f << std::setprecision(1) << "layer " << std::left << std::setw(15) << kind << std::right;
-        if (const auto* k = dense::findLayerKind(kind); k && slam.partition())
-            k->outputs.describe(f, layerOutputContext(slam), n);
-        else
-            f << n << " items";
-        f << ", " << valueOr0(bytes, kind) / 1024.0 << " KiB\n" << std::setprecision(3);
+        f << std::setprecision(1) << "layer " << std::left << std::setw(15) << k->name << std::right;
+        k->outputs.describe(f, context, valueOr0(items, k->name));
+        f << ", " << valueOr0(bytes, k->name) / 1024.0 << " KiB\n" << std::setprecision(3);
     }
 }
 

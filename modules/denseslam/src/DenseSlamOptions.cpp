@@ -7,7 +7,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <iostream>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -242,40 +241,23 @@ void DenseSlam::DenseOptions::loadFromConfigFile(const mrpt::config::CConfigFile
 
 namespace
 {
-/** [Laser] owns the raw-return noise; the keys it replaces are deprecated. */
+/** [Laser] owns the raw-return noise; the keys it replaces are deprecated (checked and
+ *  applied per section by core::applyLaserNoise, as for the Scan-SLAM and HLL templates). */
 void applyLaser(const mrpt::config::CConfigFileBase& cfg, DenseSlam::Options& o,
                 dense::HybridMetricMap::Options& h)
 {
-    DenseSlam::LaserOptions laser;
-    laser.table().load(cfg, "Laser");
-    struct Old
-    {
-        const char* section;
-        const char* key;
-        const char* laser_key;
-    };
-    static const Old old_keys[] = {{"DenseSlam", "laser_std_range", "std_range_m"},
-                                   {"DenseSlam", "laser_std_bearing_deg", "std_bearing_deg"},
-                                   {"ParticlesLayer", "range_std_m", "std_range_m"},
-                                   {"ParticlesLayer", "bearing_std_deg", "std_bearing_deg"},
-                                   {"SogLayer", "range_std_m", "std_range_m"},
-                                   {"SogLayer", "bearing_std_deg", "std_bearing_deg"}};
-    for (const auto& k : old_keys)
-    {
-        if (!cfg.keyExists(k.section, k.key)) continue;
-        const std::string value = cfg.read_string(k.section, k.key, "", false);
-        if (cfg.keyExists("Laser", k.laser_key))
-            core::throwConfigError(k.section, k.key, value,
-                                   std::string("the laser noise is set in [Laser] ") + k.laser_key +
-                                       "; remove this key");
-        std::cerr << "warning: [" << k.section << "] " << k.key << " is deprecated: set [Laser] "
-                  << k.laser_key << " instead\n";
-    }
-    if (cfg.keyExists("Laser", "std_range_m"))
-        o.laser_std_range = h.particles.range_std_m = h.sog.range_std_m = laser.std_range_m;
+    core::applyLaserNoise(cfg, "DenseSlam", "laser_std_range", "laser_std_bearing_deg", o.laser_std_range,
+                          o.laser_std_bearing);
+    // The layers keep their bearing noise in degrees: [Laser]'s value as written, not
+    // the radians applyLaserNoise gives back.
+    double bearing_rad = 0;
+    core::applyLaserNoise(cfg, "ParticlesLayer", "range_std_m", "bearing_std_deg", h.particles.range_std_m,
+                          bearing_rad);
+    core::applyLaserNoise(cfg, "SogLayer", "range_std_m", "bearing_std_deg", h.sog.range_std_m, bearing_rad);
     if (cfg.keyExists("Laser", "std_bearing_deg"))
     {
-        o.laser_std_bearing = kDeg * laser.std_bearing_deg;
+        DenseSlam::LaserOptions laser;
+        laser.table().load(cfg, "Laser");
         h.particles.bearing_std_deg = h.sog.bearing_std_deg = laser.std_bearing_deg;
     }
 }
