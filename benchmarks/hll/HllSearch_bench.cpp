@@ -10,9 +10,18 @@
  * every region holds occupancy and SOG content: a 10 m square room scanned from inside
  * its centroid's neighbourhood. One iteration = HllDetector::search() around the vehicle
  * (box lookup, local occupancy render, Harris corners, pairs, rectangles, SOG counts).
+ *
+ * BM_TemplateAugmentation: the other read of the dense map around a place (thesis 6.2),
+ * the augmentation of a scan landmark's template before an alignment: a 6 m template
+ * (one corner of the room around the vehicle) whose pose landmark is in an EKF,
+ * ScanLandmarkMap::augmentedTemplate with DenseSlam's augmenter (denseGaussiansInBox:
+ * box lookup, SOG means at the current affine maps, into the landmark frame, thinned).
  */
 #include <hymm/dense/HybridMetricMap.h>
+#include <hymm/denseslam/dense_gaussians.h>
+#include <hymm/ekf/EkfSlam.h>
 #include <hymm/hll/HllDetector.h>
+#include <hymm/scanslam/ScanLandmarkMap.h>
 
 #include "synthetic_partition.h"
 
@@ -106,6 +115,54 @@ void BM_HllSearch(benchmark::State& state)
     state.counters["gaussians"] = static_cast<double>(s.gaussians.size());
 }
 BENCHMARK(BM_HllSearch)
+    ->Arg(10)
+    ->Arg(100)
+    ->Arg(500)
+    ->Arg(1000)
+    ->Arg(2000)
+    ->Repetitions(5)
+    ->ReportAggregatesOnly(true)
+    ->Unit(benchmark::kMicrosecond);
+
+void BM_TemplateAugmentation(benchmark::State& state)
+{
+    const auto regions = static_cast<size_t>(state.range(0));
+    Map m(regions);
+    using namespace hymm::scanslam;
+    // The room's south-west corner as the template: 3 m of each wall, in a frame at the
+    // corner's centroid (global orientation 0), as a pose landmark seen from the vehicle.
+    ScanTemplate tpl;
+    const V2 corner = m.vehicle + V2(-5, -5);
+    std::vector<V2> pts;
+    for (int k = 0; k <= 30; ++k) pts.push_back(corner + V2(0.1 * k, 0));
+    for (int k = 1; k <= 30; ++k) pts.push_back(corner + V2(0, 0.1 * k));
+    V2 c = V2::Zero();
+    for (const V2& p : pts) c += p;
+    c /= static_cast<double>(pts.size());
+    for (const V2& p : pts) tpl.sog.add(p - c, 0.0025 * Mat2::Identity());
+    hymm::ekf::EkfSlam ekf{hymm::ekf::EkfSlam::Options{}};
+    ekf.reset(Eigen::Vector3d(m.vehicle.x(), m.vehicle.y(), 0.0), 1e-4 * Eigen::Matrix3d::Identity());
+    const Vec3 z(c.x() - m.vehicle.x(), c.y() - m.vehicle.y(), 0.0);
+    const long id = ekf.addPoseLandmark(z, 1e-3 * Mat3::Identity(), Vec3::Zero());
+    ScanLandmarkMap::Options o;
+    o.augment_above_std_m = 0.5;
+    ScanLandmarkMap map(o, Segmenter::Options{}, SegmentAcceptance::Options{}, makeMatcher("sog"));
+    hymm::denseslam::DenseGaussiansStats st;
+    map.setAugmenter([&](const V2& lo, const V2& hi) {
+        return hymm::denseslam::denseGaussiansInBox(*m.partition, *m.hybrid, lo, hi, 0.05, &st);
+    });
+    ScanTemplate aug;
+    for (auto _ : state)
+    {
+        aug = map.augmentedTemplate(ekf, id, tpl);
+        benchmark::DoNotOptimize(aug.sog.points.data());
+    }
+    state.counters["regions_total"] = static_cast<double>(m.partition->size());
+    state.counters["regions_read"] = static_cast<double>(st.regions);
+    state.counters["gaussians_read"] = static_cast<double>(st.read);
+    state.counters["gaussians_added"] = static_cast<double>(aug.sog.size() - tpl.sog.size());
+}
+BENCHMARK(BM_TemplateAugmentation)
     ->Arg(10)
     ->Arg(100)
     ->Arg(500)

@@ -239,6 +239,17 @@ int main(int argc, char** argv)
             for (const auto& [k, n] : wide) std::cout << " " << k << "=" << n;
             std::cout << "\n";
         }
+        // Template augmentation from the dense map (thesis 6.2), summed over the runs.
+        std::map<std::string, size_t> aug;
+        for (const auto& r : runs)
+            for (const auto& [k, n] : r.counters)
+                if (k.rfind("scan_landmarks.augment", 0) == 0) aug[k.substr(15)] += n;
+        if (!aug.empty() && (aug["augmented"] > 0 || aug["augment_empty"] > 0))
+        {
+            std::cout << "\ntemplate augmentation (sum over the runs):";
+            for (const auto& [k, n] : aug) std::cout << " " << k << "=" << n;
+            std::cout << "\n";
+        }
         if (obs_table.getValue()) observationTables(runs);
         return 0;
     }

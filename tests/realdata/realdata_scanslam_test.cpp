@@ -150,6 +150,39 @@ void expectLaserLogRuns(const std::string& name, const std::string& config, cons
     EXPECT_GT(scanMap(run.slam()).stats().updated, min_updates);
 }
 
+// Every kind of landmark on the car park (configs/carpark_hll.ini): reflectors, trees,
+// scan landmarks and the high-level landmark search of thesis 6.1 on the dense layers,
+// against the GPS and the reflector-and-tree run. What the search finds is printed
+// (docs/results.md, "High-level landmarks on the car park"); the run must search, keep
+// a sane path and do no worse than the beacons alone.
+TEST(RealDataScanSlamTest, CarParkWithHighLevelLandmarksAgainstGps)
+{
+    if (datasets().empty()) GTEST_SKIP() << "HYMM_DATASETS not set";
+    ScratchDir dir("carpark_hll");
+    importCarPark(dir);
+    const auto gps = hymm::io::readTum(dir.file("data/carpark_gps.tum"));
+    const std::string rawlog = dir.file("data/carpark.rawlog");
+    const auto all = runSlam("configs/carpark_hll.ini", rawlog, dir.file("hll"));
+    const auto beacons = runSlam("configs/carpark.ini", rawlog, dir.file("beacons"));
+    printScanRun("carpark hll", all);
+    const auto* h = all.slam().highLevelLandmarks();
+    ASSERT_NE(h, nullptr);
+    std::cout << "[carpark hll] high-level landmarks:";
+    for (const auto& [k, n] : h->stats().list()) std::cout << " " << k << "=" << n;
+    std::cout << "\n";
+    const auto a = againstGps(estimatedPath(all.slam()), gps, 30.0);
+    const auto b = againstGps(estimatedPath(beacons.slam()), gps, 30.0);
+    std::cout << "[carpark hll] path vs GPS (first 30 m): all landmarks mean " << a.position_mean << " m, RMSE "
+              << a.position_rmse << " m, max " << a.position_max << " m; reflectors and trees mean "
+              << b.position_mean << " m, RMSE " << b.position_rmse << " m, max " << b.position_max << " m\n";
+    EXPECT_EQ(all.slam().stats().frames, 586u);
+    expectSanePath(all.slam());
+    EXPECT_GE(h->stats().searches, 2u);
+    EXPECT_GE(h->stats().proposed, 1u);
+    EXPECT_GE(scanMap(all.slam()).stats().updated, 50u);
+    EXPECT_LT(a.position_mean, 1.2 * b.position_mean);
+}
+
 TEST(RealDataScanSlamTest, IntelLaserRawlogEndToEnd)
 {
     if (datasets().empty()) GTEST_SKIP() << "HYMM_DATASETS not set";

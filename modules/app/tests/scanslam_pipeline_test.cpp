@@ -8,6 +8,7 @@
 #include <hymm/dense/ScanPoints.h>
 #include <hymm/dense/outline_metrics.h>
 #include <hymm/denseslam/DenseSlam.h>
+#include <hymm/denseslam/dense_gaussians.h>
 #include <hymm/eval/nees.h>
 #include <hymm/sim/Simulator.h>
 #include <mrpt/config/CConfigFileMemory.h>
@@ -154,6 +155,34 @@ TEST(ScanSlamPipeline, RegionsOnScanLandmarksMakeADenseMapOfAWorldWithoutPoints)
         // metres: Scan-SLAM's own error, docs/results.md).
         EXPECT_EQ(p.size(), slam.stats().returns_stored);
         EXPECT_LT(m.mean_distance_m, 0.85 * then.mean_distance_m);
+        // What augments a template (thesis 6.2): the same stored returns, read back from
+        // the regions meeting a box at their current affine maps, exactly those inside it.
+        Eigen::Vector2d lo = p.front(), hi = p.front();
+        for (const auto& q : p) lo = lo.cwiseMin(q), hi = hi.cwiseMax(q);
+        lo.array() -= 0.01;  // p went through float (CSimplePointsMap)
+        hi.array() += 0.01;
+        for (const double shrink : {0.0, 0.3})
+        {
+            const Eigen::Vector2d blo = lo + shrink * (hi - lo), bhi = hi - shrink * (hi - lo);
+            hymm::denseslam::DenseGaussiansStats st;
+            const auto g = hymm::denseslam::denseGaussiansInBox(*slam.partition(), *slam.hybridMap(), blo, bhi,
+                                                                0.1, &st);
+            size_t expected = 0;
+            for (const auto& q : p) expected += (q.array() >= blo.array()).all() && (q.array() <= bhi.array()).all();
+            EXPECT_EQ(g.size(), expected) << "shrink " << shrink;
+            for (size_t i = 0; i < g.size(); ++i)
+            {
+                EXPECT_TRUE((g.points[i].array() >= blo.array()).all() && (g.points[i].array() <= bhi.array()).all());
+                EXPECT_GE(g.covs[i].determinant(), 0.0);
+            }
+            if (shrink == 0.0)
+            {
+                EXPECT_GE(st.regions, 1u);
+                EXPECT_LE(st.regions, slam.partition()->size());
+                EXPECT_GE(st.read, g.size());
+                EXPECT_NEAR(hymm::dense::evaluateOutlines(g.points, outlines).mean_distance_m, m.mean_distance_m, 1e-3);
+            }
+        }
     }
     EXPECT_EQ(final_pose[0], final_pose[1]);
 }

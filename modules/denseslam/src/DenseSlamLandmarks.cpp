@@ -5,6 +5,7 @@
  *        update and the bookkeeping of which source observed each landmark.
  */
 #include "hymm/denseslam/DenseSlam.h"
+#include "hymm/denseslam/dense_gaussians.h"
 
 #include <mrpt/system/datetime.h>
 
@@ -56,7 +57,20 @@ void DenseSlam::processScanSources(const mrpt::obs::CObservation2DRangeScan& sca
     for (auto& src : sources_)
     {
         const size_t before = src->mapChanges();
+        // Scan landmarks read the dense map around a template when its alignment needs
+        // more than one scan's points (thesis 6.2; [ScanLandmarks] augment_above_std_m).
+        // Installed per call: the function reads this object's current partition.
+        auto* scan_lm = dynamic_cast<ScanLandmarksSource*>(src.get());
+        if (scan_lm && partition_ && hybrid_ && scan_lm->map().options().augment_above_std_m > 0)
+        {
+            const double point_std = scan_lm->map().options().noise.std_range_m;
+            scan_lm->map().setAugmenter([this, point_std](const Eigen::Vector2d& lo, const Eigen::Vector2d& hi) {
+                mrpt::system::CTimeLoggerEntry t(profiler_, "denseslam.3_template_augmentation");
+                return denseGaussiansInBox(*partition_, *hybrid_, lo, hi, point_std);
+            });
+        }
         src->processScan(ekf_, scan);
+        if (scan_lm) scan_lm->map().setAugmenter({});
         updates_ += src->mapChanges() - before;
     }
 }

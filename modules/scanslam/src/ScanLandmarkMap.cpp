@@ -88,6 +88,11 @@ core::OptionTable ScanLandmarkMap::Options::table()
     t.real("max_prediction_std_m", max_prediction_std_m, "m", atLeast(0, 10000),
            "> 0: templates whose predicted position has a larger std are not aligned");
     declareWideKeys(t, *this);
+    t.real("augment_above_std_m", augment_above_std_m, "m", atLeast(0, 10000),
+           "> 0: templates whose predicted position has a larger std are aligned with the dense map around them added (6.2)");
+    t.real("augment_margin_m", augment_margin_m, "m", atLeast(0, 1000),
+           "the dense map this far around a template's bounds is added");
+    t.integer("augment_max_points", augment_max_points, "", 1, 100000, "dense Gaussians added at most (evenly thinned)");
     t.integer("seed", seed, "", 0, std::numeric_limits<uint32_t>::max(), "acceptance test's random seed");
     return t;
 }
@@ -133,6 +138,9 @@ std::vector<std::pair<std::string, size_t>> ScanLandmarkMap::Stats::list() const
     out.emplace_back("creation_failed", creation_failed);
     out.emplace_back("created", created);
     for (const auto& [reason, n] : wide) out.emplace_back("wide." + reason, n);
+    out.emplace_back("augmented", augmented);
+    out.emplace_back("augment_points", augment_points);
+    out.emplace_back("augment_empty", augment_empty);
     return out;
 }
 
@@ -265,45 +273,46 @@ void ScanLandmarkMap::observe(ekf::EkfSlam& ekf, long id, const ScanTemplate& tp
     const double view_change = (z_hat.head<2>() - tpl.frame_in_sensor.head<2>()).norm();
     // The uncertainty test comes before the view change: z_hat, hence the view change
     // measured from it, is meaningless when the prediction is metres off.
-    const Mat3 S = options_.max_prediction_std_m > 0 ? predictionCov(ekf, id, sensor) : Mat3::Zero();
+    const bool need_s = options_.max_prediction_std_m > 0 || (augmenter_ && options_.augment_above_std_m > 0);
+    const Mat3 S = need_s ? predictionCov(ekf, id, sensor) : Mat3::Zero();
     const Eigen::SelfAdjointEigenSolver<Mat2> es(Mat2(S.topLeftCorner<2, 2>()));
+    const double s_max = std::sqrt(std::max(es.eigenvalues()[1], 0.0));
+    // Thesis 6.2: past augment_above_std_m the vehicle is no longer well correlated with
+    // the landmark; the template gets the dense map around it. In-view test and explained
+    // returns stay those of the template itself (what this landmark is).
+    ScanTemplate augmented;
+    const ScanTemplate* used = &tpl;
+    const auto useAugmented = [&] {
+        if (!augmenter_ || options_.augment_above_std_m <= 0 || s_max <= options_.augment_above_std_m) return;
+        augmented = augmentedTemplate(ekf, id, tpl);
+        const size_t added = augmented.sog.size() - tpl.sog.size();
+        if (added == 0)
+        {
+            ++stats_.augment_empty;
+            return;
+        }
+        ++stats_.augmented;
+        stats_.augment_points += added;
+        used = &augmented;
+    };
     if (fractionInView(tpl, z_hat, max_range, fov) <= options_.in_view_fraction)
         ++stats_.out_of_view;
-    else if (options_.max_prediction_std_m > 0 &&
-             std::sqrt(std::max(es.eigenvalues()[1], 0.0)) > options_.max_prediction_std_m)
+    else if (options_.max_prediction_std_m > 0 && s_max > options_.max_prediction_std_m)
     {
         if (options_.wide_search)
-            placed = observeWide(ekf, id, tpl, pts, sensor, z_hat, S);
+        {
+            useAugmented();
+            placed = observeWide(ekf, id, *used, pts, sensor, z_hat, S);
+        }
         else
             ++stats_.prediction_uncertain;
     }
     else if (options_.max_view_change_m > 0 && view_change > options_.max_view_change_m)
         ++stats_.view_changed;
-    else if (const AlignResult res =
-                 matcher_->align(options_.visible_bin > 0
-                                     ? visiblePart(tpl.sog, z_hat, max_range, fov, options_.visible_bin,
-                                                   options_.visible_depth_tol_m)
-                                     : tpl.sog,
-                                 pts, z_hat);
-             !res.ok)
-        ++stats_.align_failed[res.failure];
     else
     {
-        ++stats_.aligned;
-        const Mat3 R = viewCovariance(res.R, tpl.frame_in_sensor, z_hat);
-        const auto rep = ekf.updatePoseLandmark(id, res.z, R, sensor, options_.gate_prob);
-        using O = ekf::PoseUpdateReport::Outcome;
-        last_aligned_.push_back({id, res.z, R, z_hat, rep.outcome == O::updated});
-        switch (rep.outcome)
-        {
-            case O::updated:
-                ++stats_.updated;
-                placed = res.z;
-                break;
-            case O::gated: ++stats_.gated; break;
-            case O::numeric: ++stats_.update_numeric; break;
-            case O::invalid: ++stats_.update_invalid; break;
-        }
+        useAugmented();
+        placed = alignAndUpdate(ekf, id, tpl, used->sog, pts, sensor, max_range, fov, z_hat);
     }
     // Returns on a known landmark create nothing, whether it was observed or not (a
     // partial view must not become a second landmark on the same object).

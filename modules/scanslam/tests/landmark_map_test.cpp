@@ -208,4 +208,112 @@ TEST(ScanLandmarkMap, UncertainPredictionsAndLargeViewChangesAreNotAligned)
     expectFinite(ekf2);
 }
 
+/** Points every 5 cm along the outline of box(l, w) placed at (x, y, yaw), as the dense
+ *  map's Gaussians (global frame) with the anisotropic covariance `c`. */
+void addOutline(PointSet& out, double l, double w, double x, double y, double yaw, const Mat2& c)
+{
+    const auto poly = box(l, w);
+    for (size_t k = 0; k < poly.size(); ++k)
+    {
+        const Vec2 a = poly[k], b = poly[(k + 1) % poly.size()];
+        const int n = static_cast<int>(std::ceil((b - a).norm() / 0.05));
+        for (int i = 0; i < n; ++i)
+            out.add(transformPoint(Vec3(x, y, yaw), a + (b - a) * (static_cast<double>(i) / n)), c);
+    }
+}
+
+/** The dense map of boxes(): both outlines, plus a decoy 40 m away that no template's
+ *  surroundings reach. */
+PointSet denseBoxes(const Mat2& c)
+{
+    PointSet d;
+    addOutline(d, 4, 3, 9, 4, 0.5, c);
+    addOutline(d, 3, 2, 8, -6, 0.6, c);
+    addOutline(d, 2, 2, 40, 40, 0, c);
+    return d;
+}
+
+// Thesis 6.2: the dense map around a template, placed in the landmark's frame at the
+// filter's estimate, is added to it; its own points stay first and unchanged.
+TEST(ScanLandmarkMap, AugmentedTemplateIsTheDenseMapAroundItInItsFrame)
+{
+    ScanLandmarkMap::Options o;
+    o.augment_margin_m = 1.0;
+    o.augment_max_points = 120;
+    auto map = makeMap(o);
+    auto ekf = makeEkf();
+    map->processScan(ekf, *scanAt(boxes(), Vec3::Zero(), 1));
+    ASSERT_GE(map->stats().created, 1u);
+    Mat2 c;
+    c << 0.04, 0.01, 0.01, 0.02;
+    const PointSet dense = denseBoxes(c);
+    size_t queries = 0;
+    map->setAugmenter([&](const Vec2& lo, const Vec2& hi) {
+        ++queries;
+        PointSet in;
+        for (size_t i = 0; i < dense.size(); ++i)
+            if ((dense.points[i].array() >= lo.array()).all() && (dense.points[i].array() <= hi.array()).all())
+                in.add(dense.points[i], dense.covs[i]);
+        return in;
+    });
+    for (const auto& [id, tpl] : map->templates())
+    {
+        const ScanTemplate aug = map->augmentedTemplate(ekf, id, tpl);
+        ASSERT_GT(aug.sog.size(), tpl.sog.size());
+        EXPECT_LE(aug.sog.size() - tpl.sog.size(), o.augment_max_points);
+        for (size_t i = 0; i < tpl.sog.size(); ++i) EXPECT_EQ(aug.sog.points[i], tpl.sog.points[i]);
+        Vec2 lo = tpl.sog.points[0], hi = lo;
+        for (const Vec2& p : tpl.sog.points) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+        const Vec3 frame = ekf.landmarkBlockMean(id).head<3>();
+        const Mat2 R = rotation(frame.z());
+        for (size_t i = tpl.sog.size(); i < aug.sog.size(); ++i)
+        {
+            const Vec2& q = aug.sog.points[i];
+            EXPECT_TRUE((q.array() >= lo.array() - 1.0 - 1e-9).all() && (q.array() <= hi.array() + 1.0 + 1e-9).all());
+            // Back in the global frame it is one of the dense map's points, with its covariance.
+            const Vec2 g = transformPoint(frame, q);
+            double best = 1e9;
+            for (const Vec2& p : dense.points) best = std::min(best, (p - g).norm());
+            EXPECT_LT(best, 1e-9);
+            EXPECT_LT((R * aug.sog.covs[i] * R.transpose() - c).norm(), 1e-12);
+            EXPECT_LT(g.norm(), 30.0);  // never the decoy
+        }
+    }
+    EXPECT_EQ(queries, map->templates().size());
+}
+
+// The dense map is read only once the prediction is uncertain beyond
+// augment_above_std_m, each use counted; an empty neighbourhood is counted, not an error.
+TEST(ScanLandmarkMap, AugmentationOnlyPastTheUncertaintyThresholdAndCounted)
+{
+    ScanLandmarkMap::Options o;
+    o.augment_above_std_m = 0.3;
+    auto map = makeMap(o);
+    auto ekf = makeEkf();
+    const PointSet dense = denseBoxes(0.01 * Mat2::Identity());
+    bool empty = false;
+    map->setAugmenter([&](const Vec2&, const Vec2&) { return empty ? PointSet{} : dense; });
+    map->processScan(ekf, *scanAt(boxes(), Vec3::Zero(), 1));
+    const size_t created = map->stats().created;
+    ASSERT_GE(created, 1u);
+    drive(ekf, Vec3(0.5, 0, 0), 1e-4, 1e-6);
+    map->processScan(ekf, *scanAt(boxes(), Vec3(0.5, 0, 0), 2));
+    EXPECT_EQ(map->stats().augmented, 0u);  // certain: the templates alone
+    EXPECT_GE(map->stats().updated, created);
+    // The vehicle drove 1 m more than odometry says, with std 0.5 m: the templates'
+    // predictions are uncertain, the augmented ones align and correct the pose.
+    drive(ekf, Vec3(0.5, 0, 0), 0.25, 1e-6);
+    map->processScan(ekf, *scanAt(boxes(), Vec3(1.5, 0, 0), 3));
+    EXPECT_GE(map->stats().augmented, created);
+    EXPECT_GE(map->stats().augment_points, map->stats().augmented);
+    EXPECT_EQ(map->stats().augment_empty, 0u);
+    EXPECT_NEAR(ekf.vehiclePose().x(), 1.5, 0.1);
+    EXPECT_NEAR(ekf.vehiclePose().y(), 0.0, 0.1);
+    expectFinite(ekf);
+    empty = true;
+    drive(ekf, Vec3(0, 0, 0), 0.25, 1e-6);
+    map->processScan(ekf, *scanAt(boxes(), Vec3(1.5, 0, 0), 4));
+    EXPECT_GE(map->stats().augment_empty, 1u);
+}
+
 }  // namespace

@@ -142,6 +142,7 @@ public:
     void saveState(mrpt::serialization::CArchive& out) const override { map_->saveState(out); }
     void loadState(mrpt::serialization::CArchive& in) override { map_->loadState(in); }
     const scanslam::ScanLandmarkMap& map() const { return *map_; }
+    scanslam::ScanLandmarkMap& map() { return *map_; }
 
 private:
     std::unique_ptr<scanslam::ScanLandmarkMap> map_;

@@ -22,6 +22,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -97,6 +98,15 @@ public:
         size_t wide_confirm_scans = 10;
         double wide_confirm_xy_m = 1.5;    //!< corrections agree within this in x, y [m]
         double wide_confirm_phi = 4 * M_PI / 180;  //!< and this in heading [rad] (ini: wide_confirm_phi_deg)
+        /** > 0: a template whose predicted position has a standard deviation (largest
+         *  axis of H P H^T) above this is aligned with the dense map around it added
+         *  (thesis 6.2: once the vehicle is no longer well correlated with the landmark,
+         *  a one-scan template may lock onto a local minimum; the dense map of the
+         *  object seen from everywhere it was seen is more informative). Needs an
+         *  augmenter (setAugmenter; DenseSlam installs one over its regions). 0: never. */
+        double augment_above_std_m = 0;
+        double augment_margin_m = 2;        //!< the dense map this far around the template's bounds [m]
+        size_t augment_max_points = 300;    //!< dense Gaussians added at most (evenly thinned)
 
         /** Every key, declared once (loader, unknown-key check, saver, README table). */
         core::OptionTable table();
@@ -129,6 +139,9 @@ public:
         std::array<size_t, SegmentAcceptance::kOutcomes> acceptance{};  //!< by outcome
         size_t creation_failed = 0;    //!< accepted, but its own alignment gave no covariance
         size_t created = 0;            //!< new pose landmarks
+        size_t augmented = 0;          //!< alignments (local or wide) of a template augmented from the dense map
+        size_t augment_points = 0;     //!< dense Gaussians added over those alignments
+        size_t augment_empty = 0;      //!< augmentation wanted, but the dense map held nothing around the template
         /** Wide searches by outcome: closed (fused), window_too_large, deferred,
          *  no_overlap, ambiguous, refine.<matcher reason>, view_changed, gated, numeric. */
         std::map<std::string, size_t> wide;
@@ -170,6 +183,19 @@ public:
     long addTemplateLandmark(ekf::EkfSlam& ekf, ScanTemplate tpl, const AlignResult& obs,
                              const Vec3& sensor);
 
+    /** The dense map's Gaussians (global frame, means and 2x2 covariances) whose means lie
+     *  in the axis-aligned box [lo, hi]. */
+    using Augmenter = std::function<PointSet(const Vec2& lo, const Vec2& hi)>;
+    /** Source of the dense map for template augmentation (Options::augment_above_std_m);
+     *  an empty function: none. Not part of the saved state: the owner installs it. */
+    void setAugmenter(Augmenter f) { augmenter_ = std::move(f); }
+
+    /** The template of landmark `id` with the augmenter's Gaussians in its bounds grown
+     *  by augment_margin_m added, in the landmark frame placed at the filter's estimate
+     *  of its pose; at most augment_max_points of them, evenly thinned. Returns `tpl`
+     *  itself when there is no augmenter or nothing around it. */
+    ScanTemplate augmentedTemplate(const ekf::EkfSlam& ekf, long id, const ScanTemplate& tpl) const;
+
     /** Templates by landmark id (landmarks the filter removed are dropped on the next scan). */
     const std::map<long, ScanTemplate>& templates() const { return templates_; }
     const Stats& stats() const { return stats_; }
@@ -188,6 +214,11 @@ private:
     /** Observes landmark `id` in `pts`; marks the returns it explains. */
     void observe(ekf::EkfSlam& ekf, long id, const ScanTemplate& tpl, const PointSet& pts,
                  const Vec3& sensor, double max_range, double fov, std::vector<char>& explained);
+    /** Aligns `aligned` (the template `tpl`, augmented or not) from z_hat and fuses the
+     *  result through the NN gate; returns where its returns are (z_hat unless fused). */
+    Vec3 alignAndUpdate(ekf::EkfSlam& ekf, long id, const ScanTemplate& tpl, const PointSet& aligned,
+                        const PointSet& pts, const Vec3& sensor, double max_range, double fov,
+                        const Vec3& z_hat);
     /** H P H^T of landmark `id` seen from `sensor`: the predicted template pose's
      *  covariance in the sensor frame. */
     Mat3 predictionCov(const ekf::EkfSlam& ekf, long id, const Vec3& sensor) const;
@@ -206,6 +237,7 @@ private:
                          const std::vector<char>& explained);
 
     Options options_;
+    Augmenter augmenter_;
     Segmenter segmenter_;
     std::unique_ptr<ScanMatcher> matcher_;
     SegmentAcceptance acceptance_;
