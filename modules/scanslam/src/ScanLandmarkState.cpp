@@ -37,7 +37,8 @@ std::vector<size_t*> counters(ScanLandmarkMap::Stats& s)
     return {&s.scans, &s.scans_empty, &s.beams_invalid, &s.predicted, &s.out_of_view, &s.view_changed,
             &s.prediction_uncertain, &s.aligned, &s.updated, &s.gated, &s.update_numeric,
             &s.update_invalid, &s.returns_explained, &s.segments, &s.short_runs, &s.segments_far,
-            &s.segments_collinear, &s.creation_failed, &s.created};
+            &s.segments_collinear, &s.creation_failed, &s.created, &s.augmented, &s.augment_points,
+            &s.augment_empty};
 }
 
 /** A distribution's state through its standard stream form (exact for the real ones:
