@@ -94,6 +94,13 @@ struct Map
     }
 };
 
+/** The map sizes of both benchmarks: 10 to 2000 regions, medians of 5 repetitions. */
+void mapSizes(benchmark::internal::Benchmark* b)
+{
+    for (const int n : {10, 100, 500, 1000, 2000}) b->Arg(n);
+    b->Repetitions(5)->ReportAggregatesOnly(true)->Unit(benchmark::kMicrosecond);
+}
+
 void BM_HllSearch(benchmark::State& state)
 {
     const auto regions = static_cast<size_t>(state.range(0));
@@ -114,15 +121,7 @@ void BM_HllSearch(benchmark::State& state)
     state.counters["candidates"] = static_cast<double>(s.candidates.size());
     state.counters["gaussians"] = static_cast<double>(s.gaussians.size());
 }
-BENCHMARK(BM_HllSearch)
-    ->Arg(10)
-    ->Arg(100)
-    ->Arg(500)
-    ->Arg(1000)
-    ->Arg(2000)
-    ->Repetitions(5)
-    ->ReportAggregatesOnly(true)
-    ->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_HllSearch)->Apply(mapSizes);
 
 void BM_TemplateAugmentation(benchmark::State& state)
 {
@@ -162,15 +161,7 @@ void BM_TemplateAugmentation(benchmark::State& state)
     state.counters["gaussians_read"] = static_cast<double>(st.read);
     state.counters["gaussians_added"] = static_cast<double>(aug.sog.size() - tpl.sog.size());
 }
-BENCHMARK(BM_TemplateAugmentation)
-    ->Arg(10)
-    ->Arg(100)
-    ->Arg(500)
-    ->Arg(1000)
-    ->Arg(2000)
-    ->Repetitions(5)
-    ->ReportAggregatesOnly(true)
-    ->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_TemplateAugmentation)->Apply(mapSizes);
 
 }  // namespace
 
