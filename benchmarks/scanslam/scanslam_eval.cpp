@@ -244,7 +244,7 @@ int main(int argc, char** argv)
         for (const auto& r : runs)
             for (const auto& [k, n] : r.counters)
                 if (k.rfind("scan_landmarks.augment", 0) == 0) aug[k.substr(15)] += n;
-        if (!aug.empty() && (aug["augmented"] > 0 || aug["augment_empty"] > 0))
+        if (aug["augmented"] + aug["augment_empty"] > 0)
         {
             std::cout << "\ntemplate augmentation (sum over the runs):";
             for (const auto& [k, n] : aug) std::cout << " " << k << "=" << n;

@@ -58,6 +58,16 @@ hymm::sim::World boxes()
     return hymm::sim::World({}, std::move(objs));
 }
 
+/** A map with options `o` and its filter after one scan of boxes() from the origin. */
+std::pair<std::unique_ptr<ScanLandmarkMap>, hymm::ekf::EkfSlam> afterFirstScan(const ScanLandmarkMap::Options& o,
+                                                                               uint32_t seed)
+{
+    auto map = makeMap(o);
+    auto ekf = makeEkf();
+    map->processScan(ekf, *scanAt(boxes(), Vec3::Zero(), seed));
+    return {std::move(map), std::move(ekf)};
+}
+
 TEST(ScanLandmarkMap, CreatesFromCornersAndReobservesThem)
 {
     auto map = makeMap();
@@ -197,9 +207,7 @@ TEST(ScanLandmarkMap, UncertainPredictionsAndLargeViewChangesAreNotAligned)
 
     o.max_prediction_std_m = 0;
     o.max_view_change_m = 1.0;
-    auto far = makeMap(o);
-    auto ekf2 = makeEkf();
-    far->processScan(ekf2, *scanAt(boxes(), Vec3::Zero(), 1));
+    auto [far, ekf2] = afterFirstScan(o, 1);
     ASSERT_GE(far->stats().created, 1u);
     drive(ekf2, Vec3(2, 0, 0), 1e-4, 1e-6);
     far->processScan(ekf2, *scanAt(boxes(), Vec3(2, 0, 0), 12));
@@ -240,9 +248,7 @@ TEST(ScanLandmarkMap, AugmentedTemplateIsTheDenseMapAroundItInItsFrame)
     ScanLandmarkMap::Options o;
     o.augment_margin_m = 1.0;
     o.augment_max_points = 120;
-    auto map = makeMap(o);
-    auto ekf = makeEkf();
-    map->processScan(ekf, *scanAt(boxes(), Vec3::Zero(), 1));
+    auto [map, ekf] = afterFirstScan(o, 1);
     ASSERT_GE(map->stats().created, 1u);
     Mat2 c;
     c << 0.04, 0.01, 0.01, 0.02;
@@ -314,6 +320,32 @@ TEST(ScanLandmarkMap, AugmentationOnlyPastTheUncertaintyThresholdAndCounted)
     drive(ekf, Vec3(0, 0, 0), 0.25, 1e-6);
     map->processScan(ekf, *scanAt(boxes(), Vec3(1.5, 0, 0), 4));
     EXPECT_GE(map->stats().augment_empty, 1u);
+}
+
+// The augmented template is what the matcher aligns: a dense map that puts the objects
+// 0.3 m off moves the correction away from the one the true dense map gives.
+TEST(ScanLandmarkMap, AugmentedTemplateIsWhatTheMatcherAligns)
+{
+    ScanLandmarkMap::Options o;
+    o.augment_above_std_m = 0.3;
+    std::vector<double> y;
+    for (const double shift : {0.0, 0.3})
+    {
+        auto [map, ekf] = afterFirstScan(o, 1);
+        ASSERT_GE(map->stats().created, 1u);
+        PointSet dense = denseBoxes(0.01 * Mat2::Identity());
+        for (Vec2& p : dense.points) p.y() += shift;
+        map->setAugmenter([dense](const Vec2&, const Vec2&) { return dense; });
+        drive(ekf, Vec3(0.5, 0, 0), 0.25, 1e-6);
+        map->processScan(ekf, *scanAt(boxes(), Vec3(1.0, 0, 0), 3));
+        EXPECT_GE(map->stats().augmented, 1u);
+        EXPECT_GE(map->stats().updated, 1u);
+        expectFinite(ekf);
+        y.push_back(ekf.vehiclePose().y());
+    }
+    RecordProperty("vehicle_y_true_dense", std::to_string(y[0]));
+    RecordProperty("vehicle_y_shifted_dense", std::to_string(y[1]));
+    EXPECT_GT(std::abs(y[1] - y[0]), 0.05);
 }
 
 }  // namespace
