@@ -37,7 +37,6 @@ using hymm::app::SlamApp;
 const std::string kSrc = HYMM_SOURCE_DIR;
 const std::string& kRawlog = hymm::test::kCh3Rawlog;
 const std::string kConfig = kSrc + "/tests/slam_app/resume_layers.ini";
-const std::string& kGt = hymm::test::kCh3Gt;
 // The run is cut after entry kCut of the first kEnd (a few seconds in all).
 constexpr size_t kCut = 150;
 constexpr size_t kEnd = 260;
