@@ -104,7 +104,12 @@ SegmentAcceptance::Outcome SegmentAcceptance::test(const PointSet& segment, doub
         for (size_t i = 0; i < segment.size(); ++i)
         {
             const Eigen::LLT<Mat2> llt(segment.covs[i]);
-            const Vec2 n(rng_.drawGaussian1D_normalized(), rng_.drawGaussian1D_normalized());
+            // One draw per statement: the order of two draws in one argument list is the
+            // compiler's choice (GCC took the second first; clang the first), and results
+            // must not depend on the compiler. This is GCC's order.
+            const double ny = rng_.drawGaussian1D_normalized();
+            const double nx = rng_.drawGaussian1D_normalized();
+            const Vec2 n(nx, ny);
             const Vec2 noisy = segment.points[i] + (llt.info() == Eigen::Success
                                                        ? Vec2(llt.matrixL() * n)
                                                        : Vec2::Zero());

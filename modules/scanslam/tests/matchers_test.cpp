@@ -103,13 +103,22 @@ TEST_P(MatcherTest, CovarianceIsConsistentOverManyTrials)
     {
         // Random viewpoints around a nominal pair; each trial draws new noise for both
         // template and scan.
-        const Vec3 a(rng.drawUniform(-1, 1), rng.drawUniform(-1, 1), rng.drawUniform(-0.1, 0.1));
-        const Vec3 b(rng.drawUniform(-1, 1), rng.drawUniform(-1, 1), rng.drawUniform(-0.1, 0.1));
+        // One draw per statement, last component first: the order GCC evaluated the
+        // former one-line argument lists in (clang's order gave other trials).
+        const auto draw3 = [&](double xy, double phi, bool gaussian) {
+            Vec3 v;
+            for (int i = 2; i >= 0; --i)
+            {
+                const double s = i == 2 ? phi : xy;
+                v[i] = gaussian ? s * rng.drawGaussian1D_normalized() : rng.drawUniform(-s, s);
+            }
+            return v;
+        };
+        const Vec3 a = draw3(1.0, 0.1, false);
+        const Vec3 b = draw3(1.0, 0.1, false);
         Pair p;
         if (!makePair(world, a, b, 2000 + 7 * t, t % 2, p)) continue;
-        const Vec3 z0 = p.truth + Vec3(0.1 * rng.drawGaussian1D_normalized(),
-                                       0.1 * rng.drawGaussian1D_normalized(),
-                                       0.01 * rng.drawGaussian1D_normalized());
+        const Vec3 z0 = p.truth + draw3(0.1, 0.01, true);
         const AlignResult r = matcher->align(p.tpl.sog, p.scan, z0);
         if (!r.ok) continue;
         const Vec3 e = poseDifference(r.z, p.truth);
