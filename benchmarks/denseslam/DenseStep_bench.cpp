@@ -21,13 +21,14 @@
  * partition, not the work near the vehicle. The filter holds a full, correlated
  * covariance (landmark = vehicle position + rotated offset + independent noise).
  *
- * BM_DenseStep/N/R/local: the dense step alone (the filter is not changed between
- * iterations). local = 2: local refresh with the fallback on ([HybridMetricMap]
+ * BM_DenseStep/N/R/mode: the dense step alone (the filter is not changed between
+ * iterations). mode 2: local refresh with the fallback on ([HybridMetricMap]
  * fallback_max_distance_m = 25) and a 20 m room, so that part of the returns lie
- * beyond the local regions and go to fallback tiles. BM_EkfVsDense/N/R/m/local: per iteration one EKF step (odometry
- * prediction + update with m known-id range-bearing observations) followed by the
- * dense step; the counters report the medians of the two parts and
- * ratio = (ekf + dense) / ekf.
+ * beyond the local regions and go to fallback tiles; mode 3: the same with
+ * fallback_reuse_m = 10. BM_EkfVsDense/N/R/m/mode/cell_cm: per iteration one EKF step
+ * (odometry prediction + update with m known-id range-bearing observations) followed by
+ * the dense step, occupancy cells of cell_cm centimetres; the counters report the
+ * medians of the two parts and ratio = (ekf + dense) / ekf.
  * Run: build-bench/benchmarks/denseslam_bench  (see docs/benchmarks.md)
  */
 #include "synthetic_partition.h"
@@ -58,6 +59,7 @@ using hymm::ltr::RegionPartition;
 using V2 = Eigen::Vector2d;
 
 constexpr double kSpacing = 8.0;
+constexpr double kReuse = 10.0;  // [m] fallback_reuse_m of modes 3
 constexpr int kLocalSide = 3;  // 9 landmarks, 8 regions around the vehicle
 constexpr size_t kLocalRegions = 8;
 const V2 kVehicle(4.5, 8.0);         // inside the local lattice, room inside its regions
@@ -90,8 +92,11 @@ struct World
     std::unique_ptr<HybridMetricMap> map;
     size_t landmarks = 0;
 
-    World(size_t n_landmarks, size_t n_regions, bool local, bool fallback = false)
+    /** mode: 0 full refresh, 1 local, 2 local + fallback, 3 local + fallback with tile
+     *  reuse (fallback_reuse_m = kReuse). */
+    World(size_t n_landmarks, size_t n_regions, int mode, double cell_m = 0.1)
     {
+        const bool local = mode != 0, fallback = mode >= 2;
         if (n_landmarks < 9 || n_regions < kLocalRegions)
             throw std::invalid_argument("World: too small");
         // --- landmarks: local 3x3 lattice, then the far block (ids 100000 + k) --------
@@ -159,9 +164,10 @@ struct World
             throw std::runtime_error("World: not enough landmarks for the regions asked");
 
         HybridMetricMap::Options mo;
-        mo.occupancy.cell_size_m = 0.1;
+        mo.occupancy.cell_size_m = cell_m;
         mo.points.voxel_size_m = 0.02;  // bounds memory over many identical iterations
         mo.fallback_max_distance_m = fallback ? 25.0 : 0.0;
+        mo.fallback_reuse_m = mode == 3 ? kReuse : 0.0;
         map = std::make_unique<HybridMetricMap>(mo);
     }
 };
@@ -211,9 +217,9 @@ bool checkStep(benchmark::State& state, const StepStats& st)
 /** Args: landmarks, regions, local (0/1). */
 void BM_DenseStep(benchmark::State& state)
 {
-    World w(static_cast<size_t>(state.range(0)), static_cast<size_t>(state.range(1)), state.range(2) != 0,
-            state.range(2) == 2);
-    const ScanPoints scan = roomScan(state.range(2) == 2 ? 10.0 : 7.0);
+    const int mode = static_cast<int>(state.range(2));
+    World w(static_cast<size_t>(state.range(0)), static_cast<size_t>(state.range(1)), mode);
+    const ScanPoints scan = roomScan(mode >= 2 ? 10.0 : 7.0);
     StepStats st = denseStep(w, scan, 0.0);  // warm-up: allocates the local maps
     if (!checkStep(state, st)) return;
     double t = 1.0;
@@ -224,7 +230,7 @@ void BM_DenseStep(benchmark::State& state)
         benchmark::DoNotOptimize(st.returns_stored);
     }
     if (!checkStep(state, st)) return;
-    if (state.range(2) == 2 && st.returns_fallback == 0)
+    if (mode >= 2 && st.returns_fallback == 0)
     {
         state.SkipWithError("fallback mode: no return went to the fallback");
         return;
@@ -234,11 +240,12 @@ void BM_DenseStep(benchmark::State& state)
     state.counters["regions"] = static_cast<double>(w.partition->size());
     state.counters["returns_stored"] = static_cast<double>(st.returns_stored);
     state.counters["regions_visited"] = static_cast<double>(st.regions_visited);
+    state.counters["fallback_tiles"] = static_cast<double>(w.map->fallbackTiles());
 }
 
 void denseArgs(benchmark::internal::Benchmark* b)
 {
-    for (int local : {0, 1, 2})
+    for (int local : {0, 1, 2, 3})
     {
         for (int n : {100, 250, 500, 1000, 2000}) b->Args({n, 100, local});  // landmarks
         for (int r : {10, 500, 1000, 2000}) b->Args({2000, r, local});       // regions
@@ -263,9 +270,10 @@ double median(std::vector<double> v)
  *  fallback tiles, as BM_DenseStep mode 2). */
 void BM_EkfVsDense(benchmark::State& state)
 {
-    const bool fallback = state.range(3) == 2;
-    World w(static_cast<size_t>(state.range(0)), static_cast<size_t>(state.range(1)), state.range(3) != 0,
-            fallback);
+    const int mode = static_cast<int>(state.range(3));
+    const bool fallback = mode >= 2;
+    World w(static_cast<size_t>(state.range(0)), static_cast<size_t>(state.range(1)), mode,
+            0.01 * static_cast<double>(state.range(4)));
     const int m = static_cast<int>(state.range(2));
     const ScanPoints scan = roomScan(fallback ? 10.0 : 7.0);
     std::mt19937 rng(42);
@@ -338,15 +346,19 @@ void BM_EkfVsDense(benchmark::State& state)
     state.counters["regions"] = static_cast<double>(w.partition->size());
     state.counters["m"] = m;
     state.counters["returns_fallback"] = static_cast<double>(st.returns_fallback);
+    state.counters["fallback_tiles"] = static_cast<double>(w.map->fallbackTiles());
+}
+void ekfVsDenseArgs(benchmark::internal::Benchmark* b)
+{
+    for (int cell_cm : {10, 20})  // 0.1 m as before; 0.2 m as every shipped config
+    {
+        b->Args({1000, 1000, 15, 0, cell_cm});
+        for (int mode : {1, 2, 3})
+            for (int m : {10, 15, 20}) b->Args({1000, 1000, m, mode, cell_cm});
+    }
 }
 BENCHMARK(BM_EkfVsDense)
-    ->Args({1000, 1000, 15, 0})
-    ->Args({1000, 1000, 15, 1})
-    ->Args({1000, 1000, 10, 1})
-    ->Args({1000, 1000, 20, 1})
-    ->Args({1000, 1000, 10, 2})
-    ->Args({1000, 1000, 15, 2})
-    ->Args({1000, 1000, 20, 2})
+    ->Apply(ekfVsDenseArgs)
     ->Iterations(60)
     ->UseManualTime()
     ->Unit(benchmark::kMillisecond);

@@ -2,7 +2,10 @@
 
 #include "hymm/dense/geometry.h"
 
+#include <algorithm>
 #include <cmath>
+#include <utility>
+#include <vector>
 #include <limits>
 #include <stdexcept>
 
@@ -66,6 +69,38 @@ std::optional<long> nearestRegion(
         best_d = d;
     }
     return best;
+}
+
+std::optional<FallbackPlace> fallbackPlace(
+    const hymm::ltr::RegionPartition& partition, const Eigen::Vector2d& p, double max_distance_m,
+    double reuse_m, double tile_m, const std::function<const hymm::ltr::AffineRegionMap*(long)>& anchor_map,
+    const std::function<bool(const FallbackTileKey&)>& tile_exists)
+{
+    std::vector<std::pair<double, long>> near;  // (distance, id) of the usable regions in reach
+    const Eigen::Vector2d r = Eigen::Vector2d::Constant(max_distance_m);
+    for (const long id : partition.regionsInBox(p - r, p + r))
+    {
+        const double d = distanceToTriangle(p, partition.region(id).current);
+        if (d <= max_distance_m && anchor_map(id)) near.emplace_back(d, id);
+    }
+    if (near.empty()) return std::nullopt;
+    std::sort(near.begin(), near.end());
+    const auto placeIn = [&](long id) {
+        FallbackPlace f;
+        f.anchor = id;
+        f.p_ref = anchor_map(id)->inverseMapPoint(p);
+        f.key = fallbackTileOf(id, f.p_ref, tile_m);
+        return f;
+    };
+    if (!(reuse_m > 0)) return placeIn(near.front().second);
+    const double limit = near.front().first + reuse_m;
+    for (const auto& [d, id] : near)
+    {
+        if (d > limit) break;
+        FallbackPlace f = placeIn(id);
+        if (tile_exists(f.key)) return f;
+    }
+    return placeIn(near.front().second);
 }
 
 }  // namespace hymm::dense

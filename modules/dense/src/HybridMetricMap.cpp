@@ -9,6 +9,7 @@
 #include <optional>
 #include <ostream>
 #include <stdexcept>
+#include <unordered_map>
 
 namespace hymm::dense
 {
@@ -147,12 +148,18 @@ bool HybridMetricMap::insertFallbackReturn(
 {
     const double fb_dist = options_.fallback_max_distance_m;
     if (!(fb_dist > 0) || !ret.allFinite() || !sensor.allFinite()) return false;
-    const auto anchor = nearestRegion(partition, ret, fb_dist, [&](long id) {
-        return usableReferenceToCurrent(partition, id).has_value();
-    });
-    if (!anchor) return false;
-    const AffineRegionMap to_current = *usableReferenceToCurrent(partition, *anchor);
-    const Eigen::Vector2d p_ref = to_current.inverseMapPoint(ret);
+    std::unordered_map<long, std::optional<AffineRegionMap>> maps;
+    const auto place = fallbackPlace(
+        partition, ret, fb_dist, options_.fallback_reuse_m, options_.fallback_tile_m,
+        [&](long id) {
+            const auto [it, fresh] = maps.try_emplace(id);
+            if (fresh) it->second = usableReferenceToCurrent(partition, id);
+            return it->second ? &*it->second : nullptr;
+        },
+        [&](const FallbackTileKey& k) { return fallback_.count(k) > 0; });
+    if (!place) return false;
+    const AffineRegionMap& to_current = *maps.at(place->anchor);
+    const Eigen::Vector2d& p_ref = place->p_ref;
     RegionScan rs;
     rs.sensor = to_current.inverseMapPoint(sensor);
     rs.hits.push_back(p_ref);
@@ -162,7 +169,7 @@ bool HybridMetricMap::insertFallbackReturn(
     rs.range_std_m = range_std_m;
     rs.bearing_std_rad = bearing_std_rad;
     rs.to_reference_linear = to_current.inverse().linear();
-    fallbackMapFor(fallbackTileOf(*anchor, p_ref, options_.fallback_tile_m)).insert(rs);
+    fallbackMapFor(place->key).insert(rs);
     return true;
 }
 

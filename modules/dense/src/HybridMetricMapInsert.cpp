@@ -94,8 +94,9 @@ FallbackTileKey firstTileOf(long anchor)
 class ScanOwners
 {
    public:
-    ScanOwners(const RegionPartition& partition, const HybridMetricMap::RegionFilter& accept)
-        : partition_(partition), accept_(accept)
+    ScanOwners(const RegionPartition& partition, const HybridMetricMap::RegionFilter& accept,
+               const std::map<FallbackTileKey, std::unique_ptr<LocalDenseMap>>& tiles)
+        : partition_(partition), accept_(accept), tiles_(tiles)
     {
     }
 
@@ -134,7 +135,7 @@ class ScanOwners
      *  region goes to a fallback tile of the nearest usable region when the fallback is on
      *  (fb_dist > 0). */
     void assignReturns(
-        const WorldScan& w, const ScanPoints& scan, double fb_dist, double tile_m, InsertStats& st)
+        const WorldScan& w, const ScanPoints& scan, const HybridMetricMap::Options& o, InsertStats& st)
     {
         per_region.resize(cands.size());
         for (const WorldBeam& b : w.beams)
@@ -147,7 +148,7 @@ class ScanOwners
                 ++st.returns_outside;
                 st.unassigned.push_back(b.end);
                 st.unassigned_source.push_back(b.source);
-                const bool kept = keepInFallback(b, scan, fb_dist, tile_m);
+                const bool kept = keepInFallback(b, scan, o);
                 st.returns_fallback += kept;
                 st.unassigned_kept.push_back(kept);
                 continue;
@@ -157,7 +158,7 @@ class ScanOwners
                 ++st.returns_withheld;
                 st.withheld.push_back(b.end);
                 // The owner's frame is not known well enough now; a usable region nearby is.
-                const bool kept = keepInFallback(b, scan, fb_dist, tile_m);
+                const bool kept = keepInFallback(b, scan, o);
                 st.withheld_fallback += kept;
                 st.withheld_kept.push_back(kept);
                 continue;
@@ -189,16 +190,20 @@ class ScanOwners
     }
 
    private:
-    /** Keeps return b in a fallback tile of the nearest usable region; false if none is near. */
-    bool keepInFallback(const WorldBeam& b, const ScanPoints& scan, double fb_dist, double tile_m)
+    /** Keeps return b in a fallback tile (fallbackPlace); false if no usable region is near. */
+    bool keepInFallback(const WorldBeam& b, const ScanPoints& scan, const HybridMetricMap::Options& o)
     {
-        if (!(fb_dist > 0)) return false;
-        const auto anchor =
-            nearestRegion(partition_, b.end, fb_dist, [&](long id) { return anchorMap(id).has_value(); });
-        if (!anchor) return false;
-        const Eigen::Vector2d p_ref = anchorMap(*anchor)->inverseMapPoint(b.end);
-        RegionScan& rs = fb_hits[fallbackTileOf(*anchor, p_ref, tile_m)];
-        rs.hits.push_back(p_ref);
+        if (!(o.fallback_max_distance_m > 0)) return false;
+        const auto place = fallbackPlace(
+            partition_, b.end, o.fallback_max_distance_m, o.fallback_reuse_m, o.fallback_tile_m,
+            [&](long id) {
+                const auto& m = anchorMap(id);
+                return m ? &*m : nullptr;
+            },
+            [&](const FallbackTileKey& k) { return tiles_.count(k) > 0 || fb_hits.count(k) > 0; });
+        if (!place) return false;
+        RegionScan& rs = fb_hits[place->key];
+        rs.hits.push_back(place->p_ref);
         if (!scan.values.empty()) rs.hit_values.push_back(scan.values[b.source]);
         if (!scan.value_stds.empty()) rs.hit_value_stds.push_back(scan.value_stds[b.source]);
         return true;
@@ -206,6 +211,7 @@ class ScanOwners
 
     const RegionPartition& partition_;
     const HybridMetricMap::RegionFilter& accept_;
+    const std::map<FallbackTileKey, std::unique_ptr<LocalDenseMap>>& tiles_;
     std::unordered_map<long, size_t> index_of_;  // region id -> index in cands
     std::unordered_map<long, std::optional<AffineRegionMap>> anchor_maps_;  // nullopt: unusable
 };
@@ -308,7 +314,7 @@ HybridMetricMap::InsertStats HybridMetricMap::insertScan(
     st.no_return = w.no_return;
 
     // 1. Regions near the scan, with their reference -> current maps.
-    ScanOwners owners(partition, accept);
+    ScanOwners owners(partition, accept, fallback_);
     {
         mrpt::system::CTimeLoggerEntry t1(profiler_, "dense.insertScan.1_regions");
         owners.collectRegions(w, st);
@@ -317,7 +323,7 @@ HybridMetricMap::InsertStats HybridMetricMap::insertScan(
     const double fb_dist = options_.fallback_max_distance_m;
     {
         mrpt::system::CTimeLoggerEntry t2(profiler_, "dense.insertScan.2_assign");
-        owners.assignReturns(w, scan, fb_dist, options_.fallback_tile_m, st);
+        owners.assignReturns(w, scan, options_, st);
     }
 
     // 3. Split the beams among the regions and fuse into every layer (Sec. 4.5).

@@ -26,6 +26,9 @@ hymm::core::OptionTable HybridMetricMap::Options::table()
            "a return in no region is kept in the frame of the nearest region whose current triangle is at most "
            "this far (`FallbackTiles.h`); 0 = off");
     t.real("fallback_tile_m", fallback_tile_m, "m", above(0, 1e4), "side of the square fallback tiles (two triangles each)");
+    t.real("fallback_reuse_m", fallback_reuse_m, "m", atLeast(0, 1e4),
+           "a return goes to an existing fallback tile holding it whose anchor is at most this much farther than "
+           "the nearest region (fewer overlapping tiles to update per scan); 0 = always the nearest region's tile");
     t.flag("enable_profiler", enable_profiler, "CTimeLogger sections `dense.*`");
     return t;
 }
@@ -80,6 +83,9 @@ void HybridMetricMap::Options::validate(const std::string& s) const
             s, "fallback_max_distance_m", std::to_string(fallback_max_distance_m), "must be finite and >= 0 (0 = off)");
     if (!(fallback_tile_m > 0) || !std::isfinite(fallback_tile_m))
         hymm::core::throwConfigError(s, "fallback_tile_m", std::to_string(fallback_tile_m), "must be finite and > 0");
+    if (!(fallback_reuse_m >= 0) || !std::isfinite(fallback_reuse_m))
+        hymm::core::throwConfigError(
+            s, "fallback_reuse_m", std::to_string(fallback_reuse_m), "must be finite and >= 0 (0 = nearest region)");
     for (const LayerKind& k : kinds) k.validate(*this);
 }
 

@@ -58,12 +58,15 @@ void LogOddsGrid::setUpdatable(int ix, int iy, bool on)
     f = on ? (f | kUpdatable) : (f & static_cast<std::uint8_t>(~kUpdatable));
 }
 
-void LogOddsGrid::mark(int ix, int iy, std::uint8_t bit)
+// Inline (only this file calls it): it runs once per cell a beam crosses, the innermost
+// loop of the dense step.
+inline void LogOddsGrid::mark(int ix, int iy, std::uint8_t bit)
 {
     if (ix < 0 || iy < 0 || ix >= size_x_ || iy >= size_y_) return;
-    auto& f = flags_[index(ix, iy)];
+    const size_t i = index(ix, iy);
+    std::uint8_t& f = flags_[i];
     if (!(f & kUpdatable)) return;
-    if (!(f & (kFree | kOccupied))) touched_.push_back(index(ix, iy));
+    if (!(f & (kFree | kOccupied))) touched_.push_back(i);
     f |= bit;
 }
 

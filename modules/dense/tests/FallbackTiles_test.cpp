@@ -11,8 +11,13 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <functional>
+#include <limits>
+#include <map>
 #include <set>
+#include <vector>
 
 namespace
 {
@@ -255,6 +260,99 @@ TEST(FallbackTilesTest, OptionsAreChecked)
     o.fallback_max_distance_m = 3;
     o.fallback_tile_m = 0;
     EXPECT_THROW(o.validate(), std::invalid_argument);
+    o.fallback_tile_m = 2;
+    o.fallback_reuse_m = -0.5;
+    EXPECT_THROW(o.validate(), std::invalid_argument);
+    o.fallback_reuse_m = std::numeric_limits<double>::infinity();
+    EXPECT_THROW(o.validate(), std::invalid_argument);
+}
+
+TEST(FallbackTilesTest, PlaceReusesAnExistingTileOnlyWithinTheReuseDistance)
+{
+    WallWorld w;
+    const V2 p(kWallX, 17.3);
+    std::map<long, hymm::ltr::AffineRegionMap> maps;
+    for (const long id : w.partition.regionIds()) maps.emplace(id, *usableReferenceToCurrent(w.partition, id));
+    const auto anchor_map = [&](long id) -> const hymm::ltr::AffineRegionMap* { return &maps.at(id); };
+    // The regions by distance to p: the nearest, and a farther one (gap > 0).
+    std::vector<std::pair<double, long>> by_d;
+    for (const long id : w.partition.regionIds())
+        by_d.emplace_back(distanceToTriangle(p, w.partition.region(id).current), id);
+    std::sort(by_d.begin(), by_d.end());
+    const long nearest = by_d.front().second;
+    const auto farther = std::find_if(by_d.begin(), by_d.end(), [&](const auto& e) {
+        return e.first > by_d.front().first + 0.5 && e.first < 5.0;
+    });
+    ASSERT_NE(farther, by_d.end());
+    const double gap = farther->first - by_d.front().first;
+    const FallbackTileKey farther_tile = fallbackTileOf(farther->second, maps.at(farther->second).inverseMapPoint(p), 2.0);
+    const auto exists = [&](const FallbackTileKey& k) { return k == farther_tile; };
+    const auto none = [](const FallbackTileKey&) { return false; };
+    const auto placed = [&](double reuse, const std::function<bool(const FallbackTileKey&)>& ex) {
+        const auto f = fallbackPlace(w.partition, p, 5.0, reuse, 2.0, anchor_map, ex);
+        EXPECT_TRUE(f);
+        if (f)
+        {
+            EXPECT_LT((maps.at(f->anchor).mapPoint(f->p_ref) - p).norm(), 1e-9);
+            EXPECT_EQ(f->key, fallbackTileOf(f->anchor, f->p_ref, 2.0));
+        }
+        return f ? f->anchor : -1;
+    };
+    EXPECT_EQ(placed(0.0, exists), nearest);         // no reuse: the nearest region
+    EXPECT_EQ(placed(gap + 0.1, none), nearest);     // nothing to reuse
+    EXPECT_EQ(placed(gap + 0.1, exists), farther->second);
+    EXPECT_EQ(placed(gap - 0.1, exists), nearest);   // the existing tile's anchor is too far
+    EXPECT_EQ(*nearestRegion(w.partition, p, 5.0), nearest);
+    EXPECT_FALSE(fallbackPlace(w.partition, V2(kWallX, 40.0), 5.0, 10.0, 2.0, anchor_map, exists));
+    // An unusable region is never an anchor.
+    const auto not_nearest = [&](long id) -> const hymm::ltr::AffineRegionMap* {
+        return id == nearest ? nullptr : &maps.at(id);
+    };
+    const auto f = fallbackPlace(w.partition, p, 5.0, 0.0, 2.0, not_nearest, none);
+    ASSERT_TRUE(f);
+    EXPECT_NE(f->anchor, nearest);
+}
+
+TEST(FallbackTilesTest, ReuseKeepsTheSameReturnsInFewerTiles)
+{
+    // A wall 3 m beyond the lattice's top edge (y = 18), scanned from along the lattice:
+    // its returns are nearest to one top-row region or another, and the 10 m tiles of
+    // neighbouring anchors cover the same stretch of wall.
+    WallWorld w;
+    auto o = fallbackOptions(5.0);
+    o.fallback_tile_m = 10.0;
+    HybridMetricMap nearest(o);
+    o.fallback_reuse_m = 5.0;
+    HybridMetricMap reuse(o);
+    constexpr double kTopWallY = 18.0;
+    size_t kept_nearest = 0, kept_reuse = 0;
+    for (double x = 3.0; x <= 17.0; x += 2.0)
+    {
+        const mrpt::math::TPose2D pose(x, 7.5, M_PI / 2);
+        ScanPoints scan;
+        for (int k = 0; k < kBeams; ++k)
+        {
+            const double th = -kHalfFov + 2 * kHalfFov * k / (kBeams - 1);
+            const double r = (kTopWallY - pose.y) / std::sin(pose.phi + th);
+            scan.points.emplace_back(r * std::cos(th), r * std::sin(th));
+        }
+        const auto a = nearest.insertScan(scan, pose, w.partition);
+        const auto b = reuse.insertScan(scan, pose, w.partition);
+        EXPECT_EQ(a.returns_outside, b.returns_outside);
+        EXPECT_EQ(a.returns_stored, b.returns_stored);
+        kept_nearest += a.returns_fallback;
+        kept_reuse += b.returns_fallback;
+    }
+    ASSERT_GT(kept_nearest, 0u);
+    EXPECT_EQ(kept_reuse, kept_nearest);
+    EXPECT_LT(reuse.fallbackTiles(), nearest.fallbackTiles());
+    // Every kept return is still where it was seen (the anchors' maps are exact here).
+    mrpt::maps::CSimplePointsMap fb;
+    reuse.renderPoints(w.partition, fb, HybridMetricMap::Content::Fallback);
+    ASSERT_GT(fb.size(), 0u);
+    for (const V2& q : pointsOf(fb)) EXPECT_NEAR(q.y(), kTopWallY, 1e-6);
+    RecordProperty("tiles_nearest", std::to_string(nearest.fallbackTiles()));
+    RecordProperty("tiles_reuse", std::to_string(reuse.fallbackTiles()));
 }
 
 }  // namespace

@@ -18,6 +18,12 @@
  * Storage: the anchor's reference plane is cut into square tiles of side `tile_m`, each
  * split along its diagonal into two triangles; each triangle holding a return is a
  * LocalDenseMap with every enabled layer (bounded grids, no unbounded extrapolated grid).
+ *
+ * Tiles of different anchors overlap where their anchors are near the same place, and
+ * every tile a beam crosses ray-casts its free space, so the cost of a scan grows with
+ * the anchors that keep tiles there. With a reuse distance (fallbackPlace) a return goes
+ * to a tile that already holds its position when that tile's anchor is at most the reuse
+ * distance farther than the nearest one: the tiles then cover a place about once.
  */
 #pragma once
 
@@ -70,5 +76,25 @@ std::optional<hymm::ltr::AffineRegionMap> usableReferenceToCurrent(const hymm::l
 std::optional<long> nearestRegion(
     const hymm::ltr::RegionPartition& partition, const Eigen::Vector2d& p, double max_distance_m,
     const std::function<bool(long)>& usable = {});
+
+/** Where fallbackPlace() keeps a return. */
+struct FallbackPlace
+{
+    long anchor = -1;
+    FallbackTileKey key;
+    Eigen::Vector2d p_ref;  //!< the return in the anchor's reference frame
+};
+
+/** The tile that keeps return `p`: among the regions whose current triangle is within
+ *  `max_distance_m` of p and whose map `anchor_map` gives (nullptr: unusable), the nearest
+ *  one's tile holding p; but when a region at most `reuse_m` farther than the nearest
+ *  already has a tile holding p (`tile_exists`), the nearest such region's tile (ties:
+ *  lowest id). reuse_m = 0: always the nearest region's tile. nullopt when no
+ *  usable region is near. Regions are found through the partition's lookup grid. */
+std::optional<FallbackPlace> fallbackPlace(
+    const hymm::ltr::RegionPartition& partition, const Eigen::Vector2d& p, double max_distance_m,
+    double reuse_m, double tile_m,
+    const std::function<const hymm::ltr::AffineRegionMap*(long)>& anchor_map,
+    const std::function<bool(const FallbackTileKey&)>& tile_exists);
 
 }  // namespace hymm::dense

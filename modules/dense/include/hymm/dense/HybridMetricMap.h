@@ -102,6 +102,11 @@ public:
          *  are only reported in InsertStats::unassigned). */
         double fallback_max_distance_m = 0.0;
         double fallback_tile_m = 10.0;  //!< [m] side of the fallback tiles (two triangles each)
+        /** [m] a return goes to an existing fallback tile holding it whose anchor is at
+         *  most this much farther than the nearest region (fallbackPlace(),
+         *  FallbackTiles.h): fewer overlapping tiles to ray-cast per scan; 0 = always the
+         *  nearest region's tile. */
+        double fallback_reuse_m = 0.0;
         bool enable_profiler = false;  //!< CTimeLogger "dense.*" sections
         OccupancyLayer::Options occupancy;
         PointsLayer::Options points;
