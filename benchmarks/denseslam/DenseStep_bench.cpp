@@ -59,7 +59,7 @@ using hymm::ltr::RegionPartition;
 using V2 = Eigen::Vector2d;
 
 constexpr double kSpacing = 8.0;
-constexpr double kReuse = 10.0;  // [m] fallback_reuse_m of modes 3
+constexpr double kReuse = 10.0;  // [m] fallback_reuse_m of mode 3
 constexpr int kLocalSide = 3;  // 9 landmarks, 8 regions around the vehicle
 constexpr size_t kLocalRegions = 8;
 const V2 kVehicle(4.5, 8.0);         // inside the local lattice, room inside its regions
@@ -245,11 +245,11 @@ void BM_DenseStep(benchmark::State& state)
 
 void denseArgs(benchmark::internal::Benchmark* b)
 {
-    for (int local : {0, 1, 2, 3})
+    for (int mode : {0, 1, 2, 3})
     {
-        for (int n : {100, 250, 500, 1000, 2000}) b->Args({n, 100, local});  // landmarks
-        for (int r : {10, 500, 1000, 2000}) b->Args({2000, r, local});       // regions
-        b->Args({100, 10, local});
+        for (int n : {100, 250, 500, 1000, 2000}) b->Args({n, 100, mode});  // landmarks
+        for (int r : {10, 500, 1000, 2000}) b->Args({2000, r, mode});       // regions
+        b->Args({100, 10, mode});
     }
 }
 BENCHMARK(BM_DenseStep)

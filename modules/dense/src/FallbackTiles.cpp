@@ -76,15 +76,11 @@ std::optional<FallbackPlace> fallbackPlace(
     double reuse_m, double tile_m, const std::function<const hymm::ltr::AffineRegionMap*(long)>& anchor_map,
     const std::function<bool(const FallbackTileKey&)>& tile_exists)
 {
-    std::vector<std::pair<double, long>> near;  // (distance, id) of the usable regions in reach
-    const Eigen::Vector2d r = Eigen::Vector2d::Constant(max_distance_m);
-    for (const long id : partition.regionsInBox(p - r, p + r))
-    {
-        const double d = distanceToTriangle(p, partition.region(id).current);
-        if (d <= max_distance_m && anchor_map(id)) near.emplace_back(d, id);
-    }
-    if (near.empty()) return std::nullopt;
-    std::sort(near.begin(), near.end());
+    // The nearest usable region, asking for a region's map only when it is nearer than the
+    // best so far (reuse_m = 0 does no more than this).
+    const auto usable = [&](long id) { return anchor_map(id) != nullptr; };
+    const auto nearest = nearestRegion(partition, p, max_distance_m, usable);
+    if (!nearest) return std::nullopt;
     const auto placeIn = [&](long id) {
         FallbackPlace f;
         f.anchor = id;
@@ -92,15 +88,26 @@ std::optional<FallbackPlace> fallbackPlace(
         f.key = fallbackTileOf(id, f.p_ref, tile_m);
         return f;
     };
-    if (!(reuse_m > 0)) return placeIn(near.front().second);
-    const double limit = near.front().first + reuse_m;
+    if (!(reuse_m > 0)) return placeIn(*nearest);
+    // Regions at most reuse_m farther than the nearest, by distance (ties: lowest id); the
+    // search box is that reach, not max_distance_m.
+    const double reach =
+        std::min(max_distance_m, distanceToTriangle(p, partition.region(*nearest).current) + reuse_m);
+    std::vector<std::pair<double, long>> near;
+    const Eigen::Vector2d r = Eigen::Vector2d::Constant(reach);
+    for (const long id : partition.regionsInBox(p - r, p + r))
+    {
+        const double d = distanceToTriangle(p, partition.region(id).current);
+        if (d <= reach) near.emplace_back(d, id);
+    }
+    std::sort(near.begin(), near.end());
     for (const auto& [d, id] : near)
     {
-        if (d > limit) break;
-        FallbackPlace f = placeIn(id);
+        if (!usable(id)) continue;
+        const FallbackPlace f = placeIn(id);
         if (tile_exists(f.key)) return f;
     }
-    return placeIn(near.front().second);
+    return placeIn(*nearest);
 }
 
 }  // namespace hymm::dense
