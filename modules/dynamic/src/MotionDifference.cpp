@@ -52,16 +52,52 @@ bool OccupancySnapshot::sameGeometry(const OccupancySnapshot& o) const
            (origin - o.origin).norm() < 1e-9;
 }
 
-Difference differenceOccupancy(
-    const OccupancySnapshot& then, const OccupancySnapshot& now, double sigma_cells, double threshold)
+Difference differenceOccupancy(const OccupancySnapshot& then, const OccupancySnapshot& now, double sigma_cells,
+                               double threshold, int min_cluster_cells)
 {
     Difference d;
-    differenceOccupancy(then, now, sigma_cells, threshold, d);
+    differenceOccupancy(then, now, sigma_cells, threshold, d, min_cluster_cells);
     return d;
 }
 
+void removeSmallClusters(Difference& d, int min_cells)
+{
+    if (min_cells <= 1) return;
+    // Flood fill over the 8 neighbours; cells of a cluster being grown or kept hold 2,
+    // so each cell is visited once. The stack is the reused scratch vector.
+    constexpr std::uint8_t kSeen = 2;
+    auto& stack = d.cluster_scratch;
+    const size_t n = d.mask.size();
+    for (size_t seed = 0; seed < n; ++seed)
+    {
+        if (d.mask[seed] != 1) continue;
+        stack.clear();
+        stack.push_back(seed);
+        d.mask[seed] = kSeen;
+        for (size_t head = 0; head < stack.size(); ++head)
+        {
+            const int x = static_cast<int>(stack[head] % static_cast<size_t>(d.nx));
+            const int y = static_cast<int>(stack[head] / static_cast<size_t>(d.nx));
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx)
+                {
+                    const int u = x + dx, v = y + dy;
+                    if (u < 0 || v < 0 || u >= d.nx || v >= d.ny) continue;
+                    const size_t k = static_cast<size_t>(v) * static_cast<size_t>(d.nx) + static_cast<size_t>(u);
+                    if (d.mask[k] != 1) continue;
+                    d.mask[k] = kSeen;
+                    stack.push_back(k);
+                }
+        }
+        if (stack.size() < static_cast<size_t>(min_cells))
+            for (const size_t k : stack) d.mask[k] = 0;
+    }
+    for (auto& m : d.mask)
+        if (m == kSeen) m = 1;
+}
+
 void differenceOccupancy(const OccupancySnapshot& then, const OccupancySnapshot& now, double sigma_cells,
-                         double threshold, Difference& d)
+                         double threshold, Difference& d, int min_cluster_cells)
 {
     if (!then.sameGeometry(now))
         throw std::invalid_argument("differenceOccupancy: snapshots on different grids");
@@ -91,6 +127,7 @@ void differenceOccupancy(const OccupancySnapshot& then, const OccupancySnapshot&
     d.mask.assign(n, 0);
     for (size_t k = 0; k < n; ++k)
         if (now.inside[k] && d.filtered[k] > threshold) d.mask[k] = 1;
+    removeSmallClusters(d, min_cluster_cells);
 }
 
 }  // namespace hymm::dynamic

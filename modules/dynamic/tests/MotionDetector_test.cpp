@@ -129,6 +129,42 @@ TEST(MotionDifference, LowPassRemovesThinLinesKeepsBlobsIgnoresNewlySeen)
     EXPECT_THROW(hymm::dynamic::differenceOccupancy(then, other, 0.0, 0.5), std::invalid_argument);
 }
 
+// A static outline whose cells flip alone (pose and laser noise at 0.2 m cells) against a
+// moved object's outline: the cluster filter drops the isolated cells and keeps the
+// object's, whatever the shape of its cluster (a line, an L, a diagonal run of cells).
+TEST(MotionDifference, SmallClustersAreDroppedLargerOnesKeptWhole)
+{
+    const int n = 30;
+    auto then = blank(n, 0.03f), now = blank(n, 0.03f);
+    auto at = [&](auto& s, int x, int y) -> float& { return s.p[static_cast<size_t>(y * n + x)]; };
+    at(now, 2, 2) = 0.97f;                                   // one cell
+    at(now, 10, 2) = at(now, 11, 3) = 0.97f;                 // two cells, touching corners
+    for (int k = 0; k < 3; ++k) at(now, 20 + k, 20 + k) = 0.97f;  // a diagonal run of 3
+    for (int y = 10; y < 16; ++y) at(then, 5, y) = 0.97f;    // an L of 10 cells leaves
+    for (int x = 6; x < 10; ++x) at(then, x, 15) = 0.97f;
+    auto m = [&](const hymm::dynamic::Difference& d, int x, int y) {
+        return d.mask[static_cast<size_t>(y * n + x)] != 0;
+    };
+    const auto all = hymm::dynamic::differenceOccupancy(then, now, 0.0, 0.5);
+    EXPECT_EQ(all.marked(), 1u + 2u + 3u + 10u);
+    const auto c2 = hymm::dynamic::differenceOccupancy(then, now, 0.0, 0.5, 2);
+    EXPECT_FALSE(m(c2, 2, 2));
+    EXPECT_TRUE(m(c2, 10, 2) && m(c2, 11, 3));  // 8-connected: one cluster of 2
+    EXPECT_EQ(c2.marked(), 2u + 3u + 10u);
+    const auto c3 = hymm::dynamic::differenceOccupancy(then, now, 0.0, 0.5, 3);
+    EXPECT_EQ(c3.marked(), 3u + 10u);
+    EXPECT_TRUE(m(c3, 21, 21) && m(c3, 5, 10) && m(c3, 9, 15));
+    const auto c11 = hymm::dynamic::differenceOccupancy(then, now, 0.0, 0.5, 11);
+    EXPECT_EQ(c11.marked(), 0u);
+    // Only the mask changes; the difference images are those of the unfiltered call.
+    EXPECT_EQ(c3.raw, all.raw);
+    EXPECT_EQ(c3.filtered, all.filtered);
+    // The filter applied to a mask twice gives the same mask (it leaves only 0 and 1).
+    auto again = c3;
+    hymm::dynamic::removeSmallClusters(again, 3);
+    EXPECT_EQ(again.mask, c3.mask);
+}
+
 /** A box 1 x 1 m moving north along x in [9, 10] at 1.3 m/s in front of a wall. */
 struct FastScene
 {
@@ -395,14 +431,20 @@ TEST(MotionDetectorOptions, ReadsValidatesAndRejectsUnknownKeys)
     EXPECT_THROW(o.loadFromConfigFile(typo, "MotionDetector"), std::invalid_argument);
     mrpt::config::CConfigFileMemory bad("[MotionDetector]\nthreshold = 1.5\n");
     EXPECT_THROW(o.loadFromConfigFile(bad, "MotionDetector"), std::invalid_argument);
+    mrpt::config::CConfigFileMemory no_cluster("[MotionDetector]\nslow_min_cluster_cells = 0\n");
+    EXPECT_THROW(o.loadFromConfigFile(no_cluster, "MotionDetector"), std::invalid_argument);
     // Round trip.
     mrpt::config::CConfigFileMemory out;
     o = MotionDetector::Options{};
     o.slow_period_s = 42;
+    o.slow_min_cluster_cells = 4;
+    o.fast_min_cluster_cells = 2;
     o.saveToConfigFile(out, "MotionDetector");
     MotionDetector::Options back;
     back.loadFromConfigFile(out, "MotionDetector");
     EXPECT_DOUBLE_EQ(back.slow_period_s, 42.0);
+    EXPECT_EQ(back.slow_min_cluster_cells, 4);
+    EXPECT_EQ(back.fast_min_cluster_cells, 2);
 }
 
 }  // namespace

@@ -16,6 +16,7 @@
  *   D = |P_now - P_then|                   per cell, P = P(occupied) of the occupancy layer
  *   D' = G_sigma * D                       Gaussian low-pass (optional; Fig. 6.9 d)
  *   M = D' > threshold                     (thesis: 0.5)
+ *   M without its 8-connected clusters of fewer than min_cluster_cells cells
  *   layer |= M
  * The absolute difference is filtered (a moved object leaves +1 and -1 side by side,
  * which a signed low-pass would cancel). A cell first observed between the two
@@ -73,7 +74,8 @@ struct Difference
     int nx = 0, ny = 0;
     std::vector<float> raw;       //!< |P_now - P_then| (0 outside the triangle)
     std::vector<float> filtered;  //!< after the low-pass (== raw without it)
-    std::vector<std::uint8_t> mask;  //!< filtered > threshold
+    std::vector<std::uint8_t> mask;  //!< filtered > threshold, small clusters removed
+    std::vector<size_t> cluster_scratch;  //!< reused by the cluster filter (not state)
     size_t marked() const;
 };
 
@@ -97,13 +99,17 @@ struct OccupancySnapshot
 };
 
 /** D, G * D and the threshold mask between two snapshots of the same geometry
- *  (throws std::invalid_argument otherwise). `sigma_cells` <= 0: no low-pass. */
+ *  (throws std::invalid_argument otherwise). `sigma_cells` <= 0: no low-pass;
+ *  `min_cluster_cells` <= 1: every cell above the threshold is kept. */
 Difference differenceOccupancy(
     const OccupancySnapshot& then, const OccupancySnapshot& now, double sigma_cells,
-    double threshold);
+    double threshold, int min_cluster_cells = 1);
 /** The same, into `out`'s storage (no allocation once it has the size). */
 void differenceOccupancy(const OccupancySnapshot& then, const OccupancySnapshot& now,
-                         double sigma_cells, double threshold, Difference& out);
+                         double sigma_cells, double threshold, Difference& out,
+                         int min_cluster_cells = 1);
+/** Clears the 8-connected clusters of `d.mask` with fewer than `min_cells` cells. */
+void removeSmallClusters(Difference& d, int min_cells);
 
 class MotionDetector
 {
@@ -118,6 +124,13 @@ public:
         double threshold = 0.5;           //!< on the filtered |dP| (thesis: 0.5)
         bool lowpass = true;              //!< Gaussian low-pass before the threshold
         double lowpass_sigma_m = 0.1;     //!< [m] its standard deviation
+        /** Marked cells in 8-connected clusters smaller than these are dropped (1 = keep
+         *  all, the thesis). Over the 150 s of a slow differencing a cell of a static
+         *  outline flips alone now and then (pose and laser noise at 0.2 m cells) and the
+         *  0.1 m low-pass does not smooth one cell below the threshold; a moved object
+         *  changes a run of cells along its outline (docs/results.md, "False flags"). */
+        int slow_min_cluster_cells = 2;
+        int fast_min_cluster_cells = 1;
         /** Slow differencings per call at most (the rest wait for the next calls). */
         int slow_max_regions_per_call = 4;
 
@@ -218,7 +231,7 @@ private:
      *  `layer`, replaces the snapshot. Returns cells marked. */
     size_t differenceRegion(long id, const dense::OccupancyLayer& occ,
                             std::optional<OccupancySnapshot>& ref, MotionLayer& layer, double t,
-                            LastDifference& last, StepReport& rep);
+                            LastDifference& last, StepReport& rep, int min_cluster_cells);
     /** The storage of a removed region's snapshot, for the next region's first one: a
      *  region that comes into view after another was removed allocates nothing. */
     OccupancySnapshot spareSnapshot();
