@@ -62,38 +62,19 @@ Difference differenceOccupancy(const OccupancySnapshot& then, const OccupancySna
 
 void removeSmallClusters(Difference& d, int min_cells)
 {
-    if (min_cells <= 1) return;
-    // Flood fill over the 8 neighbours; cells of a cluster being grown or kept hold 2,
-    // so each cell is visited once. The stack is the reused scratch vector.
-    constexpr std::uint8_t kSeen = 2;
-    auto& stack = d.cluster_scratch;
-    const size_t n = d.mask.size();
-    for (size_t seed = 0; seed < n; ++seed)
-    {
-        if (d.mask[seed] != 1) continue;
-        stack.clear();
-        stack.push_back(seed);
-        d.mask[seed] = kSeen;
-        for (size_t head = 0; head < stack.size(); ++head)
-        {
-            const int x = static_cast<int>(stack[head] % static_cast<size_t>(d.nx));
-            const int y = static_cast<int>(stack[head] / static_cast<size_t>(d.nx));
-            for (int dy = -1; dy <= 1; ++dy)
-                for (int dx = -1; dx <= 1; ++dx)
-                {
-                    const int u = x + dx, v = y + dy;
-                    if (u < 0 || v < 0 || u >= d.nx || v >= d.ny) continue;
-                    const size_t k = static_cast<size_t>(v) * static_cast<size_t>(d.nx) + static_cast<size_t>(u);
-                    if (d.mask[k] != 1) continue;
-                    d.mask[k] = kSeen;
-                    stack.push_back(k);
-                }
-        }
-        if (stack.size() < static_cast<size_t>(min_cells))
-            for (const size_t k : stack) d.mask[k] = 0;
-    }
-    for (auto& m : d.mask)
-        if (m == kSeen) m = 1;
+    if (min_cells <= 1 || d.mask.empty()) return;
+    // OpenCV labels the 8-connected clusters into the reused label storage (a header on
+    // it: connectedComponents keeps a destination of the right size and type).
+    d.cluster_labels.resize(d.mask.size());
+    const cv::Mat mask(d.ny, d.nx, CV_8U, d.mask.data());
+    cv::Mat labels(d.ny, d.nx, CV_32S, d.cluster_labels.data());
+    const int n = cv::connectedComponents(mask, labels, 8, CV_32S);
+    if (labels.ptr<int>(0) != d.cluster_labels.data())
+        throw std::logic_error("removeSmallClusters: the labelling reallocated its output");
+    d.cluster_sizes.assign(static_cast<size_t>(n), 0);
+    for (const int l : d.cluster_labels) ++d.cluster_sizes[static_cast<size_t>(l)];
+    for (size_t k = 0; k < d.mask.size(); ++k)
+        if (d.mask[k] && d.cluster_sizes[static_cast<size_t>(d.cluster_labels[k])] < min_cells) d.mask[k] = 0;
 }
 
 void differenceOccupancy(const OccupancySnapshot& then, const OccupancySnapshot& now, double sigma_cells,

@@ -352,6 +352,61 @@ TEST(MotionDetector, SlowMotionFindsARemovedObjectAmortised)
     EXPECT_GT(changed, 0u);
 }
 
+/** Slow cells marked after a 3 x 3 m container leaves (the scene of the test above). */
+size_t slowCellsAfterARemoval(MotionDetector::Options o)
+{
+    WallWorld w;
+    HybridMetricMap map(mapOptions());
+    mrpt::random::CRandomGenerator rng(3);
+    o.slow_period_s = 20.0;
+    MotionDetector det(o);
+    const auto view = inView(w.partition);
+    double t = 0;
+    for (const std::vector<Box>& boxes : {std::vector<Box>{{{8.0, 6.0}, {11.0, 9.0}}}, std::vector<Box>{}})
+    {
+        for (int k = 0; k < 30; ++k, t += 0.1)
+        {
+            map.insertScan(scanOf(boxes, 0.05, rng), kSensorPose, w.partition);
+            det.step(map, view, t);
+        }
+        for (const double until = t + 30.0; t < until; t += 0.1) det.step(map, {}, t);
+    }
+    return det.markedCells(MotionKind::Slow);
+}
+
+// Each layer's cluster minimum acts on that layer alone.
+TEST(MotionDetector, ClusterMinimumsActOnTheirOwnLayer)
+{
+    const auto fastCells = [](const MotionDetector::Options& o) {
+        FastScene sc;
+        MotionDetector det(o);
+        sc.run(det);
+        return det.markedCells(MotionKind::Fast);
+    };
+    MotionDetector::Options fast_only;
+    fast_only.enable_slow = false;
+    const size_t fast = fastCells(fast_only);
+    EXPECT_GT(fast, 0u);
+    auto o = fast_only;
+    o.slow_min_cluster_cells = 1000000;
+    EXPECT_EQ(fastCells(o), fast);
+    o = fast_only;
+    o.fast_min_cluster_cells = 1000000;
+    EXPECT_EQ(fastCells(o), 0u);
+
+    MotionDetector::Options slow_only;
+    slow_only.enable_fast = false;
+    const size_t slow = slowCellsAfterARemoval(slow_only);
+    EXPECT_GT(slow, 0u);
+    o = slow_only;
+    o.enable_fast = true;
+    o.fast_min_cluster_cells = 1000000;
+    EXPECT_EQ(slowCellsAfterARemoval(o), slow);
+    o = slow_only;
+    o.slow_min_cluster_cells = 1000000;
+    EXPECT_EQ(slowCellsAfterARemoval(o), 0u);
+}
+
 TEST(MotionDetector, LayersMoveWithTheLandmarks)
 {
     FastScene sc;

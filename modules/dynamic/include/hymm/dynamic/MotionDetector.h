@@ -75,7 +75,8 @@ struct Difference
     std::vector<float> raw;       //!< |P_now - P_then| (0 outside the triangle)
     std::vector<float> filtered;  //!< after the low-pass (== raw without it)
     std::vector<std::uint8_t> mask;  //!< filtered > threshold, small clusters removed
-    std::vector<size_t> cluster_scratch;  //!< reused by the cluster filter (not state)
+    /** Reused by the cluster filter (not state): a label per cell, cells per label. */
+    std::vector<int> cluster_labels, cluster_sizes;
     size_t marked() const;
 };
 
