@@ -27,6 +27,10 @@ hymm::core::OptionTable MotionDetector::Options::table()
               "slow layer: marked cells in 8-connected clusters of fewer cells are dropped (1: keep all)");
     t.integer("fast_min_cluster_cells", fast_min_cluster_cells, "", 1, 1000000,
               "fast layer: the same (1: keep all)");
+    t.integer("slow_shift_tolerance_cells", slow_shift_tolerance_cells, "", 0, 100,
+              "slow layer: a change within this many cells of an occupied cell of the other snapshot is an edge that moved (0: off)");
+    t.integer("fast_shift_tolerance_cells", fast_shift_tolerance_cells, "", 0, 100,
+              "fast layer: the same (0: off)");
     t.integer("slow_max_regions_per_call", slow_max_regions_per_call, "", 1, 1000000,
               "slow differencings per call at most (the rest wait for the next calls)");
     return t;
@@ -83,7 +87,7 @@ void MotionDetector::keepSpare(RegionState& st)
 size_t MotionDetector::differenceRegion(long id, const dense::OccupancyLayer& occ,
                                         std::optional<OccupancySnapshot>& ref, MotionLayer& layer,
                                         double t, LastDifference& last, StepReport& rep,
-                                        int min_cluster_cells)
+                                        int min_cluster_cells, int shift_tolerance_cells)
 {
     // The snapshot and difference are built in reused storage and swapped in: no
     // allocation per differencing once the scratch buffers have the grid's size.
@@ -98,7 +102,8 @@ size_t MotionDetector::differenceRegion(long id, const dense::OccupancyLayer& oc
         return 0;
     }
     Difference& d = scratch_diff_;
-    differenceOccupancy(*ref, now, sigmaCells(now.cell_size), options_.threshold, d, min_cluster_cells);
+    differenceOccupancy(*ref, now, sigmaCells(now.cell_size), options_.threshold, d, min_cluster_cells,
+                        shift_tolerance_cells);
     const size_t marked = d.marked();
     layer.orMask(now.origin, now.cell_size, now.nx, now.ny, d.mask);
     if (marked > 0)
@@ -149,7 +154,8 @@ MotionDetector::StepReport MotionDetector::step(
         else if (t - st.fast_ref->t >= options_.fast_period_s - 1e-9)
         {
             rep.fast_cells_marked += differenceRegion(id, *occ, st.fast_ref, st.fast, t, last_fast_, rep,
-                                                      options_.fast_min_cluster_cells);
+                                                      options_.fast_min_cluster_cells,
+                                                      options_.fast_shift_tolerance_cells);
             ++rep.fast_differenced;
         }
     }
@@ -185,7 +191,7 @@ void MotionDetector::stepSlow(const dense::HybridMetricMap& map, std::uint64_t c
         if (it == regions_.end() || !occ || !it->second.slow_ref) continue;  // region gone
         rep.slow_cells_marked +=
             differenceRegion(id, *occ, it->second.slow_ref, it->second.slow, t, last_slow_, rep,
-                             options_.slow_min_cluster_cells);
+                             options_.slow_min_cluster_cells, options_.slow_shift_tolerance_cells);
         ++rep.slow_differenced;
         ++done;
         slow_due_.emplace(t + options_.slow_period_s, id);

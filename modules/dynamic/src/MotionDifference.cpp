@@ -53,10 +53,10 @@ bool OccupancySnapshot::sameGeometry(const OccupancySnapshot& o) const
 }
 
 Difference differenceOccupancy(const OccupancySnapshot& then, const OccupancySnapshot& now, double sigma_cells,
-                               double threshold, int min_cluster_cells)
+                               double threshold, int min_cluster_cells, int shift_tolerance_cells)
 {
     Difference d;
-    differenceOccupancy(then, now, sigma_cells, threshold, d, min_cluster_cells);
+    differenceOccupancy(then, now, sigma_cells, threshold, d, min_cluster_cells, shift_tolerance_cells);
     return d;
 }
 
@@ -77,8 +77,37 @@ void removeSmallClusters(Difference& d, int min_cells)
         if (d.mask[k] && d.cluster_sizes[static_cast<size_t>(d.cluster_labels[k])] < min_cells) d.mask[k] = 0;
 }
 
+namespace
+{
+/** out = the cells of `s` inside the region with P > 0.5, dilated by `cells` (a square
+ *  of side 2 cells + 1: OpenCV's default 3x3 element applied `cells` times). */
+void occupiedNear(const OccupancySnapshot& s, int cells, std::vector<std::uint8_t>& out)
+{
+    const size_t n = s.p.size();
+    out.resize(n);
+    for (size_t k = 0; k < n; ++k) out[k] = s.inside[k] && s.p[k] > 0.5f ? 1 : 0;
+    cv::Mat m(s.ny, s.nx, CV_8U, out.data());
+    cv::dilate(m, m, cv::Mat(), cv::Point(-1, -1), cells, cv::BORDER_CONSTANT, cv::Scalar(0));
+    if (n > 0 && m.ptr<std::uint8_t>(0) != out.data())
+        throw std::logic_error("suppressEdgeShifts: the dilation reallocated its output");
+}
+}  // namespace
+
+void suppressEdgeShifts(const OccupancySnapshot& then, const OccupancySnapshot& now, int cells, Difference& d)
+{
+    if (cells <= 0 || d.raw.empty()) return;
+    occupiedNear(then, cells, d.near_then);
+    occupiedNear(now, cells, d.near_now);
+    for (size_t k = 0; k < d.raw.size(); ++k)
+    {
+        if (d.raw[k] == 0.0f) continue;
+        const bool appeared = now.p[k] > then.p[k];
+        if (appeared ? d.near_then[k] : d.near_now[k]) d.raw[k] = 0.0f;
+    }
+}
+
 void differenceOccupancy(const OccupancySnapshot& then, const OccupancySnapshot& now, double sigma_cells,
-                         double threshold, Difference& d, int min_cluster_cells)
+                         double threshold, Difference& d, int min_cluster_cells, int shift_tolerance_cells)
 {
     if (!then.sameGeometry(now))
         throw std::invalid_argument("differenceOccupancy: snapshots on different grids");
@@ -88,6 +117,7 @@ void differenceOccupancy(const OccupancySnapshot& then, const OccupancySnapshot&
     d.raw.assign(n, 0.0f);
     for (size_t k = 0; k < n; ++k)
         if (now.inside[k] && then.inside[k]) d.raw[k] = std::abs(now.p[k] - then.p[k]);
+    suppressEdgeShifts(then, now, shift_tolerance_cells, d);
     if (sigma_cells > 0)
     {
         // Gaussian low-pass (Sec. 6.3.3, Fig. 6.9 d); kernel to +-3 sigma. Cells outside

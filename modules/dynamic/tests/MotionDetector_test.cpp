@@ -165,6 +165,53 @@ TEST(MotionDifference, SmallClustersAreDroppedLargerOnesKeptWhole)
     EXPECT_EQ(again.mask, c3.mask);
 }
 
+// A wall whose edge moved by one cell between the snapshots (its returns now land a cell
+// further out), a box that left and a box that arrived: with a tolerance of one cell the
+// wall's change is no motion, both boxes are, whole. A wall that moved by two cells is
+// motion for a one-cell tolerance and not for a two-cell one.
+TEST(MotionDifference, EdgesThatMovedWithinTheToleranceAreNotMotion)
+{
+    const int n = 40;
+    auto then = blank(n, 0.03f), now = blank(n, 0.03f);
+    auto at = [&](auto& s, int x, int y) -> float& { return s.p[static_cast<size_t>(y * n + x)]; };
+    for (int y = 2; y < 30; ++y)
+    {
+        at(then, 3, y) = 0.95f;  // wall A: x = 3 -> 4
+        at(now, 4, y) = 0.95f;
+        at(then, 30, y) = 0.95f;  // wall B: x = 30 -> 32
+        at(now, 32, y) = 0.95f;
+    }
+    for (int y = 5; y < 9; ++y)
+        for (int x = 10; x < 14; ++x)
+        {
+            at(then, x, y) = 0.9f;       // box that left
+            at(now, x, y + 15) = 0.9f;   // box that arrived
+        }
+    const auto m = [&](const hymm::dynamic::Difference& d, int x, int y) {
+        return d.mask[static_cast<size_t>(y * n + x)] != 0;
+    };
+    const auto off = hymm::dynamic::differenceOccupancy(then, now, 0.0, 0.5, 1, 0);
+    EXPECT_EQ(off.marked(), 4u * 28u + 2u * 16u);  // both walls' old and new cells, both boxes
+    const auto t1 = hymm::dynamic::differenceOccupancy(then, now, 0.0, 0.5, 1, 1);
+    for (int y = 2; y < 30; ++y)
+    {
+        EXPECT_FALSE(m(t1, 3, y) || m(t1, 4, y)) << y;  // wall A moved one cell
+        EXPECT_TRUE(m(t1, 30, y) && m(t1, 32, y)) << y;  // wall B two
+    }
+    for (int y = 5; y < 9; ++y)
+        for (int x = 10; x < 14; ++x) EXPECT_TRUE(m(t1, x, y) && m(t1, x, y + 15)) << x << ' ' << y;
+    EXPECT_EQ(t1.marked(), 2u * 28u + 2u * 16u);
+    const auto t2 = hymm::dynamic::differenceOccupancy(then, now, 0.0, 0.5, 1, 2);
+    EXPECT_EQ(t2.marked(), 2u * 16u);
+    // The tolerance acts on the difference, so the low-pass sees no trace of wall A.
+    const auto t1f = hymm::dynamic::differenceOccupancy(then, now, 1.0, 0.5, 1, 1);
+    for (int y = 2; y < 30; ++y) EXPECT_EQ(t1f.filtered[static_cast<size_t>(y * n + 3)], 0.0f) << y;
+    // Cells outside the region are neither evidence of an edge nor of motion.
+    auto then_out = then;
+    for (int y = 2; y < 30; ++y) then_out.inside[static_cast<size_t>(y * n + 3)] = 0;
+    EXPECT_GT(hymm::dynamic::differenceOccupancy(then_out, now, 0.0, 0.5, 1, 1).marked(), t1.marked());
+}
+
 /** A box 1 x 1 m moving north along x in [9, 10] at 1.3 m/s in front of a wall. */
 struct FastScene
 {

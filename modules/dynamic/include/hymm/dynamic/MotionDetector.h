@@ -14,6 +14,9 @@
  *
  * One differencing of a region (differenceOccupancy):
  *   D = |P_now - P_then|                   per cell, P = P(occupied) of the occupancy layer
+ *   D = 0 where an edge moved by at most shift_tolerance_cells (optional, not in the
+ *         thesis): a cell that became occupied within that distance of an occupied cell
+ *         of the earlier snapshot, or was vacated within it of one of the later snapshot
  *   D' = G_sigma * D                       Gaussian low-pass (optional; Fig. 6.9 d)
  *   M = D' > threshold                     (thesis: 0.5)
  *   M without its 8-connected clusters of fewer than min_cluster_cells cells
@@ -72,11 +75,14 @@ const char* motionKindName(MotionKind k);
 struct Difference
 {
     int nx = 0, ny = 0;
-    std::vector<float> raw;       //!< |P_now - P_then| (0 outside the triangle)
+    std::vector<float> raw;       //!< |P_now - P_then| (0 outside the triangle and at moved edges)
     std::vector<float> filtered;  //!< after the low-pass (== raw without it)
     std::vector<std::uint8_t> mask;  //!< filtered > threshold, small clusters removed
     /** Reused by the cluster filter (not state): a label per cell, cells per label. */
     std::vector<int> cluster_labels, cluster_sizes;
+    /** Reused by the shift tolerance (not state): occupied cells of each snapshot,
+     *  dilated by the tolerance. */
+    std::vector<std::uint8_t> near_then, near_now;
     size_t marked() const;
 };
 
@@ -104,11 +110,15 @@ struct OccupancySnapshot
  *  `min_cluster_cells` <= 1: every cell above the threshold is kept. */
 Difference differenceOccupancy(
     const OccupancySnapshot& then, const OccupancySnapshot& now, double sigma_cells,
-    double threshold, int min_cluster_cells = 1);
+    double threshold, int min_cluster_cells = 1, int shift_tolerance_cells = 0);
 /** The same, into `out`'s storage (no allocation once it has the size). */
 void differenceOccupancy(const OccupancySnapshot& then, const OccupancySnapshot& now,
                          double sigma_cells, double threshold, Difference& out,
-                         int min_cluster_cells = 1);
+                         int min_cluster_cells = 1, int shift_tolerance_cells = 0);
+/** Sets d.raw to 0 where the change is explained by an edge that moved by at most
+ *  `cells` (Chebyshev distance): became occupied (P > 0.5) near an occupied cell of
+ *  `then`, or became free near an occupied cell of `now`. */
+void suppressEdgeShifts(const OccupancySnapshot& then, const OccupancySnapshot& now, int cells, Difference& d);
 /** Clears the 8-connected clusters of `d.mask` with fewer than `min_cells` cells. */
 void removeSmallClusters(Difference& d, int min_cells);
 
@@ -132,6 +142,13 @@ public:
          *  changes a run of cells along its outline (docs/results.md, "False flags"). */
         int slow_min_cluster_cells = 2;
         int fast_min_cluster_cells = 1;
+        /** A change within this many cells of an occupied cell of the other snapshot is
+         *  taken for an edge that moved, not for motion (0 = off, the thesis). Over 150 s
+         *  the returns of a static outline move by a cell with the pose and laser noise;
+         *  a removed or added object has no occupied cell near it in the other snapshot
+         *  (docs/results.md, "Edges that moved"). */
+        int slow_shift_tolerance_cells = 1;
+        int fast_shift_tolerance_cells = 0;
         /** Slow differencings per call at most (the rest wait for the next calls). */
         int slow_max_regions_per_call = 4;
 
@@ -232,7 +249,8 @@ private:
      *  `layer`, replaces the snapshot. Returns cells marked. */
     size_t differenceRegion(long id, const dense::OccupancyLayer& occ,
                             std::optional<OccupancySnapshot>& ref, MotionLayer& layer, double t,
-                            LastDifference& last, StepReport& rep, int min_cluster_cells);
+                            LastDifference& last, StepReport& rep, int min_cluster_cells,
+                            int shift_tolerance_cells);
     /** The storage of a removed region's snapshot, for the next region's first one: a
      *  region that comes into view after another was removed allocates nothing. */
     OccupancySnapshot spareSnapshot();
