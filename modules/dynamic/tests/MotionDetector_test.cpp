@@ -13,6 +13,7 @@
 #include <limits>
 #include <optional>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 namespace
@@ -399,8 +400,9 @@ TEST(MotionDetector, SlowMotionFindsARemovedObjectAmortised)
     EXPECT_GT(changed, 0u);
 }
 
-/** Slow cells marked after a 3 x 3 m container leaves (the scene of the test above). */
-size_t slowCellsAfterARemoval(MotionDetector::Options o)
+/** Slow cells marked after a 3 x 3 m container leaves (the scene of the test above), or
+ *  is replaced by the boxes `after`. */
+size_t slowCellsAfterARemoval(MotionDetector::Options o, const std::vector<Box>& after = {})
 {
     WallWorld w;
     HybridMetricMap map(mapOptions());
@@ -409,7 +411,7 @@ size_t slowCellsAfterARemoval(MotionDetector::Options o)
     MotionDetector det(o);
     const auto view = inView(w.partition);
     double t = 0;
-    for (const std::vector<Box>& boxes : {std::vector<Box>{{{8.0, 6.0}, {11.0, 9.0}}}, std::vector<Box>{}})
+    for (const std::vector<Box>& boxes : {std::vector<Box>{{{8.0, 6.0}, {11.0, 9.0}}}, after})
     {
         for (int k = 0; k < 30; ++k, t += 0.1)
         {
@@ -421,8 +423,11 @@ size_t slowCellsAfterARemoval(MotionDetector::Options o)
     return det.markedCells(MotionKind::Slow);
 }
 
-// Each layer's cluster minimum acts on that layer alone.
-TEST(MotionDetector, ClusterMinimumsActOnTheirOwnLayer)
+// Each layer's cluster minimum and edge tolerance reach that layer alone: set huge on one
+// layer, they take marks from it (the cluster minimum all of them; the tolerance those
+// with an occupied cell of the same region in the other snapshot) and leave the other
+// layer unchanged.
+TEST(MotionDetector, ClusterMinimumsAndEdgeTolerancesActOnTheirOwnLayer)
 {
     const auto fastCells = [](const MotionDetector::Options& o) {
         FastScene sc;
@@ -434,24 +439,38 @@ TEST(MotionDetector, ClusterMinimumsActOnTheirOwnLayer)
     fast_only.enable_slow = false;
     const size_t fast = fastCells(fast_only);
     EXPECT_GT(fast, 0u);
-    auto o = fast_only;
-    o.slow_min_cluster_cells = 1000000;
-    EXPECT_EQ(fastCells(o), fast);
-    o = fast_only;
-    o.fast_min_cluster_cells = 1000000;
-    EXPECT_EQ(fastCells(o), 0u);
-
     MotionDetector::Options slow_only;
     slow_only.enable_fast = false;
-    const size_t slow = slowCellsAfterARemoval(slow_only);
-    EXPECT_GT(slow, 0u);
-    o = slow_only;
-    o.enable_fast = true;
-    o.fast_min_cluster_cells = 1000000;
-    EXPECT_EQ(slowCellsAfterARemoval(o), slow);
-    o = slow_only;
-    o.slow_min_cluster_cells = 1000000;
-    EXPECT_EQ(slowCellsAfterARemoval(o), 0u);
+    using Setter = void (*)(MotionDetector::Options&);
+    struct Knob
+    {
+        Setter on_fast, on_slow;
+        std::vector<Box> after;  // the slow scene: the container leaves, or moves 0.6 m
+    };
+    const Knob knobs[] = {
+        {[](MotionDetector::Options& o) { o.fast_min_cluster_cells = 1000000; },
+         [](MotionDetector::Options& o) { o.slow_min_cluster_cells = 1000000; }, {}},
+        {[](MotionDetector::Options& o) { o.fast_shift_tolerance_cells = 100; },
+         [](MotionDetector::Options& o) { o.slow_shift_tolerance_cells = 100; }, {{{8.6, 6.0}, {11.6, 9.0}}}},
+    };
+    for (const Knob& k : knobs)
+    {
+        auto o = fast_only;
+        k.on_slow(o);
+        EXPECT_EQ(fastCells(o), fast);
+        o = fast_only;
+        k.on_fast(o);
+        EXPECT_LT(fastCells(o), fast);
+        const size_t slow = slowCellsAfterARemoval(slow_only, k.after);
+        EXPECT_GT(slow, 0u);
+        o = slow_only;
+        o.enable_fast = true;
+        k.on_fast(o);
+        EXPECT_EQ(slowCellsAfterARemoval(o, k.after), slow);
+        o = slow_only;
+        k.on_slow(o);
+        EXPECT_LT(slowCellsAfterARemoval(o, k.after), slow);
+    }
 }
 
 TEST(MotionDetector, LayersMoveWithTheLandmarks)
