@@ -105,7 +105,8 @@ void PointsLayer::saveState(mrpt::serialization::CArchive& out) const
     std::sort(voxels.begin(), voxels.end());  // a set: its hash order is not its content
     writeSize(out, voxels.size());
     for (std::int64_t v : voxels) out << v;
-    out << static_cast<std::uint64_t>(offered_) << rng_;
+    out << static_cast<std::uint64_t>(offered_) << rng_ << static_cast<std::uint64_t>(area_limit_)
+        << static_cast<std::uint64_t>(next_area_check_);
 }
 void PointsLayer::loadState(mrpt::serialization::CArchive& in)
 {
@@ -127,6 +128,8 @@ void PointsLayer::loadState(mrpt::serialization::CArchive& in)
     }
     offered_ = readU64(in);
     in >> rng_;
+    area_limit_ = readU64(in);
+    next_area_check_ = readU64(in);
 }
 
 void ParticlesLayer::saveState(mrpt::serialization::CArchive& out) const

@@ -5,6 +5,7 @@
 #include <hymm/core/config_utils.h>
 #include <hymm/dense/geometry.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <random>
@@ -43,8 +44,12 @@ hymm::core::OptionTable PointsLayer::Options::table()
     t.real("voxel_size_m", voxel_size_m, "m", between(0, 100), "keep one point per voxel; 0 = keep every return");
     t.integer("max_points", max_points, "", 0, 100000000,
               "returns kept per region at most, a uniform sample of all it received (reservoir sampling); "
-              "0 = keep every return (thesis Sec. 3.9)");
+              "0 = no cap by count (with max_points_per_cell = 0 too: every return, thesis Sec. 3.9)");
     t.integer("random_seed", random_seed, "", 0, 2147483647, "mixed with the region's vertices (reservoir sampling)");
+    t.real("max_points_per_cell", max_points_per_cell, "", between(0, 1e6),
+           "the sample is also held to this many points per occupied cell of side area_cell_m (a bound by area); "
+           "0 = max_points alone");
+    t.real("area_cell_m", area_cell_m, "m", between(0.001, 100), "cell of the bound by area");
     return t;
 }
 
@@ -67,6 +72,11 @@ void PointsLayer::Options::validate(const std::string& s) const
     if (!(voxel_size_m >= 0))
         hymm::core::throwConfigError(s, "voxel_size_m", std::to_string(voxel_size_m), "must be >= 0");
     if (max_points < 0) hymm::core::throwConfigError(s, "max_points", std::to_string(max_points), "must be >= 0");
+    if (!(max_points_per_cell >= 0) || !std::isfinite(max_points_per_cell))
+        hymm::core::throwConfigError(s, "max_points_per_cell", std::to_string(max_points_per_cell),
+                                     "must be finite and >= 0");
+    if (!(area_cell_m > 0) || !std::isfinite(area_cell_m))
+        hymm::core::throwConfigError(s, "area_cell_m", std::to_string(area_cell_m), "must be finite and > 0");
 }
 
 PointsLayer::PointsLayer(const Options& options)
@@ -94,23 +104,72 @@ bool PointsLayer::acceptVoxel(const Eigen::Vector2d& p)
     return voxels_.insert(packCellKey(ix, iy)).second;
 }
 
-void PointsLayer::insertPoints(const std::vector<Eigen::Vector2d>& points_ref)
+size_t PointsLayer::limit() const
 {
     const auto cap = static_cast<size_t>(options_.max_points);
+    if (options_.max_points_per_cell <= 0 || area_limit_ == 0) return cap;
+    return cap == 0 ? area_limit_ : std::min(cap, area_limit_);
+}
+
+void PointsLayer::updateAreaLimit()
+{
+    const auto& xs = points_.getPointsBufferRef_x();
+    const auto& ys = points_.getPointsBufferRef_y();
+    if (xs.empty())  // nothing to count: no bound yet
+    {
+        area_limit_ = 0;
+        next_area_check_ = offered_ + 16;
+        return;
+    }
+    std::vector<std::int64_t> cells(xs.size());
+    for (size_t i = 0; i < xs.size(); ++i)
+        cells[i] = pointCellKey(Eigen::Vector2d(xs[i], ys[i]), options_.area_cell_m);
+    std::sort(cells.begin(), cells.end());
+    const auto occupied = static_cast<double>(std::unique(cells.begin(), cells.end()) - cells.begin());
+    area_limit_ = std::max<size_t>(1, static_cast<size_t>(std::floor(options_.max_points_per_cell * occupied)));
+    // Counted again once as many returns as the sample holds were offered: the count
+    // costs O(n log n), so O(log n) a return.
+    next_area_check_ = offered_ + std::max<size_t>(points_.size(), 16);
+    const size_t keep = limit();
+    if (keep == 0 || points_.size() <= keep) return;
+    // Uniformly chosen points leave (swap with the last, drop it): what stays is a
+    // uniform sample of the sample, so of every return.
+    SplitMix64 gen{rng_};
+    size_t n = points_.size();
+    while (n > keep)
+    {
+        const size_t j = std::uniform_int_distribution<size_t>(0, n - 1)(gen);
+        --n;
+        if (j != n) points_.setPoint(j, xs[n], ys[n], 0.0f);
+    }
+    points_.resize(n);
+}
+
+void PointsLayer::insertPoints(const std::vector<Eigen::Vector2d>& points_ref)
+{
     for (const auto& p : points_ref)
     {
         if (!acceptVoxel(p)) continue;
         ++offered_;
-        if (cap == 0 || points_.size() < cap)
+        if (options_.max_points_per_cell > 0 && offered_ >= next_area_check_) updateAreaLimit();
+        const size_t cap = limit();
+        const size_t n = points_.size();
+        // Every return so far kept: store it while there is room.
+        if (cap == 0 || (n < cap && offered_ == n + 1))
         {
             points_.insertPoint(static_cast<float>(p.x()), static_cast<float>(p.y()));
             continue;
         }
-        // Algorithm R: the offered_-th return takes slot j if j < cap, j uniform in
-        // [0, offered_): every return seen so far is kept with probability cap / offered_.
+        // Algorithm R: the offered_-th return is kept with probability cap / offered_,
+        // j uniform in [0, offered_): in slot j if the sample is full, appended if the
+        // bound by area has grown since it was full.
         SplitMix64 gen{rng_};
         const size_t j = std::uniform_int_distribution<size_t>(0, offered_ - 1)(gen);
-        if (j < cap) points_.setPoint(j, static_cast<float>(p.x()), static_cast<float>(p.y()), 0.0f);
+        if (j >= cap) continue;
+        if (n < cap)
+            points_.insertPoint(static_cast<float>(p.x()), static_cast<float>(p.y()));
+        else
+            points_.setPoint(j, static_cast<float>(p.x()), static_cast<float>(p.y()), 0.0f);
     }
 }
 
@@ -166,6 +225,8 @@ void PointsLayer::load(std::istream& in)
         acceptVoxel(Eigen::Vector2d(x, y));
     }
     offered_ = points_.size();
+    area_limit_ = 0;
+    next_area_check_ = 0;  // counted at the next insert
 }
 
 }  // namespace hymm::dense
