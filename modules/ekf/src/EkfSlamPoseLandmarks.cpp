@@ -8,6 +8,7 @@
 #include <mrpt/math/wrap2pi.h>
 
 #include <Eigen/Cholesky>
+#include <algorithm>
 #include <cmath>
 
 #include "hymm/ekf/EkfSlam.h"
@@ -49,9 +50,59 @@ long EkfSlam::addPoseLandmark(const Eigen::Vector3d& z, const Eigen::Matrix3d& R
     return addLandmark(x_l, G_v, G_z * R * G_z.transpose(), id);
 }
 
+namespace
+{
+/** One linearisation of a pose-landmark observation at (xv, xl) for the prior (xv0, xl0):
+ *  H, P H^T, the Cholesky factor of S and the whitened innovation y = L^-1 nu. */
+struct PoseLinearisation
+{
+    Eigen::Matrix3d Hv, Hl;
+    Eigen::MatrixXd PHt;
+    Eigen::LLT<Eigen::Matrix3d> llt;
+    Eigen::Vector3d y;
+};
+
+/** False if S is not positive definite. Iterated EKF (Bell and Cathey 1993): linearised at
+ *  x_i the innovation is z - h(x_i) - H_i (x_0 - x_i); at x_i = x_0 the EKF's z - h(x_0). */
+bool linearise(const Eigen::Ref<const Eigen::MatrixXd>& P, Eigen::Index o, const Eigen::Vector3d& z,
+               const Eigen::Matrix3d& R, const Eigen::Vector3d& sensor, const Eigen::Vector3d& xv0,
+               const Eigen::Vector3d& xl0, const Eigen::Vector3d& xv, const Eigen::Vector3d& xl,
+               PoseLinearisation& L)
+{
+    const Eigen::Vector3d h = poseLandmarkObservation(xv, xl, sensor, &L.Hv, &L.Hl);
+    Eigen::Vector3d dv = xv0 - xv, dl = xl0 - xl, nu = z - h;
+    dv.z() = mrpt::math::wrapToPi(dv.z());
+    dl.z() = mrpt::math::wrapToPi(dl.z());
+    nu.z() = mrpt::math::wrapToPi(nu.z());
+    nu -= L.Hv * dv + L.Hl * dl;
+    // P H^T from the vehicle and the landmark columns only (H is zero elsewhere).
+    L.PHt = P.leftCols<3>() * L.Hv.transpose() + P.middleCols<3>(o) * L.Hl.transpose();
+    Eigen::Matrix3d S = L.Hv * L.PHt.topRows<3>() + L.Hl * L.PHt.middleRows<3>(o) + R;
+    S = (0.5 * (S + S.transpose())).eval();
+    L.llt.compute(S);
+    if (L.llt.info() != Eigen::Success) return false;
+    L.y = L.llt.matrixL().solve(nu);
+    return true;
+}
+
+/** The vehicle (first 3) or landmark (at o) entries of x_0 + K nu for linearisation L;
+ *  returns the largest change against `current`. */
+double nextPoint(const PoseLinearisation& L, Eigen::Index o, const Eigen::Vector3d& x0, Eigen::Vector3d& current)
+{
+    const Eigen::Vector3d Sinv_nu = L.llt.matrixL().transpose().solve(L.y);
+    Eigen::Vector3d next = x0 + L.PHt.middleRows<3>(o) * Sinv_nu;
+    next.z() = mrpt::math::wrapToPi(next.z());
+    Eigen::Vector3d step = next - current;
+    step.z() = mrpt::math::wrapToPi(step.z());
+    current = next;
+    return step.lpNorm<Eigen::Infinity>();
+}
+}  // namespace
+
 PoseUpdateReport EkfSlam::updatePoseLandmark(long id, const Eigen::Vector3d& z,
                                              const Eigen::Matrix3d& R,
-                                             const Eigen::Vector3d& sensor, double gate_prob)
+                                             const Eigen::Vector3d& sensor, double gate_prob,
+                                             int max_iterations)
 {
     PoseUpdateReport rep;
     if (!z.allFinite() || !validCovariance3(R))
@@ -64,40 +115,42 @@ PoseUpdateReport EkfSlam::updatePoseLandmark(long id, const Eigen::Vector3d& z,
         throw std::invalid_argument("updatePoseLandmark: landmark " + std::to_string(id) +
                                     " is not a 3-DOF pose block");
     const auto o = static_cast<Eigen::Index>(b.offset);
-    Eigen::Matrix3d Hv, Hl;
-    const Eigen::Vector3d h =
-        poseLandmarkObservation(x_.head<3>(), x_.segment<3>(o), sensor, &Hv, &Hl);
-    Eigen::Vector3d nu = z - h;
-    nu.z() = mrpt::math::wrapToPi(nu.z());
-    // P H^T from the vehicle and the landmark columns only (H is zero elsewhere).
-    const Eigen::MatrixXd PHt = activeP().leftCols<3>() * Hv.transpose() + activeP().middleCols<3>(o) * Hl.transpose();
-    Eigen::Matrix3d S = Hv * PHt.topRows<3>() + Hl * PHt.middleRows<3>(o) + R;
-    S = (0.5 * (S + S.transpose())).eval();
-    Eigen::LLT<Eigen::Matrix3d> llt(S);
-    if (llt.info() != Eigen::Success)
+    const Eigen::Vector3d xv0 = x_.head<3>(), xl0 = x_.segment<3>(o);
+    Eigen::Vector3d xv = xv0, xl = xl0;  // linearisation point (the prior at iteration 0)
+    PoseLinearisation L;
+    for (int it = 0;; ++it)
+    {
+        if (!linearise(activeP(), o, z, R, sensor, xv0, xl0, xv, xl, L))
+        {
+            rep.outcome = PoseUpdateReport::Outcome::numeric;
+            return rep;
+        }
+        // Thesis 5.5: the aligned observation is verified by a gate before it is used (on
+        // the prior's linearisation, as the EKF would).
+        if (it == 0) rep.nis = L.y.squaredNorm();
+        if (it == 0 && gate_prob > 0 && gate_prob < 1 && rep.nis > mrpt::math::chi2inv(gate_prob, 3))
+        {
+            rep.outcome = PoseUpdateReport::Outcome::gated;
+            return rep;
+        }
+        if (it + 1 >= max_iterations) break;
+        const double moved = std::max(nextPoint(L, 0, xv0, xv), nextPoint(L, o, xl0, xl));
+        ++rep.iterations;
+        if (moved < 1e-9) break;
+    }
+    const Eigen::MatrixXd Wt = L.llt.matrixL().solve(L.PHt.transpose());
+    if (!Wt.allFinite() || !L.y.allFinite())
     {
         rep.outcome = PoseUpdateReport::Outcome::numeric;
         return rep;
     }
-    const Eigen::Vector3d y = llt.matrixL().solve(nu);
-    rep.nis = y.squaredNorm();
-    // Thesis 5.5: the aligned observation is verified by a gate before it is used.
-    if (gate_prob > 0 && gate_prob < 1 && rep.nis > mrpt::math::chi2inv(gate_prob, 3))
-    {
-        rep.outcome = PoseUpdateReport::Outcome::gated;
-        return rep;
-    }
-    const Eigen::MatrixXd Wt = llt.matrixL().solve(PHt.transpose());
-    if (!Wt.allFinite() || !y.allFinite())
-    {
-        rep.outcome = PoseUpdateReport::Outcome::numeric;
-        return rep;
-    }
-    if (passive_.numBlocks() > 0) updatePassive(passive_, Hv, Hl, o, llt, Wt, y);
-    x_.noalias() += Wt.transpose() * y;
+    if (passive_.numBlocks() > 0) updatePassive(passive_, L.Hv, L.Hl, o, L.llt, Wt, L.y);
+    // x_0 + K nu with the last linearisation's gain and innovation.
+    x_.noalias() += Wt.transpose() * L.y;
     x_[2] = mrpt::math::wrapToPi(x_[2]);
     x_[o + 2] = mrpt::math::wrapToPi(x_[o + 2]);
-    // P -= W W^T (the Joseph form for the optimal gain; see fuse()), kept symmetric.
+    // P -= W W^T (the Joseph form for the optimal gain; see fuse()), kept symmetric; with
+    // iterations, the gain of the last linearisation.
     activeP().selfadjointView<Eigen::Lower>().rankUpdate(Wt.transpose(), -1.0);
     activeP().triangularView<Eigen::StrictlyUpper>() = activeP().transpose().triangularView<Eigen::StrictlyUpper>();
     ++layout_.get(id).times_seen;

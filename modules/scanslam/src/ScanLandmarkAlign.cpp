@@ -27,7 +27,7 @@ Vec3 ScanLandmarkMap::alignAndUpdate(ekf::EkfSlam& ekf, long id, const ScanTempl
     }
     ++stats_.aligned;
     const Mat3 R = viewCovariance(res.R, tpl.frame_in_sensor, z_hat);
-    const auto rep = ekf.updatePoseLandmark(id, res.z, R, sensor, options_.gate_prob);
+    const auto rep = ekf.updatePoseLandmark(id, res.z, R, sensor, options_.gate_prob, options_.update_iterations);
     using O = ekf::PoseUpdateReport::Outcome;
     last_aligned_.push_back({id, res.z, R, z_hat, rep.outcome == O::updated});
     switch (rep.outcome)

@@ -63,6 +63,10 @@ core::OptionTable ScanLandmarkMap::Options::table()
     t.real("in_view_fraction", in_view_fraction, "", between(0, 1),
            "share of a template's points in the sensor's view to attempt an alignment (5.3)");
     t.real("gate_prob", gate_prob, "", between(0, 1), "NN gate on the aligned observation, chi-square(3) probability (5.5; 0 or 1: none)");
+    t.integer("update_iterations", update_iterations, "", 1, 100,
+              "iterated EKF: relinearisations of a local alignment's update at most (1 = the EKF)");
+    t.integer("wide_update_iterations", wide_update_iterations, "", 1, 100,
+              "the same for a wide-search (loop-closing) update");
     t.real("explain_distance_m", explain_distance_m, "m", atLeast(0, 100),
            "a return this close to an aligned template is explained");
     t.real("max_creation_range_m", max_creation_range_m, "m", above(0, 10000),

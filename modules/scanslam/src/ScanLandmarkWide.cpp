@@ -79,7 +79,7 @@ Vec3 ScanLandmarkMap::observeWide(ekf::EkfSlam& ekf, long id, const ScanTemplate
     if (options_.wide_confirm_scans > 0 && !confirmWide(ekf, id, res.z, sensor)) return z_hat;
     ++stats_.aligned;
     const Mat3 R = viewCovariance(res.R, tpl.frame_in_sensor, res.z);
-    const auto rep = ekf.updatePoseLandmark(id, res.z, R, sensor, options_.gate_prob);
+    const auto rep = ekf.updatePoseLandmark(id, res.z, R, sensor, options_.gate_prob, options_.wide_update_iterations);
     using O = ekf::PoseUpdateReport::Outcome;
     last_aligned_.push_back({id, res.z, R, z_hat, rep.outcome == O::updated, true});
     switch (rep.outcome)

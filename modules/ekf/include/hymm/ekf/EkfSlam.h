@@ -84,7 +84,8 @@ struct PoseUpdateReport
         invalid   //!< NaN/inf z or R, or R not PD: skipped
     };
     Outcome outcome = Outcome::invalid;
-    double nis = 0;  //!< normalised innovation squared (3 DOF)
+    double nis = 0;  //!< normalised innovation squared (3 DOF), at the prior
+    int iterations = 0;  //!< relinearisations done (iterated update; 0 for the EKF)
 };
 
 /**
@@ -239,10 +240,13 @@ public:
                          const Eigen::Vector3d& sensor, long id = -1);
     /** Updates with an observation of pose landmark `id`, gated at `gate_prob` of
      *  chi-square(3) (0 or 1: no gate). Throws if `id` is unknown or not 3-DOF; bad
-     *  input and numeric failures leave the state untouched and are reported. */
+     *  input and numeric failures leave the state untouched and are reported.
+     *  `max_iterations` > 1: iterated EKF, the observation relinearised at the updated
+     *  vehicle and landmark poses until they move less than 1e-9 (the gate uses the
+     *  prior's linearisation); 1: the EKF update. */
     PoseUpdateReport updatePoseLandmark(long id, const Eigen::Vector3d& z,
                                         const Eigen::Matrix3d& R, const Eigen::Vector3d& sensor,
-                                        double gate_prob);
+                                        double gate_prob, int max_iterations = 1);
 
     /** Marginalises a landmark out (deletes its rows and columns). Throws if unknown. */
     void removeLandmark(long id);

@@ -46,6 +46,10 @@ public:
         ScanNoise noise{};                 //!< laser noise of the template points (ini: std_range_m, std_bearing_deg)
         double in_view_fraction = 0.9;     //!< thesis 5.7: > 90 % of the points in view
         double gate_prob = 0.99;           //!< NN gate on the aligned observation (5.5)
+        /** EkfSlam::updatePoseLandmark's max_iterations for local alignments: > 1
+         *  relinearises the update at its own result (iterated EKF); 1 = the EKF. */
+        int update_iterations = 1;
+        int wide_update_iterations = 10;   //!< the same for the wide-search (loop-closing) updates
         /** [m] a return within this of a predicted (or aligned) template point is that
          *  landmark's: it creates no new landmark. */
         double explain_distance_m = 1.0;
