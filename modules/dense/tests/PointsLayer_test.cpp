@@ -16,6 +16,14 @@ namespace
 using namespace hymm::dense;
 using V2 = Eigen::Vector2d;
 
+/** RMS distance of the stored points from the wall y = 0. */
+double spread(const PointsLayer& layer)
+{
+    double s2 = 0;
+    for (const float y : layer.points().getPointsBufferRef_y()) s2 += static_cast<double>(y) * y;
+    return std::sqrt(s2 / static_cast<double>(layer.size()));
+}
+
 TEST(PointsLayerTest, StoresHitsAndRendersThroughAffineMap)
 {
     PointsLayer layer{PointsLayer::Options()};
@@ -78,11 +86,6 @@ TEST(PointsLayerTest, RevisitCapKeepsAUniformSampleOfEveryReturn)
     // Same region, same data: the same map.
     for (size_t i = 0; i < capped.size(); ++i)
         EXPECT_EQ(capped.points().getPointsBufferRef_y()[i], capped_again.points().getPointsBufferRef_y()[i]);
-    const auto spread = [](const PointsLayer& l) {
-        double s2 = 0;
-        for (const float y : l.points().getPointsBufferRef_y()) s2 += static_cast<double>(y) * y;
-        return std::sqrt(s2 / static_cast<double>(l.size()));
-    };
     // The sample keeps the returns' spread about the wall (500 samples: +-3.2 % 1-sigma);
     // one point per voxel does not: over the laps the tails fill every voxel.
     EXPECT_NEAR(spread(capped), sigma, 0.12 * sigma);
@@ -141,13 +144,8 @@ TEST(PointsLayerTest, AreaBoundLevelsOffWithTheSurfacesAreaNotTheLaps)
     EXPECT_LE(short_size[39], short_size[19] + short_size[19] / 20);
     EXPECT_LE(long_size[39], long_size[29] + long_size[29] / 20);
     EXPECT_EQ(longw.offered(), 16000u);
-    // Still a uniform sample: the spread about the wall is the returns' (1.1-1.7 k points:
-    // +-2 % 1-sigma), and the last lap is in it at the sample's rate (1/40).
-    const auto spread = [](const PointsLayer& layer) {
-        double s2 = 0;
-        for (const float y : layer.points().getPointsBufferRef_y()) s2 += static_cast<double>(y) * y;
-        return std::sqrt(s2 / static_cast<double>(layer.size()));
-    };
+    // Still a uniform sample: the spread about the wall is the returns' (~700 and ~3,700
+    // points: +-3 % and +-1 % 1-sigma), and the last lap is in it at the sample's rate (1/40).
     EXPECT_NEAR(spread(shortw), sigma, 0.1 * sigma);
     EXPECT_NEAR(spread(longw), sigma, 0.1 * sigma);
     size_t from_last_lap = 0;
