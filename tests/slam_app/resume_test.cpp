@@ -145,12 +145,22 @@ void writeEntries(const std::string& path, size_t from, size_t to, bool bad_tail
 class Resume : public ::testing::Test
 {
 protected:
-    static void SetUpTestSuite()
+    static void SetUpTestSuite() { dir_ = new TempDir; }
+
+    // The uninterrupted run ("full") and the first part with its state ("first",
+    // cut.state), each made once per test process and only by the tests that read it:
+    // ctest runs every test in a process of its own, and under the sanitizers each run
+    // costs tens of seconds.
+    static void needFull()
     {
-        dir_ = new TempDir;
+        if (fs::exists(*dir_ / "full")) return;
         SlamApp::Args full = argsFor(*dir_ / "full");
         full.stop_after = kEnd;
         SlamApp(full).run(std::cerr);
+    }
+    static void needCut()
+    {
+        if (fs::exists(*dir_ / "cut.state")) return;
         SlamApp::Args first = argsFor(*dir_ / "first");
         first.stop_after = kCut;
         first.save_state = *dir_ / "cut.state";
@@ -203,6 +213,8 @@ size_t Resume::stored_at_cut_ = 0, Resume::tiles_at_cut_ = 0, Resume::regions_at
 
 TEST_F(Resume, StateAtTheCutHoldsEveryDenseComponent)
 {
+    needFull();
+    needCut();
     EXPECT_GT(stored_at_cut_, 0u);
     EXPECT_GT(tiles_at_cut_, 0u);
     EXPECT_GT(regions_at_cut_, 0u);
@@ -215,6 +227,8 @@ TEST_F(Resume, StateAtTheCutHoldsEveryDenseComponent)
 
 TEST_F(Resume, SameRawlogContinuesAfterTheCutToIdenticalOutputs)
 {
+    needFull();
+    needCut();
     SlamApp::Args second = argsFor(*dir_ / "resumed");
     second.resume = *dir_ / "cut.state";
     second.stop_after = kEnd;
@@ -224,6 +238,8 @@ TEST_F(Resume, SameRawlogContinuesAfterTheCutToIdenticalOutputs)
 
 TEST_F(Resume, SecondRawlogContinuesFromItsStartToIdenticalOutputs)
 {
+    needFull();
+    needCut();
     writeEntries(*dir_ / "rest.rawlog", kCut, kEnd);
     SlamApp::Args second = argsFor(*dir_ / "resumed2");
     second.rawlog = *dir_ / "rest.rawlog";
@@ -263,6 +279,7 @@ void writeFile(const std::string& path, const std::string& bytes)
 
 TEST_F(Resume, BadStatesAreClearErrors)
 {
+    needCut();
     const std::string good = readFile(*dir_ / "cut.state");
     ASSERT_GT(good.size(), 1000u);
     SlamApp::Args a = argsFor(*dir_ / "refused");
@@ -306,6 +323,7 @@ TEST_F(Resume, SaveStateEveryWithoutSaveStateIsRefused)
 // resumes on the rest of the sample to the uninterrupted run's outputs.
 TEST_F(Resume, PeriodicSaveOfAFailedRunResumesToIdenticalOutputs)
 {
+    needFull();
     const std::string head = *dir_ / "head.rawlog";
     writeEntries(head, 0, kCut + 30, /*bad_tail=*/true);
     SlamApp::Args crashed = argsFor(*dir_ / "crashed");
@@ -327,6 +345,7 @@ TEST_F(Resume, PeriodicSaveOfAFailedRunResumesToIdenticalOutputs)
 
 TEST_F(Resume, StateOfAnotherConfigIsRefused)
 {
+    needCut();
     std::string ini = readFile(kConfig);
     ini.replace(ini.find("samples_per_return = 5"), 22, "samples_per_return = 6");
     writeFile(*dir_ / "other.ini", ini);

@@ -1,10 +1,10 @@
 // hymm-slam (SlamApp) on rawlogs/ch3_objects.rawlog with configs/ch3_slam.ini: every
 // output is written, the path matches the ground truth, the dense maps lie on the true
 // object outlines (read back from the files the app wrote, MRPT formats included), and
-// bad inputs fail with an exception before anything is written. With every chapter-4
-// layer on (particles, SOG, property, coarsening), each layer's files load back with
-// MRPT and agree with the metrics and the truth.
+// bad inputs fail with an exception before anything is written. Every chapter-4 layer
+// on: all_layers_test.cpp.
 #include "ch3_sample.h"
+#include "slam_app_files.h"
 
 #include <gtest/gtest.h>
 #include <hymm/io/trajectory_io.h>
@@ -13,15 +13,9 @@
 #include <hymm/eval/TrajectoryEvaluator.h>
 #include <hymm/eval/se2_alignment.h>
 #include <hymm/sim/ground_truth_io.h>
-#include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/io/CFileGZInputStream.h>
-#include <mrpt/maps/CHeightGridMap2D.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
-#include <mrpt/maps/CPointsMapXYZI.h>
 #include <mrpt/maps/CSimplePointsMap.h>
-#include <mrpt/obs/CObservation2DRangeScan.h>
-#include <mrpt/obs/CRawlog.h>
-#include <mrpt/poses/CPointPDFSOG.h>
 #include <mrpt/serialization/CArchive.h>
 
 #include <cmath>
@@ -38,9 +32,9 @@ namespace
 {
 namespace fs = std::filesystem;
 using hymm::app::SlamApp;
+using namespace hymm::test;
 
 const std::string kSrc = HYMM_SOURCE_DIR;
-const std::string& kRawlog = hymm::test::kCh3Rawlog;
 const std::string kConfig = kSrc + "/configs/ch3_slam.ini";
 const std::string& kGt = hymm::test::kCh3Gt;
 
@@ -52,35 +46,6 @@ constexpr double kMaxOccupancyMeanDist = 0.6;   // [m]
 constexpr double kMaxPointsMeanDist = 1.2;      // [m]
 constexpr double kMinCoverage = 0.05;
 constexpr double kLandmarkRadius = 1.0;         // [m] returns on landmark trunks
-
-struct TempDir
-{
-    fs::path path;
-    TempDir()
-    {
-        path = fs::temp_directory_path() / ("hymm_slam_app_test_" + std::to_string(::getpid()));
-        fs::remove_all(path);
-    }
-    ~TempDir() { fs::remove_all(path); }
-};
-
-std::vector<hymm::dense::Polygon> trueOutlines()
-{
-    std::vector<hymm::dense::Polygon> out;
-    for (const auto& r : hymm::sim::readObjectOutlines(kGt + "objects.txt"))
-        out.emplace_back(r.outline.begin(), r.outline.end());
-    return out;
-}
-
-// Every surface the laser sees: the object outlines and the landmark trunks (radius in
-// the first extra column of the landmark file), as metrics.json measures against.
-std::vector<hymm::dense::Polygon> trueSurfaces()
-{
-    auto out = trueOutlines();
-    for (const auto& l : hymm::io::readLandmarksCsv(kGt + "landmarks.csv"))
-        out.push_back(hymm::dense::circlePolygon(Eigen::Vector2d(l.x, l.y), l.extra.empty() ? 0.0 : l.extra[0]));
-    return out;
-}
 
 // Cells of a .gridmap as MRPT reads it (cell = P(free)) with P(free) < 0.2, i.e. the
 // cells HYMM rendered with P(occupied) > 0.8.
@@ -108,34 +73,11 @@ std::vector<Eigen::Vector2d> awayFromLandmarks(const std::vector<Eigen::Vector2d
     return out;
 }
 
-template <class T>
-void readSerialized(const std::string& file, T& obj)
-{
-    mrpt::io::CFileGZInputStream f;
-    ASSERT_TRUE(f.open(file)) << file;
-    mrpt::serialization::archiveFrom(f) >> obj;
-}
-
 SlamApp::Args argsFor(const std::string& out) { return hymm::test::ch3SampleArgs(kConfig, out); }
-
-// Number under "dense" -> `object` -> `key` in metrics.json text (flat layer objects).
-double denseMetric(const std::string& json, const std::string& object, const std::string& key)
-{
-    const size_t dense = json.find("\"dense\"");
-    const size_t obj = json.find("\"" + object + "\": {", dense);
-    const size_t end = json.find('}', obj);
-    const size_t k = json.find("\"" + key + "\":", json.find('{', obj));
-    if (dense == std::string::npos || obj == std::string::npos || k == std::string::npos || k > end)
-        return std::nan("");
-    const std::string value = json.substr(json.find(':', k) + 1, 40);
-    char* parsed_end = nullptr;
-    const double v = std::strtod(value.c_str(), &parsed_end);
-    return parsed_end == value.c_str() ? std::nan("") : v;  // null: no value
-}
 
 TEST(SlamApp, Ch3ObjectsWritesAccurateFeatureAndDenseMaps)
 {
-    TempDir tmp;
+    TempDir tmp("hymm_slam_app_test_");
     const std::string out = tmp.path.string();
     SlamApp app(argsFor(out));
     std::ostringstream log;
@@ -243,218 +185,9 @@ TEST(SlamApp, Ch3ObjectsWritesAccurateFeatureAndDenseMaps)
     EXPECT_LT(std::abs(denseMetric(metrics, "landmark_alignment", "phi_normalised")), 3.0);
 }
 
-// --- every chapter-4 layer --------------------------------------------------------
-
-// Measured on the sample with the config of writeAllLayersConfig(): mean distance to
-// the true surfaces (outlines and trunks) 0.23 m for the particles with w > 0.8, 0.33 m
-// for the Gaussian means, 0.43 m for the property cells (every 0.2 m cell a return fell
-// in); 62.9% of the particle weights are above 0.8; 6 of 64 regions end coarse. The
-// bounds leave room for platform differences only.
-constexpr double kMaxParticlesMeanDist = 0.5;  // [m]
-constexpr double kMaxSogMeanDist = 0.6;        // [m]
-constexpr double kMaxPropertyMeanDist = 0.6;   // [m]
-constexpr int kIntensity = 37;                 // value every laser return carries
-
-// The sample with a constant intensity on every laser return: the simulator writes
-// none, and the property layer maps the scans' values (ScanPoints::values).
-void writeRawlogWithIntensity(const std::string& file)
-{
-    mrpt::obs::CRawlog log;
-    ASSERT_TRUE(log.loadFromRawLogFile(kRawlog));
-    size_t scans = 0;
-    const auto mark = [&](const mrpt::obs::CObservation::Ptr& o)
-    {
-        auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(o);
-        if (!scan) return;
-        scan->setScanHasIntensity(true);
-        for (size_t i = 0; i < scan->getScanSize(); ++i) scan->setScanIntensity(i, kIntensity);
-        ++scans;
-    };
-    for (size_t i = 0; i < log.size(); ++i)
-    {
-        if (log.getType(i) == mrpt::obs::CRawlog::etSensoryFrame)
-            for (const auto& o : *log.getAsObservations(i)) mark(o);
-        else if (log.getType(i) == mrpt::obs::CRawlog::etObservation)
-            mark(log.getAsObservation(i));
-    }
-    ASSERT_GT(scans, 100u);
-    ASSERT_TRUE(log.saveToRawLogFile(file));
-}
-
-// configs/ch3_slam.ini with all five layers and background coarsening. cellsPercent is
-// lowered from the thesis' 0.99 (no region of this short run is that empty; at most
-// 98%) so that the per-region resolution outputs have coarse regions to show.
-void writeAllLayersConfig(const std::string& file)
-{
-    std::ifstream in(kConfig);
-    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    mrpt::config::CConfigFileMemory cfg(text);
-    cfg.write("DenseSlam", "dense_layers", "points,occupancy,particles,sog,property");
-    cfg.write("DenseSlam", "classic_grid", "false");
-    cfg.write("HybridMetricMap", "coarsen_every_n_scans", "10");
-    cfg.write("OccupancyLayer", "coarse_cell_size_m", "0.5");
-    cfg.write("OccupancyLayer", "coarsen_cells_percent", "0.85");
-    // The thesis' particle layer (Sec. 4.2.3: most particles end on surfaces). The revisit
-    // cap keeps the heaviest per cell, so it thins surfaces and leaves free space: on this
-    // run the share of particles above 0.8 falls from over half to 0.39, with the heavy
-    // ones still on the outlines. dense_test checks the cap itself.
-    cfg.write("ParticlesLayer", "max_per_cell", "0");
-    std::string out;
-    cfg.getContent(out);
-    std::ofstream(file) << out;
-}
-
-std::vector<std::string> readLines(const std::string& file)
-{
-    std::ifstream f(file);
-    std::vector<std::string> lines;
-    for (std::string l; std::getline(f, l);) lines.push_back(l);
-    return lines;
-}
-
-TEST(SlamApp, AllLayersWriteLoadableMapsOnTheTrueOutlines)
-{
-    TempDir tmp;
-    fs::create_directories(tmp.path);
-    const std::string rawlog = (tmp.path / "ch3_intensity.rawlog").string();
-    const std::string ini = (tmp.path / "all_layers.ini").string();
-    writeRawlogWithIntensity(rawlog);
-    writeAllLayersConfig(ini);
-    const std::string out = (tmp.path / "out").string();
-    auto a = argsFor(out);
-    a.rawlog = rawlog;
-    a.config = ini;
-    SlamApp app(a);
-    std::ostringstream log;
-    app.run(log);
-
-    for (const char* f :
-         {"points.bin", "occupancy.gridmap", "occupancy_regions.csv", "particles.bin",
-          "particles.txt", "particles.png", "sog.bin", "sog_surface.png", "sog_ellipses.png",
-          "property.gridmap", "property_std.gridmap", "property_mean.png", "property_std.png"})
-    {
-        const fs::path p = fs::path(out) / f;
-        ASSERT_TRUE(fs::exists(p)) << f;
-        EXPECT_GT(fs::file_size(p), 0u) << f;
-    }
-    std::ifstream mj(out + "/metrics.json");
-    const std::string metrics((std::istreambuf_iterator<char>(mj)),
-                              std::istreambuf_iterator<char>());
-    const auto* hybrid = app.slam().hybridMap();
-    ASSERT_NE(hybrid, nullptr);
-    const auto stored = hybrid->sizeByKind();
-    const auto bytes = hybrid->memoryBytesByKind();
-    for (const std::string kind : {"points", "occupancy", "particles", "sog", "property"})
-    {
-        EXPECT_GT(stored.at(kind), 0u) << kind;
-        EXPECT_EQ(denseMetric(metrics, kind, "items"), static_cast<double>(stored.at(kind)))
-            << kind;
-        EXPECT_EQ(denseMetric(metrics, kind, "memory_bytes"), static_cast<double>(bytes.at(kind)))
-            << kind;
-    }
-    const auto outlines = trueOutlines();
-    const auto surfaces = trueSurfaces();
-
-    // Particles: every one written, weights are probabilities, the heavy ones on the outlines.
-    mrpt::maps::CPointsMapXYZI particles;
-    readSerialized(out + "/particles.bin", particles);
-    EXPECT_GT(particles.size(), 10000u);
-    EXPECT_LE(particles.size(), stored.at("particles"));
-    EXPECT_EQ(denseMetric(metrics, "particles", "particles"),
-              static_cast<double>(particles.size()));
-    EXPECT_EQ(readLines(out + "/particles.txt").size(), particles.size() + 1);  // + header
-    std::vector<Eigen::Vector2d> heavy;
-    size_t light = 0;
-    for (size_t i = 0; i < particles.size(); ++i)
-    {
-        const float w = particles.getPointIntensity(i);
-        ASSERT_TRUE(w >= 0.f && w <= 1.f) << w;
-        if (w > 0.8f)
-            heavy.emplace_back(particles.getPointsBufferRef_x()[i],
-                               particles.getPointsBufferRef_y()[i]);
-        if (w < 0.5f) ++light;
-    }
-    EXPECT_NEAR(denseMetric(metrics, "particles", "weight_fraction_above_0_8"),
-                static_cast<double>(heavy.size()) / particles.size(), 1e-9);
-    EXPECT_NEAR(denseMetric(metrics, "particles", "weight_fraction_below_0_5"),
-                static_cast<double>(light) / particles.size(), 1e-9);
-    EXPECT_GT(heavy.size(), particles.size() / 2);  // most particles sit on surfaces (Sec. 4.2.3)
-    const auto pm = hymm::dense::evaluateOutlines(heavy, surfaces);
-    EXPECT_LT(pm.mean_distance_m, kMaxParticlesMeanDist);
-    EXPECT_NEAR(denseMetric(metrics, "particles", "mean_distance_m"), pm.mean_distance_m, 1e-4);
-    EXPECT_GT(hymm::dense::evaluateOutlines(heavy, outlines).coverage, kMinCoverage);
-
-    // SOG: one mode per Gaussian, weighted to a peak of 1 (Sec. 4.3.1).
-    mrpt::poses::CPointPDFSOG sog;
-    readSerialized(out + "/sog.bin", sog);
-    EXPECT_GT(sog.size(), 1000u);
-    EXPECT_EQ(sog.size(), stored.at("sog"));
-    EXPECT_EQ(denseMetric(metrics, "sog", "gaussians"), static_cast<double>(sog.size()));
-    EXPECT_GE(sog.evaluatePDF(sog[0].val.mean, true), 1.0 - 1e-9);
-    std::vector<Eigen::Vector2d> means;
-    for (const auto& m : sog) means.emplace_back(m.val.mean.x(), m.val.mean.y());
-    const auto sm = hymm::dense::evaluateOutlines(means, surfaces);
-    EXPECT_LT(sm.mean_distance_m, kMaxSogMeanDist);
-    EXPECT_NEAR(denseMetric(metrics, "sog", "mean_distance_m"), sm.mean_distance_m, 1e-4);
-
-    // Property: every cell holds the constant intensity, its std that of w fused values.
-    mrpt::maps::CHeightGridMap2D mean, stddev;
-    readSerialized(out + "/property.gridmap", mean);
-    readSerialized(out + "/property_std.gridmap", stddev);
-    ASSERT_EQ(mean.getSizeX(), stddev.getSizeX());
-    ASSERT_EQ(mean.getSizeY(), stddev.getSizeY());
-    std::vector<Eigen::Vector2d> cells;
-    for (unsigned cy = 0; cy < mean.getSizeY(); ++cy)
-        for (unsigned cx = 0; cx < mean.getSizeX(); ++cx)
-        {
-            const auto* c = mean.cellByIndex(cx, cy);
-            if (c->w == 0) continue;
-            cells.emplace_back(mean.idx2x(cx), mean.idx2y(cy));
-            ASSERT_NEAR(c->h, kIntensity, 1e-3);
-            // Inverse-variance fusion of w values of std 1 ([PropertyLayer] default_value_std).
-            ASSERT_NEAR(stddev.cellByIndex(cx, cy)->h, 1.0 / std::sqrt(c->w), 1e-5);
-        }
-    EXPECT_GT(cells.size(), 1000u);
-    EXPECT_EQ(denseMetric(metrics, "property", "rendered_cells"),
-              static_cast<double>(cells.size()));
-    const auto cm = hymm::dense::evaluateOutlines(cells, surfaces);
-    EXPECT_LT(cm.mean_distance_m, kMaxPropertyMeanDist);
-    EXPECT_NEAR(denseMetric(metrics, "property", "mean_distance_m"), cm.mean_distance_m, 1e-4);
-    EXPECT_EQ(metrics.find("\"note\""), std::string::npos);  // the layer is not empty
-
-    // Occupancy regions: coarse ones at the coarse cell size and emptier than the rest.
-    const auto rows = readLines(out + "/occupancy_regions.csv");
-    ASSERT_GT(rows.size(), 1u);
-    EXPECT_EQ(rows[0], "id,coarse,cell_size_m,cells,occupied,free,memory_bytes");
-    size_t coarse = 0, fine = 0;
-    for (size_t i = 1; i < rows.size(); ++i)
-    {
-        std::istringstream r(rows[i]);
-        long id;
-        int is_coarse;
-        double cell;
-        char c;
-        ASSERT_TRUE(r >> id >> c >> is_coarse >> c >> cell) << rows[i];
-        EXPECT_DOUBLE_EQ(cell, is_coarse ? 0.5 : 0.2) << rows[i];
-        (is_coarse ? coarse : fine) += 1;
-    }
-    EXPECT_EQ(rows.size() - 1, hybrid->size());  // every region holds every layer
-    EXPECT_GT(coarse, 0u);
-    EXPECT_GT(fine, coarse);
-    EXPECT_EQ(denseMetric(metrics, "occupancy", "regions_coarse"), static_cast<double>(coarse));
-    EXPECT_EQ(denseMetric(metrics, "occupancy", "regions_fine"), static_cast<double>(fine));
-
-    std::ifstream sf(out + "/summary.txt");
-    const std::string summary((std::istreambuf_iterator<char>(sf)),
-                              std::istreambuf_iterator<char>());
-    for (const char* line :
-         {"layer points", "layer occupancy", "layer particles", "layer sog", "layer property"})
-        EXPECT_NE(summary.find(line), std::string::npos) << line;
-}
-
 TEST(SlamApp, MissingRawlogThrowsBeforeWriting)
 {
-    TempDir tmp;
+    TempDir tmp("hymm_slam_app_test_");
     auto a = argsFor(tmp.path.string());
     a.rawlog = kSrc + "/rawlogs/no_such_file.rawlog";
     std::ostringstream log;
@@ -464,7 +197,7 @@ TEST(SlamApp, MissingRawlogThrowsBeforeWriting)
 
 TEST(SlamApp, MalformedIniThrowsBeforeWriting)
 {
-    TempDir tmp;
+    TempDir tmp("hymm_slam_app_test_");
     const fs::path ini = fs::temp_directory_path() /
                          ("hymm_slam_app_test_bad_" + std::to_string(::getpid()) + ".ini");
     for (const std::string bad : {"dense_layers = points,walls\n", "no_such_key = 1\n"})

@@ -1,6 +1,6 @@
-// Noise calibration on synthetic runs the test generates: commands, true controls =
-// commands + known per-sample noise (or systematic errors), the true path integrated
-// from them, and landmark measurements with known noise and outliers.
+// Noise calibration on synthetic runs the test generates (noise_calibration_runs.h): gaps
+// and jumps in the truth, landmark measurements with known noise and outliers, the MRCLAM
+// files' quirks. The fits on long runs: NoiseCalibrationFit_test.cpp.
 #include <gtest/gtest.h>
 #include <hymm/datasets/NoiseCalibration.h>
 #include <mrpt/core/bits_math.h>
@@ -11,6 +11,7 @@
 #include <random>
 #include <sstream>
 
+#include "noise_calibration_runs.h"
 #include "test_files.h"
 
 namespace
@@ -18,136 +19,7 @@ namespace
 using hymm::io::StampedPose2D;
 using hymm::datasets::LandmarkMeasurement;
 using hymm::datasets::NoiseCalibrationOptions;
-using Control = hymm::datasets::OdometryIntegrator::ControlSample;
-
-constexpr double kDt = 0.02;
-
-struct SyntheticRun
-{
-    std::vector<Control> commands;
-    std::vector<StampedPose2D> truth;  // pose at each command time (before that sample)
-};
-
-/**
- * Piecewise-constant commands (segments of 1-6 s) at 50 Hz; the robot executes
- * speed_scale * v + noise and turn_scale * omega + noise of the command `delay`
- * samples earlier, each sample an arc step as the converter's unicycle model.
- */
-SyntheticRun makeRun(double seconds, double std_v, double std_w_deg, unsigned seed,
-                     double speed_scale = 1, double turn_scale = 1, int delay = 0)
-{
-    std::mt19937 rng(seed);
-    std::uniform_int_distribution<int> seg_len(50, 300), pick(0, 2);
-    std::normal_distribution<double> n01(0, 1);
-    SyntheticRun r;
-    const auto n = static_cast<size_t>(seconds / kDt);
-    double v = 0, w = 0;
-    int left = 0;
-    for (size_t i = 0; i < n; ++i)
-    {
-        if (left-- <= 0)
-        {
-            left = seg_len(rng);
-            v = 0.1 * pick(rng);
-            w = 0.4 * (pick(rng) - 1);
-        }
-        r.commands.push_back({static_cast<double>(i) * kDt, v, w});
-    }
-    double x = 0, y = 0, phi = 0;
-    for (size_t i = 0; i < n; ++i)
-    {
-        r.truth.push_back({static_cast<double>(i) * kDt, x, y, phi});
-        const Control& c = r.commands[i >= static_cast<size_t>(delay) ? i - delay : 0];
-        const double cv = i >= static_cast<size_t>(delay) ? c.u0 : 0.0;
-        const double cw = i >= static_cast<size_t>(delay) ? c.u1 : 0.0;
-        const double tv = speed_scale * cv + std_v * n01(rng);
-        const double tw = turn_scale * cw + mrpt::DEG2RAD(std_w_deg) * n01(rng);
-        const double h = phi + 0.5 * tw * kDt;
-        x += tv * kDt * std::cos(h);
-        y += tv * kDt * std::sin(h);
-        phi = mrpt::math::wrapToPi(phi + tw * kDt);
-    }
-    return r;
-}
-
-TEST(NoiseCalibrationTest, PerSampleControlNoiseIsRecoveredAtEveryWindowLength)
-{
-    const double std_v = 0.1, std_w = 10.0;
-    const auto run = makeRun(1200, std_v, std_w, 7);
-    NoiseCalibrationOptions o;
-    o.windows_s = {0.5, 1, 2, 5};
-    o.fit_min_window_s = 0.5;
-    const auto cal = hymm::datasets::calibrateOdometryNoise(run.commands, run.truth, o);
-
-    EXPECT_NEAR(cal.joint.std_speed_mps, std_v, 0.05 * std_v);
-    EXPECT_NEAR(cal.joint.std_turn_rate_deg_s, std_w, 0.05 * std_w);
-    // Close to 3 (3 DOF); a little below, because the truth noise estimated from second
-    // differences also holds the simulated 50 Hz control jitter.
-    EXPECT_GT(cal.joint.mean_nees, 2.5);
-    EXPECT_LT(cal.joint.mean_nees, 3.2);
-    ASSERT_EQ(cal.per_window.size(), 4u);
-    for (const auto& f : cal.per_window)
-    {
-        // White per-sample noise: every length gives the same values (within 3 se).
-        EXPECT_NEAR(f.std_speed_mps, std_v, 3 * f.se_speed_mps + 0.02 * std_v) << f.window_s;
-        EXPECT_NEAR(f.std_turn_rate_deg_s, std_w, 3 * f.se_turn_rate_deg_s + 0.02 * std_w)
-            << f.window_s;
-        // ... and the joint values predict the heading variance of every length.
-        EXPECT_NEAR(f.heading_ms_deg2 / f.heading_model_deg2, 1.0, 0.2) << f.window_s;
-    }
-    // Variance grows linearly with the window (random walk).
-    EXPECT_NEAR(cal.heading_growth_exponent, 1.0, 0.15);
-    EXPECT_NEAR(cal.bias.lag_s, 0.0, 1e-9);
-    EXPECT_NEAR(cal.bias.turn_scale, 1.0, 0.02);
-    EXPECT_NEAR(cal.bias.speed_scale, 1.0, 0.05);
-    EXPECT_TRUE(cal.skipped.empty());
-    EXPECT_EQ(cal.truth_breaks, 0u);
-}
-
-TEST(NoiseCalibrationTest, LongWindowFitIsTheDefaultAndMatchesWhiteNoise)
-{
-    const auto run = makeRun(1200, 0.05, 5.0, 11);
-    NoiseCalibrationOptions o;
-    o.max_lag_s = 0.1;
-    const auto cal = hymm::datasets::calibrateOdometryNoise(run.commands, run.truth, o);
-    EXPECT_DOUBLE_EQ(cal.fit_min_window_s, 5.0);
-    EXPECT_EQ(cal.per_window.size(), 7u);  // 0.2 .. 20 s
-    EXPECT_NEAR(cal.joint.std_speed_mps, 0.05, 0.1 * 0.05);
-    EXPECT_NEAR(cal.joint.std_turn_rate_deg_s, 5.0, 0.1 * 5.0);
-}
-
-TEST(NoiseCalibrationTest, DelayAndScaleErrorsAreFoundAndShowAsFasterGrowth)
-{
-    // The robot runs 10 samples (0.2 s) behind its commands, 10 % slower, turning 5 % less.
-    const auto run = makeRun(1200, 0.01, 1.0, 3, 0.9, 0.95, 10);
-    NoiseCalibrationOptions o;
-    o.windows_s = {0.5, 1, 2, 5, 10};
-    const auto cal = hymm::datasets::calibrateOdometryNoise(run.commands, run.truth, o);
-    EXPECT_NEAR(cal.bias.lag_s, 0.2, 0.021);
-    EXPECT_NEAR(cal.bias.speed_scale, 0.9, 0.02);
-    EXPECT_NEAR(cal.bias.speed_offset_mps, 0.0, 0.002);
-    EXPECT_NEAR(cal.bias.turn_scale, 0.95, 0.01);
-    EXPECT_LT(cal.bias.lag_heading_std_deg, cal.bias.turn_raw_std_deg);
-    EXPECT_LT(cal.bias.turn_residual_std_deg, cal.bias.lag_heading_std_deg);
-    // Systematic errors: the per-sample values inflate with the window length.
-    EXPECT_GT(cal.per_window.back().std_speed_mps, 2 * cal.per_window.front().std_speed_mps);
-}
-
-TEST(NoiseCalibrationTest, ScaleErrorGrowsQuadraticallyNotLikeARandomWalk)
-{
-    const auto run = makeRun(600, 0.01, 1.0, 17, 1.0, 0.9);
-    NoiseCalibrationOptions o;
-    o.windows_s = {0.2, 0.5, 1};
-    o.fit_min_window_s = 0.2;
-    o.max_lag_s = 0.1;
-    const auto cal = hymm::datasets::calibrateOdometryNoise(run.commands, run.truth, o);
-    EXPECT_GT(cal.heading_growth_exponent, 1.6);
-    EXPECT_NEAR(cal.bias.turn_scale, 0.9, 0.01);
-    const auto white = makeRun(600, 0.01, 1.0, 17);
-    EXPECT_NEAR(hymm::datasets::calibrateOdometryNoise(white.commands, white.truth, o)
-                    .heading_growth_exponent,
-                1.0, 0.15);
-}
+using hymm::test::makeRun;
 
 TEST(NoiseCalibrationTest, TruthGapsAndJumpsAreSkippedAndCounted)
 {
