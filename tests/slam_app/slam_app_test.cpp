@@ -16,6 +16,9 @@
 #include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/maps/CSimplePointsMap.h>
+#include <mrpt/obs/CObservationComment.h>
+#include <mrpt/obs/CRawlog.h>
+#include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/serialization/CArchive.h>
 
 #include <cmath>
@@ -275,6 +278,71 @@ TEST(SlamAppReliability, RunThatUsesNoObservationWarnsOnStderrAndInTheSummary)
     EXPECT_NE(summary.find("of a kind this config does not use"), std::string::npos);
     fs::remove_all(out);
     fs::remove(out.string() + ".ini");
+}
+
+// The chapter-2 sample with two comments (a class hymm-slam does not read) in every
+// frame and two frames stamped before the one they follow: most observations unused,
+// counted by class name, and time going backwards, each a warning; --strict fails.
+TEST(SlamAppReliability, MostObservationsUnusedAndTimeBackwardsAreWarningsNamingTheCause)
+{
+    const auto out = reliability::scratch("mostly");
+    const fs::path rawlog = out.string() + ".rawlog";
+    mrpt::obs::CRawlog log_in, log_out;
+    ASSERT_TRUE(log_in.loadFromRawLogFile(reliability::kCh2));
+    size_t frames = 0;
+    std::vector<mrpt::Clock::time_point> stamps;
+    for (size_t i = 0; i < log_in.size(); ++i)
+    {
+        if (log_in.getType(i) != mrpt::obs::CRawlog::etSensoryFrame)
+        {
+            log_out.insert(log_in.getAsAction(i));
+            continue;
+        }
+        auto sf = log_in.getAsObservations(i);
+        ASSERT_FALSE(sf->empty());
+        auto first = *sf->begin();
+        stamps.push_back(first->timestamp);
+        if (frames == 10 || frames == 20) first->timestamp = stamps[frames - 5];  // backwards
+        for (int k = 0; k < 2; ++k)
+        {
+            auto c = mrpt::obs::CObservationComment::Create();
+            c->text = "not a measurement";
+            c->timestamp = first->timestamp;
+            sf->insert(c);
+        }
+        log_out.insert(*sf);
+        ++frames;
+    }
+    ASSERT_GT(frames, 30u);
+    ASSERT_TRUE(log_out.saveToRawLogFile(rawlog.string()));
+
+    SlamApp::Args a;
+    a.config = kSrc + "/configs/ch2_slam.ini";
+    a.rawlog = rawlog.string();
+    a.out_dir = out.string();
+    a.quiet = true;
+    a.png = false;
+    std::ostringstream log;
+    SlamApp(a).run(log);
+    const std::string comments = "mrpt::obs::CObservationComment " + std::to_string(2 * frames);
+    const auto summary = reliability::slurp(out / "summary.txt");
+    for (const std::string& text : {log.str(), summary})
+    {
+        EXPECT_NE(text.find("most observations were not used: " + std::to_string(2 * frames) + " of " +
+                            std::to_string(3 * frames)),
+                  std::string::npos)
+            << text;
+        EXPECT_NE(text.find("unsupported types: " + comments + ")"), std::string::npos) << text;
+        EXPECT_NE(text.find("time went backwards 2 times"), std::string::npos) << text;
+    }
+    EXPECT_NE(log.str().find("hymm-slam: warning: most observations"), std::string::npos);
+    EXPECT_NE(summary.find("unsupported obs.     " + comments + "\n"), std::string::npos) << summary;
+
+    a.strict = true;
+    EXPECT_THROW(SlamApp(a).run(log), std::runtime_error);
+    EXPECT_TRUE(fs::is_empty(out)) << "--strict: no results";
+    fs::remove_all(out);
+    fs::remove(rawlog);
 }
 
 TEST(SlamAppReliability, StrictMakesARunWarningAFailureWithNoResults)
