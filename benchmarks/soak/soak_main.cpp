@@ -20,8 +20,8 @@
  * symmetric part, largest |P - P^T|) and the smallest eigenvalue of the Schur complement
  * P_pp - P_pa P_aa^-1 P_ap over the passive blocks (>= 0 iff the joint covariance of the
  * block with the active states is PSD), regions, and the items stored per dense layer,
- * fallback tiles and delayed-store returns (the CSV also: the points and SOG components of the
- * fullest region). --profile adds the pipeline's and the dense
+ * fallback tiles and delayed-store returns, scan landmarks' templates and their points (the
+ * CSV also: the points and SOG components of the fullest region). --profile adds the pipeline's and the dense
  * map's CTimeLogger sections, per lap, in ms per step.
  * Exit code 0; 1 on error (bad arguments, a config the pipeline rejects).
  */
@@ -159,6 +159,7 @@ struct LapRow
     size_t fallback_tiles = 0;
     size_t delayed_points = 0, delayed_scans = 0;
     double dense_mb = 0;  //!< HybridMetricMap::memoryBytes()
+    size_t scan_templates = 0, template_points = 0;  //!< scan landmarks (thesis ch. 5)
     std::map<std::string, double> profile_ms;  //!< section -> ms per step in this lap
 };
 
@@ -208,8 +209,8 @@ void printHeader(std::ostream& o)
     o << "| lap | steps | RSS [MB] | step median [ms] | step p95 [ms] | CPU/step median [ms] | CPU/step p95 [ms] "
          "| landmarks | passive blocks | P min eig | max abs(P - P^T) | passive Schur min eig | regions (with content) "
          "| points (fullest region) | occupancy cells | particles | SOG components | property cells | fallback tiles "
-         "| delayed-store returns (scans) | dense map [MB] |\n"
-      << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+         "| delayed-store returns (scans) | dense map [MB] | scan templates (points) |\n"
+      << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
 }
 
 std::string item(const LapRow& r, const char* kind)
@@ -226,8 +227,8 @@ void printRow(std::ostream& o, const LapRow& r)
                   r.passive_blocks, r.p_min_eig, r.p_asym, r.passive_min_eig, r.regions, r.regions_with_content);
     o << buf << item(r, "points") << " (" << r.max_region_points << ") | ";
     for (const char* k : {"occupancy", "particles", "sog", "property"}) o << item(r, k) << " | ";
-    std::snprintf(buf, sizeof(buf), "%zu | %zu (%zu) | %.1f |\n", r.fallback_tiles, r.delayed_points, r.delayed_scans,
-                  r.dense_mb);
+    std::snprintf(buf, sizeof(buf), "%zu | %zu (%zu) | %.1f | %zu (%zu) |\n", r.fallback_tiles, r.delayed_points,
+                  r.delayed_scans, r.dense_mb, r.scan_templates, r.template_points);
     o << buf << std::flush;
 }
 
@@ -237,7 +238,7 @@ void printCsvHeader(std::ostream& o, const std::vector<std::string>& sections)
          "landmarks,passive_blocks,p_min_eig,p_max_asym,passive_schur_min_eig,regions,regions_with_content,"
          "max_region_points,max_region_sog";
     for (const char* k : kKinds) o << ',' << k;
-    o << ",fallback_tiles,delayed_points,delayed_scans,dense_mb";
+    o << ",fallback_tiles,delayed_points,delayed_scans,dense_mb,scan_templates,template_points";
     for (const auto& s : sections) o << ",ms_per_step:" << s;
     o << '\n';
 }
@@ -253,7 +254,8 @@ void printCsvRow(std::ostream& o, const LapRow& r, const std::vector<std::string
         const auto it = r.items.find(k);
         o << ',' << (it == r.items.end() ? 0 : it->second);
     }
-    o << ',' << r.fallback_tiles << ',' << r.delayed_points << ',' << r.delayed_scans << ',' << r.dense_mb;
+    o << ',' << r.fallback_tiles << ',' << r.delayed_points << ',' << r.delayed_scans << ',' << r.dense_mb << ','
+      << r.scan_templates << ',' << r.template_points;
     for (const auto& s : sections)
     {
         const auto it = r.profile_ms.find(s);
@@ -363,6 +365,12 @@ int main(int argc, char** argv)
                 r.delayed_scans = st->numStoredScans();
             }
             r.dense_mb = static_cast<double>(h->memoryBytes()) / (1024.0 * 1024.0);
+            if (const auto* src = slam->scanLandmarks())
+                for (const auto& [id, tpl] : src->map().templates())
+                {
+                    ++r.scan_templates;
+                    r.template_points += tpl.sog.size();
+                }
             if (profile.getValue())
             {
                 const auto now = profileTotals(*slam, *slam);
