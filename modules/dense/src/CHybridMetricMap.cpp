@@ -12,6 +12,7 @@
 #include <mrpt/serialization/CArchive.h>
 #include <mrpt/system/filesystem.h>
 
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -58,15 +59,25 @@ void readLikelihoodOptions(mrpt::serialization::CArchive& in, LikelihoodOptions&
 }  // namespace
 
 // --- map definition -------------------------------------------------------------------
+constexpr double kMaxLikelihoodResolution = 10.0;  // [m] coarser is no map of a robot's world
 CHybridMetricMap::TMapDefinition::TMapDefinition() = default;
 
 void CHybridMetricMap::TMapDefinition::loadFromConfigFile_map_specific(
     const mrpt::config::CConfigFileBase& source, const std::string& prefix)
 {
     map_file = source.read_string(prefix, "map_file", map_file);
-    likelihood_resolution_m = source.read_double(prefix, "likelihood_resolution_m", likelihood_resolution_m);
-    if (!(likelihood_resolution_m >= 0))
-        throw std::invalid_argument("[" + prefix + "] likelihood_resolution_m must be >= 0");
+    // Read as text so that a bad value is reported as written (MRPT's read_double
+    // turns "0.1m" into 0.1 and "abc" into 0).
+    const std::string written = source.read_string(prefix, "likelihood_resolution_m", "");
+    if (!written.empty())
+    {
+        char* end = nullptr;
+        const double v = std::strtod(written.c_str(), &end);
+        if (end == written.c_str() || *end != '\0' || !(v >= 0 && v <= kMaxLikelihoodResolution))
+            throw std::invalid_argument("[" + prefix + "] likelihood_resolution_m = '" + written +
+                                        "': expected a number of metres in [0, 10]");
+        likelihood_resolution_m = v;
+    }
     likelihoodOpts.loadFromConfigFile(source, prefix + "_likelihoodOpts");
     dense_options.loadFromConfigFile(source, prefix + "_HybridMetricMap");
     dense_options.validate(prefix + "_HybridMetricMap");

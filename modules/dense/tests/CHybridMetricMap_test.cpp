@@ -255,6 +255,36 @@ TEST(CHybridMetricMap, CMultiMetricMapCreatesItFromIni)
     std::remove(file.c_str());
 }
 
+// The map definition read by MRPT's apps (CMultiMetricMap): a bad resolution is an
+// error quoting the value as written, not a number MRPT's parser made of it.
+TEST(CHybridMetricMap, BadLikelihoodResolutionIsAnErrorQuotingTheValue)
+{
+    for (const std::string bad : {"abc", "0.1m", "-0.2", "50", "nan"})
+    {
+        mrpt::config::CConfigFileMemory ini("[MAP]\nCHybridMetricMap_count = 1\n[MAP_CHybridMetricMap_00]\n"
+                                            "likelihood_resolution_m = " + bad + "\n");
+        mrpt::maps::TSetOfMetricMapInitializers inits;
+        try
+        {
+            inits.loadFromConfigFile(ini, "MAP");
+            ADD_FAILURE() << "accepted " << bad;
+        }
+        catch (const std::exception& e)
+        {
+            EXPECT_NE(std::string(e.what()).find("likelihood_resolution_m = '" + bad + "'"), std::string::npos)
+                << e.what();
+        }
+    }
+    mrpt::config::CConfigFileMemory ok("[MAP]\nCHybridMetricMap_count = 1\n[MAP_CHybridMetricMap_00]\n"
+                                       "likelihood_resolution_m = 0.25\n");
+    mrpt::maps::TSetOfMetricMapInitializers inits;
+    inits.loadFromConfigFile(ok, "MAP");
+    ASSERT_EQ(inits.size(), 1u);
+    const auto* def = dynamic_cast<const CHybridMetricMap::TMapDefinition*>(inits.begin()->get());
+    ASSERT_NE(def, nullptr);
+    EXPECT_DOUBLE_EQ(def->likelihood_resolution_m, 0.25);
+}
+
 TEST(CHybridMetricMap, VisualizationHasOneNamedObjectPerPart)
 {
     Fixture f;
