@@ -35,9 +35,6 @@ constexpr double kMinCoverage = 0.05;
 
 SlamApp::Args argsFor(const std::string& out) { return ch3SampleArgs(kConfig, out); }
 
-
-// --- every chapter-4 layer --------------------------------------------------------
-
 // Measured on the sample with the config of writeAllLayersConfig(): mean distance to
 // the true surfaces (outlines and trunks) 0.23 m for the particles with w > 0.8, 0.33 m
 // for the Gaussian means, 0.43 m for the property cells (every 0.2 m cell a return fell
