@@ -248,6 +248,15 @@ size_t GuardedRawlogStream::Read(void* buffer, size_t count)
         for (const auto& c : due) checkCount(c);
     }
     const size_t n = rawRead(buffer, count);
+    // MRPT's CArchive::ReadBuffer accepts a short read when at least one byte came, and
+    // the value keeps whatever the rest of its bytes held: a 4-byte count cut by the end
+    // of the file became billions of elements, sized before the next read failed. A read
+    // the data cannot fill is refused whole, so MRPT sees the end of the file.
+    if (n < count)
+    {
+        cut_read_ = cut_read_ || n > 0;
+        return 0;
+    }
     const auto* bytes = static_cast<const uint8_t*>(buffer);
     const int prev = last_read_byte_;
     const int old_len = old_header_len_;

@@ -110,6 +110,9 @@ public:
     const std::string& dataError() const { return data_error_; }
     /** The message of the last RawlogSizeError thrown (MRPT may wrap it). */
     const std::string& sizeError() const { return size_error_; }
+    /** True once a read found some but not all of its bytes before the end of the data
+     *  (refused whole: see Read). */
+    bool cutRead() const { return cut_read_; }
 
 private:
     /** At uncompressed offset `offset` MRPT reads a uint32 count of elements of at least
@@ -204,6 +207,7 @@ private:
     uint64_t pos_ = 0;
     std::string data_error_;
     std::string size_error_;
+    bool cut_read_ = false;
     std::vector<uint8_t> ahead_;  // bytes read from zlib but not yet consumed, from pos_
     std::vector<Checkpoint> checkpoints_;
     // Per accepted count of n elements of at least e bytes starting at s: s + (n - 1) e.

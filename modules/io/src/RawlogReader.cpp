@@ -54,6 +54,7 @@ bool RawlogReader::next(RawlogEntry& entry)
         // A file whose gzip data is corrupt or cut is reported as such: what the entry
         // then declares or holds is garbage decompressed before zlib noticed.
         if (!stream_->dataError().empty()) throw gzipCorrupt();
+        if (stream_->cutRead()) throw std::runtime_error(where + "is truncated in" + at_entry);
         if (!stream_->sizeError().empty())
             throw std::runtime_error(where + "is corrupt at" + at_entry + ": it " +
                                      stream_->sizeError());

@@ -527,6 +527,23 @@ TEST(RawlogHostileTest, NestedCollectionsCannotEachClaimTheRestOfTheFile)
     expectCleanError(path, data, "entry 0", "needed by the enclosing objects' remaining elements");
 }
 
+// The file ends inside an action collection's 4-byte count: three of its bytes are
+// there. MRPT's ReadBuffer accepts the short read and the count's fourth byte keeps
+// whatever it held, so MRPT sized a container of at least 13 million actions (2.1 GB
+// found by rawlog_fuzz: regressions/rawlog/oom_count_cut_by_end_of_file). The guard
+// refuses a read the data cannot fill, and the entry is reported as truncated.
+TEST(RawlogHostileTest, CountCutByTheEndOfTheFileIsATruncatedEntry)
+{
+    const std::string name = "mrpt::obs::CActionCollection";
+    std::vector<uint8_t> data;
+    data.push_back(static_cast<uint8_t>(0x80 | name.size()));
+    data.insert(data.end(), name.begin(), name.end());
+    data.push_back(0);  // version
+    data.insert(data.end(), {0x01, 0x00, 0xc8});  // three of the count's four bytes
+    const auto path = writeGz(data);
+    expectCleanError(path, data, "entry 0", "is truncated in entry 0");
+}
+
 TEST(RawlogHostileTest, ZeroByteInAClassNameDoesNotHideTheCounts)
 {
     // MRPT reads the class name into a C string: "mrpt::obs::CActionCollection\0xyz" is a
