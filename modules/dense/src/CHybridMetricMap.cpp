@@ -4,6 +4,7 @@
 
 #include "hybrid_map_text.h"
 
+#include <hymm/core/config_utils.h>
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/io/CFileGZOutputStream.h>
@@ -12,7 +13,6 @@
 #include <mrpt/serialization/CArchive.h>
 #include <mrpt/system/filesystem.h>
 
-#include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -66,18 +66,14 @@ void CHybridMetricMap::TMapDefinition::loadFromConfigFile_map_specific(
     const mrpt::config::CConfigFileBase& source, const std::string& prefix)
 {
     map_file = source.read_string(prefix, "map_file", map_file);
-    // Read as text so that a bad value is reported as written (MRPT's read_double
-    // turns "0.1m" into 0.1 and "abc" into 0).
-    const std::string written = source.read_string(prefix, "likelihood_resolution_m", "");
-    if (!written.empty())
-    {
-        char* end = nullptr;
-        const double v = std::strtod(written.c_str(), &end);
-        if (end == written.c_str() || *end != '\0' || !(v >= 0 && v <= kMaxLikelihoodResolution))
-            throw std::invalid_argument("[" + prefix + "] likelihood_resolution_m = '" + written +
-                                        "': expected a number of metres in [0, 10]");
-        likelihood_resolution_m = v;
-    }
+    // The strict reader, not MRPT's read_double (which takes "0.1m" as 0.1 and "abc" as
+    // 0): errors quote the value as written.
+    const char* key = "likelihood_resolution_m";
+    likelihood_resolution_m = core::readDouble(source, prefix, key, likelihood_resolution_m);
+    if (!(likelihood_resolution_m >= 0 && likelihood_resolution_m <= kMaxLikelihoodResolution))
+        throw core::ConfigError("[" + prefix + "] " + key + "=" + core::readString(source, prefix, key, "") +
+                                    ": must be in [0, 10] m",
+                                prefix, key);
     likelihoodOpts.loadFromConfigFile(source, prefix + "_likelihoodOpts");
     dense_options.loadFromConfigFile(source, prefix + "_HybridMetricMap");
     dense_options.validate(prefix + "_HybridMetricMap");

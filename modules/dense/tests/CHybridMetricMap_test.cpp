@@ -274,7 +274,7 @@ TEST(CHybridMetricMap, BadLikelihoodResolutionIsAnErrorQuotingTheValue)
         }
         catch (const std::exception& e)
         {
-            EXPECT_NE(std::string(e.what()).find("likelihood_resolution_m = '" + bad + "'"), std::string::npos)
+            EXPECT_NE(std::string(e.what()).find("likelihood_resolution_m=" + bad + ":"), std::string::npos)
                 << e.what();
         }
     }
