@@ -78,6 +78,20 @@ function(hymm_add_test name)
     gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60 PROPERTIES LABELS "${A_LABELS}" COST ${A_COST})
 endfunction()
 
+# hymm_add_failure_test(NAME REGEX COMMAND...)
+# ctest NAME runs COMMAND and passes only if it exits non-zero with output matching
+# REGEX (cmake/expect_failure.cmake): an app given bad input must fail with a message
+# saying what is wrong, not crash or succeed. Label 'app'.
+function(hymm_add_failure_test name regex)
+    if(NOT HYMM_BUILD_TESTS)
+        return()
+    endif()
+    add_test(NAME ${name}
+        COMMAND ${CMAKE_COMMAND} "-DREGEX=${regex}" "-DCMD=${ARGN}"
+                -P ${PROJECT_SOURCE_DIR}/cmake/expect_failure.cmake)
+    set_tests_properties(${name} PROPERTIES LABELS app)
+endfunction()
+
 # hymm_add_benchmark(NAME SOURCES ... LINK_LIBRARIES ...)
 function(hymm_add_benchmark name)
     cmake_parse_arguments(A "" "" "SOURCES;LINK_LIBRARIES" ${ARGN})
