@@ -366,11 +366,10 @@ int main(int argc, char** argv)
             }
             r.dense_mb = static_cast<double>(h->memoryBytes()) / (1024.0 * 1024.0);
             if (const auto* src = slam->scanLandmarks())
-                for (const auto& [id, tpl] : src->map().templates())
-                {
-                    ++r.scan_templates;
-                    r.template_points += tpl.sog.size();
-                }
+            {
+                r.scan_templates = src->map().templates().size();
+                for (const auto& [id, tpl] : src->map().templates()) r.template_points += tpl.sog.size();
+            }
             if (profile.getValue())
             {
                 const auto now = profileTotals(*slam, *slam);

@@ -76,9 +76,7 @@ void writeRawlogWithIntensity(const std::string& file)
 // 98%) so that the per-region resolution outputs have coarse regions to show.
 void writeAllLayersConfig(const std::string& file)
 {
-    std::ifstream in(kConfig);
-    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    mrpt::config::CConfigFileMemory cfg(text);
+    mrpt::config::CConfigFileMemory cfg(readFile(kConfig));
     cfg.write("DenseSlam", "dense_layers", "points,occupancy,particles,sog,property");
     cfg.write("DenseSlam", "classic_grid", "false");
     cfg.write("HybridMetricMap", "coarsen_every_n_scans", "10");
@@ -119,9 +117,7 @@ TEST(SlamApp, AllLayersWriteLoadableMapsOnTheTrueOutlines)
         ASSERT_TRUE(fs::exists(p)) << f;
         EXPECT_GT(fs::file_size(p), 0u) << f;
     }
-    std::ifstream mj(out + "/metrics.json");
-    const std::string metrics((std::istreambuf_iterator<char>(mj)),
-                              std::istreambuf_iterator<char>());
+    const std::string metrics = readFile(out + "/metrics.json");
     const auto* hybrid = app.slam().hybridMap();
     ASSERT_NE(hybrid, nullptr);
     const auto stored = hybrid->sizeByKind();
@@ -226,9 +222,7 @@ TEST(SlamApp, AllLayersWriteLoadableMapsOnTheTrueOutlines)
     EXPECT_EQ(denseMetric(metrics, "occupancy", "regions_coarse"), static_cast<double>(coarse));
     EXPECT_EQ(denseMetric(metrics, "occupancy", "regions_fine"), static_cast<double>(fine));
 
-    std::ifstream sf(out + "/summary.txt");
-    const std::string summary((std::istreambuf_iterator<char>(sf)),
-                              std::istreambuf_iterator<char>());
+    const std::string summary = readFile(out + "/summary.txt");
     for (const char* line :
          {"layer points", "layer occupancy", "layer particles", "layer sog", "layer property"})
         EXPECT_NE(summary.find(line), std::string::npos) << line;

@@ -7,6 +7,7 @@
 // other-version, truncated or corrupt state and another config are clear errors before
 // anything is written, as is --save-state-every without --save-state. Scan landmarks and high-level landmarks resume too.
 #include "ch3_sample.h"
+#include "slam_app_files.h"
 
 #include <gtest/gtest.h>
 #include <hymm/app/slam_outputs.h>
@@ -33,6 +34,8 @@ namespace
 {
 namespace fs = std::filesystem;
 using hymm::app::SlamApp;
+using hymm::test::readFile;
+using hymm::test::TempDir;
 
 const std::string kSrc = HYMM_SOURCE_DIR;
 const std::string& kRawlog = hymm::test::kCh3Rawlog;
@@ -41,28 +44,7 @@ const std::string kConfig = kSrc + "/tests/slam_app/resume_layers.ini";
 constexpr size_t kCut = 150;
 constexpr size_t kEnd = 260;
 
-struct TempDir
-{
-    fs::path path;
-    TempDir()
-    {
-        path = fs::temp_directory_path() / ("hymm_resume_test_" + std::to_string(::getpid()));
-        fs::remove_all(path);
-        fs::create_directories(path);
-    }
-    ~TempDir() { fs::remove_all(path); }
-    std::string operator/(const std::string& name) const { return (path / name).string(); }
-};
-
 SlamApp::Args argsFor(const std::string& out) { return hymm::test::ch3SampleArgs(kConfig, out); }
-
-std::string readFile(const fs::path& p)
-{
-    std::ifstream f(p, std::ios::binary);
-    std::ostringstream s;
-    s << f.rdbuf();
-    return s.str();
-}
 
 // As scripts/check-outputs --compare: the lines carrying run times are left out. Plain string
 // search rather than std::regex: GCC 12's <regex> trips -Wmaybe-uninitialized under the
@@ -145,7 +127,11 @@ void writeEntries(const std::string& path, size_t from, size_t to, bool bad_tail
 class Resume : public ::testing::Test
 {
 protected:
-    static void SetUpTestSuite() { dir_ = new TempDir; }
+    static void SetUpTestSuite()
+    {
+        dir_ = new TempDir("hymm_resume_test_");
+        fs::create_directories(dir_->path);
+    }
 
     // The uninterrupted run ("full") and the first part with its state ("first",
     // cut.state), each made once per test process and only by the tests that read it:

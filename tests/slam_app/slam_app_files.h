@@ -2,7 +2,7 @@
  * @file slam_app_files.h
  * @brief What the slam_app tests read back from hymm-slam's output folder and the
  *        chapter-3 sample's truth: a scratch folder, the true surfaces, MRPT objects,
- *        metrics.json numbers and text lines.
+ *        metrics.json numbers, whole files and text lines.
  */
 #pragma once
 
@@ -26,7 +26,7 @@
 
 namespace hymm::test
 {
-/** A folder of its own per test process, removed with the object. */
+/** A folder of its own per test process (not created), removed with the object. */
 struct TempDir
 {
     std::filesystem::path path;
@@ -36,7 +36,15 @@ struct TempDir
         std::filesystem::remove_all(path);
     }
     ~TempDir() { std::filesystem::remove_all(path); }
+    std::string operator/(const std::string& name) const { return (path / name).string(); }
 };
+
+/** The whole file as bytes (empty if it cannot be read). */
+inline std::string readFile(const std::filesystem::path& p)
+{
+    std::ifstream f(p, std::ios::binary);
+    return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
+}
 
 /** The sample's true object outlines. */
 inline std::vector<hymm::dense::Polygon> trueOutlines()

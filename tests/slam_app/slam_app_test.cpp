@@ -98,8 +98,7 @@ TEST(SlamApp, Ch3ObjectsWritesAccurateFeatureAndDenseMaps)
             EXPECT_GT(fs::file_size(p), 0u) << f;
         }
     }
-    std::ifstream mj(out + "/metrics.json");
-    const std::string metrics((std::istreambuf_iterator<char>(mj)), std::istreambuf_iterator<char>());
+    const std::string metrics = readFile(out + "/metrics.json");
     for (const char* key : {"\"dense\"", "\"points\"", "\"occupancy\"", "\"classic_grid\"",
                             "\"coverage\"", "\"p95_distance_m\""})
         EXPECT_NE(metrics.find(key), std::string::npos) << key;
@@ -242,12 +241,6 @@ fs::path scratch(const std::string& name)
     return p;
 }
 
-std::string slurp(const fs::path& p)
-{
-    std::ifstream f(p, std::ios::binary);
-    return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
-}
-
 // The bearing-range-only chapter-2 rawlog under a laser-landmark config with no dense
 // part: every entry reads cleanly, but no observation can be used.
 SlamApp::Args unusableRun(const fs::path& out)
@@ -272,7 +265,7 @@ TEST(SlamAppReliability, RunThatUsesNoObservationWarnsOnStderrAndInTheSummary)
     EXPECT_NE(log.str().find("hymm-slam: warning: none of the rawlog's"), std::string::npos)
         << log.str();
     EXPECT_NE(log.str().find("no landmark observation reached the filter"), std::string::npos);
-    const auto summary = reliability::slurp(out / "summary.txt");
+    const auto summary = readFile(out / "summary.txt");
     EXPECT_NE(summary.find("warning              none of the rawlog's"), std::string::npos)
         << summary;
     EXPECT_NE(summary.find("of a kind this config does not use"), std::string::npos);
@@ -325,7 +318,7 @@ TEST(SlamAppReliability, MostObservationsUnusedAndTimeBackwardsAreWarningsNaming
     std::ostringstream log;
     SlamApp(a).run(log);
     const std::string comments = "mrpt::obs::CObservationComment " + std::to_string(2 * frames);
-    const auto summary = reliability::slurp(out / "summary.txt");
+    const auto summary = readFile(out / "summary.txt");
     for (const std::string& text : {log.str(), summary})
     {
         EXPECT_NE(text.find("most observations were not used: " + std::to_string(2 * frames) + " of " +
@@ -379,8 +372,8 @@ TEST(SlamAppReliability, AnEarlierRunsResultsAreReplacedNotMixed)
     SlamApp(a).run(log);
     EXPECT_FALSE(fs::exists(out / "map.png")) << "stale result of the first run";
     EXPECT_TRUE(fs::exists(out / "summary.txt"));
-    EXPECT_EQ(reliability::slurp(out / "my_notes.txt"), "kept");
-    const auto manifest = reliability::slurp(out / ".hymm-outputs");
+    EXPECT_EQ(readFile(out / "my_notes.txt"), "kept");
+    const auto manifest = readFile(out / ".hymm-outputs");
     EXPECT_NE(manifest.find("summary.txt\n"), std::string::npos);
     EXPECT_EQ(manifest.find("map.png"), std::string::npos);
     for (const auto& e : fs::directory_iterator(out))
@@ -398,7 +391,7 @@ TEST(SlamAppReliability, BadOutputFolderFailsBeforeTheRawlogIsProcessed)
     // be about the rawlog.
     const fs::path cut = base / "cut.rawlog";
     {
-        const auto bytes = reliability::slurp(reliability::kCh2);
+        const auto bytes = readFile(reliability::kCh2);
         std::ofstream(cut, std::ios::binary) << bytes.substr(0, bytes.size() / 2);
     }
     for (const fs::path& bad : {base / "a_file", base / "missing_parent" / "out"})
