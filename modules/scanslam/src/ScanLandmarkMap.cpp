@@ -19,35 +19,8 @@
 
 namespace hymm::scanslam
 {
-namespace
-{
-/** The wide-search keys of [ScanLandmarks] (README: "Loop closure by a wide search"). */
-void declareWideKeys(hymm::core::OptionTable& t, ScanLandmarkMap::Options& o)
-{
-    using namespace hymm::core;
-    t.flag("wide_search", o.wide_search,
-           "templates refused by max_prediction_std_m are searched over their +-3 sigma window");
-    t.real("wide_coarse_step_m", o.wide.coarse_step_m, "m", above(0, 100), "wide search: level-A step and likelihood std");
-    t.real("wide_fine_step_m", o.wide.fine_step_m, "m", above(0, 100), "wide search: level-B step");
-    t.real("wide_fine_sigma_m", o.wide.fine_sigma_m, "m", above(0, 100), "wide search: level-B likelihood std");
-    t.integer("wide_candidates", o.wide.candidates, "", 1, 1000, "wide search: level-A peaks refined");
-    t.integer("wide_max_points", o.wide.max_points, "", 3, 100000, "wide search: template points scored (subsample)");
-    t.real("wide_peak_separation_m", o.wide.peak_separation_m, "m", above(0, 1000),
-           "wide search: peaks moving the template less than this are one");
-    t.real("wide_max_ambiguity", o.wide.max_ambiguity, "", between(0, 1),
-           "wide search: second separate peak's goodness / best's below this");
-    t.real("wide_min_matched_fraction", o.wide.min_matched_fraction, "", between(0, 1),
-           "wide search: template points within the gate at the best pose");
-    t.real("wide_max_xy_m", o.wide_max_xy_m, "m", above(0, 10000), "wide search: largest +-3 sigma half window in x, y");
-    t.real("wide_max_phi_deg", o.wide_max_phi, "deg", above(0, 180), "wide search: largest half window in angle", M_PI / 180);
-    t.integer("wide_max_per_scan", o.wide_max_per_scan, "", 1, 1000, "wide searches per scan");
-    t.integer("wide_retry_scans", o.wide_retry_scans, "", 1, 1000000, "scans between wide searches of one template");
-    t.integer("wide_confirm_scans", o.wide_confirm_scans, "", 0, 1000000,
-              "wide answers fused only when another template's within this many scans agrees (0: at once)");
-    t.real("wide_confirm_xy_m", o.wide_confirm_xy_m, "m", above(0, 1000), "agreement of the implied vehicle corrections in x, y");
-    t.real("wide_confirm_phi_deg", o.wide_confirm_phi, "deg", above(0, 180), "and in heading", M_PI / 180);
-}
-}  // namespace
+/** The wide-search keys of [ScanLandmarks] (ScanLandmarkWide.cpp). */
+void declareWideKeys(core::OptionTable& t, ScanLandmarkMap::Options& o);
 
 core::OptionTable ScanLandmarkMap::Options::table()
 {

@@ -2,20 +2,88 @@
  * @file ScanLandmarkWide.cpp
  * @brief ScanLandmarkMap::observeWide: the re-observation of a template whose predicted
  *        pose is too uncertain for the local matchers (a loop closure after drift).
- *        Wide correlative search over the +-3 sigma window of the prediction (capped),
- *        accepted only when distinctive (WideSearch.h), refined by the normal matcher,
- *        the view-change guard applied to the refined pose, and fused through the
- *        usual NN gate with S = H P H^T + R (R with the viewpoint term). Every outcome
- *        is counted in Stats::wide.
+ *        Wide correlative search over the +-3 sigma window of the prediction (capped,
+ *        cut to the template's viewpoints with wide_view_window_m), accepted only when
+ *        distinctive (WideSearch.h), refined by the normal matcher, the view-change
+ *        guard applied to the refined pose, confirmed by another template, and fused
+ *        through the usual NN gate with S = H P H^T + R (R with the viewpoint term).
+ *        Every outcome is counted in Stats::wide. The wide_* keys of [ScanLandmarks].
  */
+#include <hymm/core/OptionTable.h>
 #include <mrpt/math/wrap2pi.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "hymm/scanslam/ScanLandmarkMap.h"
 
 namespace hymm::scanslam
 {
+namespace
+{
+/** The wide search's window (centre, half extents) for a template made at `made` (its
+ *  frame in the sensor frame then) and predicted at z_hat with covariance S: the
+ *  prediction's +-3 sigma box, cut, with wide_view_window_m > 0, to the poses that place
+ *  the frame within that distance (x, y) and wide_view_window_phi (heading) of `made`:
+ *  the viewpoints from which the template shows the faces it was made of. Returns the
+ *  reason it is refused (view_elsewhere: the two do not meet; window_too_large: beyond
+ *  the caps), nullptr when it is searched. */
+const char* searchWindow(const Vec3& z_hat, const Mat3& S, const Vec3& made, const ScanLandmarkMap::Options& o,
+                         Vec3& center, Vec3& half)
+{
+    const Vec3 h = 3.0 * S.diagonal().cwiseMax(0.0).cwiseSqrt();
+    center = z_hat;
+    half = h;
+    if (o.wide_view_window_m > 0)
+    {
+        Vec3 lo = z_hat - h, hi = z_hat + h;
+        lo.head<2>() = lo.head<2>().cwiseMax(made.head<2>() - Vec2::Constant(o.wide_view_window_m));
+        hi.head<2>() = hi.head<2>().cwiseMin(made.head<2>() + Vec2::Constant(o.wide_view_window_m));
+        // made's heading on z_hat's branch of the angle.
+        const double m = z_hat.z() + mrpt::math::wrapToPi(made.z() - z_hat.z());
+        lo.z() = std::max(lo.z(), m - o.wide_view_window_phi);
+        hi.z() = std::min(hi.z(), m + o.wide_view_window_phi);
+        if ((hi - lo).minCoeff() < 0) return "view_elsewhere";
+        center = 0.5 * (lo + hi);
+        half = 0.5 * (hi - lo);
+    }
+    if (half.x() > o.wide_max_xy_m || half.y() > o.wide_max_xy_m || half.z() > o.wide_max_phi)
+        return "window_too_large";
+    return nullptr;
+}
+}  // namespace
+
+/** The wide-search keys of [ScanLandmarks] (README: "Loop closure by a wide search"). */
+void declareWideKeys(core::OptionTable& t, ScanLandmarkMap::Options& o)
+{
+    using namespace hymm::core;
+    t.flag("wide_search", o.wide_search,
+           "templates refused by max_prediction_std_m are searched over their +-3 sigma window");
+    t.real("wide_coarse_step_m", o.wide.coarse_step_m, "m", above(0, 100), "wide search: level-A step and likelihood std");
+    t.real("wide_fine_step_m", o.wide.fine_step_m, "m", above(0, 100), "wide search: level-B step");
+    t.real("wide_fine_sigma_m", o.wide.fine_sigma_m, "m", above(0, 100), "wide search: level-B likelihood std");
+    t.integer("wide_candidates", o.wide.candidates, "", 1, 1000, "wide search: level-A peaks refined");
+    t.integer("wide_max_points", o.wide.max_points, "", 3, 100000, "wide search: template points scored (subsample)");
+    t.real("wide_peak_separation_m", o.wide.peak_separation_m, "m", above(0, 1000),
+           "wide search: peaks moving the template less than this are one");
+    t.real("wide_max_ambiguity", o.wide.max_ambiguity, "", between(0, 1),
+           "wide search: second separate peak's goodness / best's below this");
+    t.real("wide_min_matched_fraction", o.wide.min_matched_fraction, "", between(0, 1),
+           "wide search: template points within the gate at the best pose");
+    t.real("wide_max_xy_m", o.wide_max_xy_m, "m", above(0, 10000), "wide search: largest +-3 sigma half window in x, y");
+    t.real("wide_max_phi_deg", o.wide_max_phi, "deg", above(0, 180), "wide search: largest half window in angle", M_PI / 180);
+    t.integer("wide_max_per_scan", o.wide_max_per_scan, "", 1, 1000, "wide searches per scan");
+    t.integer("wide_retry_scans", o.wide_retry_scans, "", 1, 1000000, "scans between wide searches of one template");
+    t.integer("wide_confirm_scans", o.wide_confirm_scans, "", 0, 1000000,
+              "wide answers fused only when another template's within this many scans agrees (0: at once)");
+    t.real("wide_confirm_xy_m", o.wide_confirm_xy_m, "m", above(0, 1000), "agreement of the implied vehicle corrections in x, y");
+    t.real("wide_confirm_phi_deg", o.wide_confirm_phi, "deg", above(0, 180), "and in heading", M_PI / 180);
+    t.real("wide_view_window_m", o.wide_view_window_m, "m", atLeast(0, 1000),
+           "> 0: the wide search only places a template within this of where it was made in the sensor frame");
+    t.real("wide_view_window_phi_deg", o.wide_view_window_phi, "deg", above(0, 180),
+           "and within this of its heading then", M_PI / 180);
+}
+
 bool ScanLandmarkMap::confirmWide(const ekf::EkfSlam& ekf, long id, const Vec3& z, const Vec3& sensor)
 {
     // The vehicle pose that would make landmark `id` appear at z, as a correction of the
@@ -41,11 +109,12 @@ bool ScanLandmarkMap::confirmWide(const ekf::EkfSlam& ekf, long id, const Vec3& 
 Vec3 ScanLandmarkMap::observeWide(ekf::EkfSlam& ekf, long id, const ScanTemplate& tpl, const PointSet& pts,
                                   const Vec3& sensor, const Vec3& z_hat, const Mat3& S)
 {
-    // +-3 sigma of the prediction per axis (the window is axis-aligned in the sensor frame).
-    const Vec3 half = 3.0 * S.diagonal().cwiseMax(0.0).cwiseSqrt();
-    if (half.x() > options_.wide_max_xy_m || half.y() > options_.wide_max_xy_m || half.z() > options_.wide_max_phi)
+    // +-3 sigma of the prediction per axis (the window is axis-aligned in the sensor
+    // frame), cut to the viewpoints of wide_view_window_m.
+    Vec3 center, half;
+    if (const char* refused = searchWindow(z_hat, S, tpl.frame_in_sensor, options_, center, half))
     {
-        ++stats_.wide["window_too_large"];
+        ++stats_.wide[refused];
         return z_hat;
     }
     const auto last = wide_last_.find(id);
@@ -57,7 +126,7 @@ Vec3 ScanLandmarkMap::observeWide(ekf::EkfSlam& ekf, long id, const ScanTemplate
     }
     ++wide_this_scan_;
     wide_last_[id] = stats_.scans;
-    const WideResult w = wideSearch(tpl.sog, pts, z_hat, half, options_.wide);
+    const WideResult w = wideSearch(tpl.sog, pts, center, half, options_.wide);
     if (!w.ok)
     {
         ++stats_.wide[w.failure];

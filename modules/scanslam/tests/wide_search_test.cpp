@@ -1,6 +1,7 @@
 // The wide search of a re-observation after drift (WideSearch.h, ScanLandmarkMap::observeWide):
 // the true pose found from a prediction metres and > 10 deg off, a corridor (slides along
-// itself) refused as ambiguous, and a drifted filter pulled back by a loop closure.
+// itself) refused as ambiguous, a drifted filter pulled back by a loop closure, an answer
+// held until another template agrees, and the window cut to the template's viewpoints.
 #include <gtest/gtest.h>
 #include <hymm/scanslam/ScanLandmarkMap.h>
 #include <hymm/scanslam/Segmenter.h>
@@ -46,6 +47,16 @@ ScanTemplate templateNear(const hymm::sim::World& w, const Vec3& pose, const Vec
         if (d < 4 && t.sog.size() > best.sog.size()) best = t;
     }
     return best;
+}
+
+/** A Table 5.1 scan (30 m, 0.5 deg) from `pose` (the origin by default), as the laser
+ *  delivers it. */
+mrpt::obs::CObservation2DRangeScan::Ptr scanAtOrigin(const hymm::sim::World& w, uint32_t seed,
+                                                     const Vec3& pose = Vec3::Zero())
+{
+    hymm::sim::LaserSimulator::Options lo;
+    lo.max_range_m = 30, lo.fov = M_PI, lo.resolution = 0.5 * kDeg, lo.std_range_m = 0.1, lo.std_bearing = kDeg;
+    return hymm::sim::LaserSimulator(lo, seed, seed + 1000).observe(w, pose, 0.0, mrpt::Clock::now());
 }
 
 TEST(ScanWideSearch, FindsTheTruePoseFromAPredictionMetresOff)
@@ -115,18 +126,13 @@ TEST(ScanWideSearch, ClosesTheLoopOfADriftedFilter)
     made.z = tpl.frame_in_sensor;
     made.R = Vec3(0.01, 0.01, kDeg * kDeg).asDiagonal();
     map.addTemplateLandmark(ekf, tpl, made, Vec3::Zero());
-    hymm::sim::LaserSimulator::Options lo;
-    lo.max_range_m = 30, lo.fov = M_PI, lo.resolution = 0.5 * kDeg, lo.std_range_m = 0.1, lo.std_bearing = kDeg;
-    auto scanAt = [&](uint32_t seed) {
-        return hymm::sim::LaserSimulator(lo, seed, seed + 1000).observe(w, Eigen::Vector3d::Zero(), 0.0, mrpt::Clock::now());
-    };
     // Odometry believes the vehicle moved 3.6 m and 11.5 deg (std 3 m, 12 deg): it did not.
     mrpt::math::CMatrixDouble33 c;
     c.setZero();
     c(0, 0) = c(1, 1) = 9.0;
     c(2, 2) = std::pow(12 * kDeg, 2);
     ekf.predictOdometry(mrpt::poses::CPosePDFGaussian(mrpt::poses::CPose2D(3, -2, 0.2), c));
-    map.processScan(ekf, *scanAt(2));
+    map.processScan(ekf, *scanAtOrigin(w, 2));
     std::string outcomes;
     for (const auto& [k, n] : map.stats().wide) outcomes += k + "=" + std::to_string(n) + " ";
     EXPECT_EQ(map.stats().wide.count("closed") ? map.stats().wide.at("closed") : 0u, 1u) << outcomes;
@@ -134,6 +140,136 @@ TEST(ScanWideSearch, ClosesTheLoopOfADriftedFilter)
     EXPECT_LT(x.head<2>().norm(), 1.0) << x.transpose();
     EXPECT_LT(std::abs(x.z()), 2 * kDeg) << x.transpose();
     EXPECT_TRUE(ekf.cov().allFinite());
+}
+
+/** Options of the drift tests: wide search from 1 m of predicted std, no creation. */
+ScanLandmarkMap::Options driftOptions(double view_window_m, size_t confirm_scans)
+{
+    ScanLandmarkMap::Options o;
+    o.noise = {0.1, 1.0 * kDeg};
+    o.max_prediction_std_m = 1.0;
+    o.wide_search = true;
+    o.wide_confirm_scans = confirm_scans;
+    o.wide_view_window_m = view_window_m;
+    o.create_landmarks = false;
+    return o;
+}
+
+struct DriftRun
+{
+    std::vector<std::map<std::string, size_t>> wide;  //!< outcomes after each scan
+    Vec3 x = Vec3::Zero();                            //!< vehicle pose at the end
+};
+
+/** A filter at the origin holding the templates of the objects near `near` (scan from
+ *  the origin) as landmarks; the odometry then believes a 4 m move that did not happen
+ *  (std `odo_std_m`, 8 deg); `scans` scans from the origin follow. */
+DriftRun closeAfterDrift(const hymm::sim::World& w, const std::vector<Vec2>& near,
+                         const ScanLandmarkMap::Options& o, uint32_t scans, double odo_std_m = 3)
+{
+    ScanLandmarkMap map(o, Segmenter::Options{}, SegmentAcceptance::Options{}, makeMatcher("sog"));
+    hymm::ekf::EkfSlam ekf{hymm::ekf::EkfSlam::Options{}};
+    ekf.reset(Vec3::Zero(), 1e-6 * Mat3::Identity());
+    for (const Vec2& p : near)
+    {
+        const ScanTemplate tpl = templateNear(w, Vec3::Zero(), p, 1);
+        EXPECT_GE(tpl.sog.size(), 10u);
+        AlignResult made;
+        made.ok = true;
+        made.z = tpl.frame_in_sensor;
+        made.R = Vec3(0.01, 0.01, kDeg * kDeg).asDiagonal();
+        map.addTemplateLandmark(ekf, tpl, made, Vec3::Zero());
+    }
+    mrpt::math::CMatrixDouble33 c;
+    c.setZero();
+    c(0, 0) = c(1, 1) = odo_std_m * odo_std_m;
+    c(2, 2) = std::pow(8 * kDeg, 2);
+    ekf.predictOdometry(mrpt::poses::CPosePDFGaussian(mrpt::poses::CPose2D(4, 0.5, 0.05), c));
+    DriftRun run;
+    for (uint32_t k = 0; k < scans; ++k)
+    {
+        map.processScan(ekf, *scanAtOrigin(w, 7 + k));
+        run.wide.push_back(map.stats().wide);
+    }
+    run.x = ekf.vehiclePose();
+    return run;
+}
+
+size_t count(const std::map<std::string, size_t>& m, const char* k) { return m.count(k) ? m.at(k) : 0; }
+
+std::string str(const std::map<std::string, size_t>& m)
+{
+    std::string out;
+    for (const auto& [k, n] : m) out += k + "=" + std::to_string(n) + " ";
+    return out;
+}
+
+TEST(ScanWideSearch, AnswerWaitsForTheAgreementOfOtherTemplates)
+{
+    // Two quadrilaterals, each found alone (fused at once without the confirmation),
+    // searched one per scan: the first answer waits (pending) until the other template's
+    // answer implies the same vehicle correction; only then is one fused.
+    std::vector<hymm::sim::WorldObject> objs;
+    objs.push_back(fixedObject(0, {{-2, -2}, {5, -1}, {0, 1}, {-2, 3}}, 11, 8, 0.8));
+    objs.push_back(fixedObject(1, {{-2, -2}, {5, -1}, {0, 1}, {-2, 3}}, 15, -8, -1.0));
+    const hymm::sim::World w({}, std::move(objs));
+    const std::vector<Vec2> near{{11, 8}, {15, -8}};
+    for (const Vec2& p : near)
+        EXPECT_EQ(count(closeAfterDrift(w, {p}, driftOptions(0, 0), 1).wide[0], "closed"), 1u) << p.transpose();
+    const DriftRun two = closeAfterDrift(w, near, driftOptions(0, 10), 8);
+    const auto& end = two.wide.back();
+    EXPECT_EQ(count(end, "closed"), 1u) << str(end);
+    size_t first_pending = two.wide.size();
+    for (size_t k = 0; k < two.wide.size(); ++k)
+    {
+        EXPECT_EQ(count(two.wide[k], "closed"), count(two.wide[k], "confirmed")) << k << ": " << str(two.wide[k]);
+        if (first_pending == two.wide.size() && count(two.wide[k], "pending") > 0) first_pending = k;
+    }
+    ASSERT_LT(first_pending, two.wide.size()) << str(end);
+    EXPECT_EQ(count(two.wide[first_pending], "closed"), 0u) << str(two.wide[first_pending]);
+    EXPECT_LT(two.x.head<2>().norm(), 0.5) << two.x.transpose();
+}
+
+TEST(ScanWideSearch, ViewWindowSearchesAVeryUncertainPredictionWhereTheTemplateWasSeen)
+{
+    // Odometry std 20 m: the +-3 sigma window (60 m) is refused as too large; cut to the
+    // poses within 5 m of where the template was made, it is searched and the loop closes.
+    std::vector<hymm::sim::WorldObject> objs;
+    objs.push_back(fixedObject(0, {{-2, -2}, {5, -1}, {0, 1}, {-2, 3}}, 11, 8, 0.8));
+    const hymm::sim::World w({}, std::move(objs));
+    const DriftRun wide = closeAfterDrift(w, {{11, 8}}, driftOptions(0, 0), 1, 20);
+    EXPECT_EQ(count(wide.wide[0], "window_too_large"), 1u) << str(wide.wide[0]);
+    EXPECT_EQ(count(wide.wide[0], "closed"), 0u) << str(wide.wide[0]);
+    const DriftRun cut = closeAfterDrift(w, {{11, 8}}, driftOptions(5, 0), 1, 20);
+    EXPECT_EQ(count(cut.wide[0], "closed"), 1u) << str(cut.wide[0]);
+    EXPECT_LT(cut.x.head<2>().norm(), 0.5) << cut.x.transpose();
+    EXPECT_LT(std::abs(cut.x.z()), 2 * kDeg) << cut.x.transpose();
+}
+
+TEST(ScanWideSearch, ViewWindowRefusesAViewpointFarFromTheTemplates)
+{
+    // The vehicle backs 10 m away from where the template was made and knows it (std
+    // 1.5 m: above max_prediction_std_m, so searched wide): its +-3 sigma window lies
+    // 10 m from the template's viewpoint, beyond the 5 m cut, and is not searched.
+    std::vector<hymm::sim::WorldObject> objs;
+    objs.push_back(fixedObject(0, {{-2, -2}, {5, -1}, {0, 1}, {-2, 3}}, 11, 8, 0.8));
+    const hymm::sim::World w({}, std::move(objs));
+    ScanLandmarkMap map(driftOptions(5, 0), Segmenter::Options{}, SegmentAcceptance::Options{}, makeMatcher("sog"));
+    hymm::ekf::EkfSlam ekf{hymm::ekf::EkfSlam::Options{}};
+    ekf.reset(Vec3::Zero(), 1e-6 * Mat3::Identity());
+    AlignResult made;
+    made.ok = true;
+    made.z = templateNear(w, Vec3::Zero(), Vec2(11, 8), 1).frame_in_sensor;
+    made.R = Vec3(0.01, 0.01, kDeg * kDeg).asDiagonal();
+    map.addTemplateLandmark(ekf, templateNear(w, Vec3::Zero(), Vec2(11, 8), 1), made, Vec3::Zero());
+    mrpt::math::CMatrixDouble33 c;
+    c.setZero();
+    c(0, 0) = c(1, 1) = 1.5 * 1.5;
+    c(2, 2) = std::pow(kDeg, 2);
+    ekf.predictOdometry(mrpt::poses::CPosePDFGaussian(mrpt::poses::CPose2D(-10, 0, 0), c));
+    map.processScan(ekf, *scanAtOrigin(w, 3, Vec3(-10, 0, 0)));
+    EXPECT_EQ(count(map.stats().wide, "view_elsewhere"), 1u) << str(map.stats().wide);
+    EXPECT_EQ(count(map.stats().wide, "closed"), 0u) << str(map.stats().wide);
 }
 
 }  // namespace

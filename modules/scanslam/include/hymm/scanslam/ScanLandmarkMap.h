@@ -102,6 +102,15 @@ public:
         size_t wide_confirm_scans = 10;
         double wide_confirm_xy_m = 1.5;    //!< corrections agree within this in x, y [m]
         double wide_confirm_phi = 4 * M_PI / 180;  //!< and this in heading [rad] (ini: wide_confirm_phi_deg)
+        /** > 0: the wide search looks only at poses that place the template within this
+         *  of where it was made in the sensor frame (x, y) [m], and within
+         *  wide_view_window_phi of its heading then: the viewpoints from which it shows
+         *  the faces it was made of (the window is the intersection with the +-3 sigma
+         *  one; `view_elsewhere` when they do not meet). Elsewhere its true pose cannot
+         *  match, and the best pose of a wide window is a lookalike. It also bounds the
+         *  window of a very uncertain prediction. 0: the +-3 sigma window alone. */
+        double wide_view_window_m = 0;
+        double wide_view_window_phi = 10 * M_PI / 180;  //!< [rad] (ini: wide_view_window_phi_deg)
         /** > 0: a template whose predicted position has a standard deviation (largest
          *  axis of H P H^T) above this is aligned with the dense map around it added
          *  (thesis 6.2: once the vehicle is no longer well correlated with the landmark,
