@@ -59,6 +59,29 @@ mrpt::obs::CObservation2DRangeScan::Ptr scanAtOrigin(const hymm::sim::World& w, 
     return hymm::sim::LaserSimulator(lo, seed, seed + 1000).observe(w, pose, 0.0, mrpt::Clock::now());
 }
 
+/** The template of the object near `near` in a scan from the origin, added as a landmark
+ *  seen from the origin (frame std 0.1 m, 1 deg). */
+void addTemplateNear(ScanLandmarkMap& map, hymm::ekf::EkfSlam& ekf, const hymm::sim::World& w, const Vec2& near)
+{
+    const ScanTemplate tpl = templateNear(w, Vec3::Zero(), near, 1);
+    EXPECT_GE(tpl.sog.size(), 10u);
+    AlignResult made;
+    made.ok = true;
+    made.z = tpl.frame_in_sensor;
+    made.R = Vec3(0.01, 0.01, kDeg * kDeg).asDiagonal();
+    map.addTemplateLandmark(ekf, tpl, made, Vec3::Zero());
+}
+
+/** The odometry's belief that the vehicle moved by `u`, with std std_xy [m], std_phi [rad]. */
+void believeMove(hymm::ekf::EkfSlam& ekf, const Vec3& u, double std_xy, double std_phi)
+{
+    mrpt::math::CMatrixDouble33 c;
+    c.setZero();
+    c(0, 0) = c(1, 1) = std_xy * std_xy;
+    c(2, 2) = std_phi * std_phi;
+    ekf.predictOdometry(mrpt::poses::CPosePDFGaussian(mrpt::poses::CPose2D(u.x(), u.y(), u.z()), c));
+}
+
 TEST(ScanWideSearch, FindsTheTruePoseFromAPredictionMetresOff)
 {
     const auto w = scene();
@@ -119,19 +142,9 @@ TEST(ScanWideSearch, ClosesTheLoopOfADriftedFilter)
     hymm::ekf::EkfSlam ekf{hymm::ekf::EkfSlam::Options{}};
     ekf.reset(Vec3::Zero(), 1e-6 * Mat3::Identity());
     const auto w = scene();
-    // The pentagon's template as a landmark (frame std 0.1 m, 1 deg).
-    const ScanTemplate tpl = templateNear(w, Vec3::Zero(), Vec2(12, 4), 1);
-    AlignResult made;
-    made.ok = true;
-    made.z = tpl.frame_in_sensor;
-    made.R = Vec3(0.01, 0.01, kDeg * kDeg).asDiagonal();
-    map.addTemplateLandmark(ekf, tpl, made, Vec3::Zero());
+    addTemplateNear(map, ekf, w, Vec2(12, 4));  // the pentagon
     // Odometry believes the vehicle moved 3.6 m and 11.5 deg (std 3 m, 12 deg): it did not.
-    mrpt::math::CMatrixDouble33 c;
-    c.setZero();
-    c(0, 0) = c(1, 1) = 9.0;
-    c(2, 2) = std::pow(12 * kDeg, 2);
-    ekf.predictOdometry(mrpt::poses::CPosePDFGaussian(mrpt::poses::CPose2D(3, -2, 0.2), c));
+    believeMove(ekf, Vec3(3, -2, 0.2), 3, 12 * kDeg);
     map.processScan(ekf, *scanAtOrigin(w, 2));
     std::string outcomes;
     for (const auto& [k, n] : map.stats().wide) outcomes += k + "=" + std::to_string(n) + " ";
@@ -170,21 +183,8 @@ DriftRun closeAfterDrift(const hymm::sim::World& w, const std::vector<Vec2>& nea
     ScanLandmarkMap map(o, Segmenter::Options{}, SegmentAcceptance::Options{}, makeMatcher("sog"));
     hymm::ekf::EkfSlam ekf{hymm::ekf::EkfSlam::Options{}};
     ekf.reset(Vec3::Zero(), 1e-6 * Mat3::Identity());
-    for (const Vec2& p : near)
-    {
-        const ScanTemplate tpl = templateNear(w, Vec3::Zero(), p, 1);
-        EXPECT_GE(tpl.sog.size(), 10u);
-        AlignResult made;
-        made.ok = true;
-        made.z = tpl.frame_in_sensor;
-        made.R = Vec3(0.01, 0.01, kDeg * kDeg).asDiagonal();
-        map.addTemplateLandmark(ekf, tpl, made, Vec3::Zero());
-    }
-    mrpt::math::CMatrixDouble33 c;
-    c.setZero();
-    c(0, 0) = c(1, 1) = odo_std_m * odo_std_m;
-    c(2, 2) = std::pow(8 * kDeg, 2);
-    ekf.predictOdometry(mrpt::poses::CPosePDFGaussian(mrpt::poses::CPose2D(4, 0.5, 0.05), c));
+    for (const Vec2& p : near) addTemplateNear(map, ekf, w, p);
+    believeMove(ekf, Vec3(4, 0.5, 0.05), odo_std_m, 8 * kDeg);
     DriftRun run;
     for (uint32_t k = 0; k < scans; ++k)
     {
@@ -257,16 +257,8 @@ TEST(ScanWideSearch, ViewWindowRefusesAViewpointFarFromTheTemplates)
     ScanLandmarkMap map(driftOptions(5, 0), Segmenter::Options{}, SegmentAcceptance::Options{}, makeMatcher("sog"));
     hymm::ekf::EkfSlam ekf{hymm::ekf::EkfSlam::Options{}};
     ekf.reset(Vec3::Zero(), 1e-6 * Mat3::Identity());
-    AlignResult made;
-    made.ok = true;
-    made.z = templateNear(w, Vec3::Zero(), Vec2(11, 8), 1).frame_in_sensor;
-    made.R = Vec3(0.01, 0.01, kDeg * kDeg).asDiagonal();
-    map.addTemplateLandmark(ekf, templateNear(w, Vec3::Zero(), Vec2(11, 8), 1), made, Vec3::Zero());
-    mrpt::math::CMatrixDouble33 c;
-    c.setZero();
-    c(0, 0) = c(1, 1) = 1.5 * 1.5;
-    c(2, 2) = std::pow(kDeg, 2);
-    ekf.predictOdometry(mrpt::poses::CPosePDFGaussian(mrpt::poses::CPose2D(-10, 0, 0), c));
+    addTemplateNear(map, ekf, w, Vec2(11, 8));
+    believeMove(ekf, Vec3(-10, 0, 0), 1.5, kDeg);
     map.processScan(ekf, *scanAtOrigin(w, 3, Vec3(-10, 0, 0)));
     EXPECT_EQ(count(map.stats().wide, "view_elsewhere"), 1u) << str(map.stats().wide);
     EXPECT_EQ(count(map.stats().wide, "closed"), 0u) << str(map.stats().wide);
