@@ -71,9 +71,7 @@ void CHybridMetricMap::TMapDefinition::loadFromConfigFile_map_specific(
     const char* key = "likelihood_resolution_m";
     likelihood_resolution_m = core::readDouble(source, prefix, key, likelihood_resolution_m);
     if (!(likelihood_resolution_m >= 0 && likelihood_resolution_m <= kMaxLikelihoodResolution))
-        throw core::ConfigError("[" + prefix + "] " + key + "=" + core::readString(source, prefix, key, "") +
-                                    ": must be in [0, 10] m",
-                                prefix, key);
+        core::throwConfigError(prefix, key, core::readString(source, prefix, key, ""), "must be in [0, 10] m");
     likelihoodOpts.loadFromConfigFile(source, prefix + "_likelihoodOpts");
     dense_options.loadFromConfigFile(source, prefix + "_HybridMetricMap");
     dense_options.validate(prefix + "_HybridMetricMap");
