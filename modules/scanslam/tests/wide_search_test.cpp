@@ -228,6 +228,11 @@ TEST(ScanWideSearch, AnswerWaitsForTheAgreementOfOtherTemplates)
     ASSERT_LT(first_pending, two.wide.size()) << str(end);
     EXPECT_EQ(count(two.wide[first_pending], "closed"), 0u) << str(two.wide[first_pending]);
     EXPECT_LT(two.x.head<2>().norm(), 0.5) << two.x.transpose();
+    // One template alone, searched again after wide_retry_scans: its own answers agree
+    // with each other, but they never confirm themselves.
+    const DriftRun one = closeAfterDrift(w, {near[0]}, driftOptions(0, 10), 8);
+    EXPECT_GE(count(one.wide.back(), "pending"), 2u) << str(one.wide.back());
+    EXPECT_EQ(count(one.wide.back(), "closed"), 0u) << str(one.wide.back());
 }
 
 TEST(ScanWideSearch, ViewWindowSearchesAVeryUncertainPredictionWhereTheTemplateWasSeen)
