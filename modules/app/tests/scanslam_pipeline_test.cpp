@@ -103,7 +103,13 @@ TEST(ScanSlamPipeline, RegionsOnScanLandmarksMakeADenseMapOfAWorldWithoutPoints)
                                  "pose_landmark_vertices = ") + (on ? "true" : "false"));
         const mrpt::config::CConfigFileMemory cfg(text + dense);
         auto slam = hymm::denseslam::DenseSlam::fromConfig(cfg);
-        const auto scenario = shortRun(1, kDuration);
+        auto scenario = shortRun(1, kDuration);
+        // The raw (heading-biased) odometry of earlier versions: the comparison below
+        // needs a filter that drifts by metres within the run. With the bias corrected
+        // the returns placed at the time are within ~2 m of the outlines and regions on
+        // scan landmarks form later (none within 120 s on seeds 1, 3, 5): docs/results.md,
+        // "Odometry bias from the steering noise".
+        scenario.vehicle.odometry_bias_correction = false;
         hymm::sim::Simulator sim(scenario);
         // The same returns placed at the filter's pose of their scan (a map with no later
         // correction), every fifth scan.
@@ -126,7 +132,7 @@ TEST(ScanSlamPipeline, RegionsOnScanLandmarksMakeADenseMapOfAWorldWithoutPoints)
             continue;
         }
         EXPECT_GE(slam.partition()->size(), 2u);
-        EXPECT_GT(slam.stats().returns_stored, 20u);
+        ASSERT_GT(slam.stats().returns_stored, 20u);
         for (long rid : slam.partition()->regionIds())
             for (long v : slam.partition()->region(rid).vertex_ids)
                 EXPECT_TRUE(slam.virtualLandmarkIds().count(v) || slam.ekf().landmarkBlock(v).dim == 3)

@@ -88,4 +88,24 @@ Eigen::Vector3d uteIncrement(
     return d;
 }
 
+Eigen::Vector3d uteIncrementNoiseBias(
+    const Eigen::Vector2d& u, double dt, const UteParams& p, const Eigen::Matrix2d& Q)
+{
+    uteAxleSpeed(u[0], u[1], p);  // the same range check as the increment itself
+    // v_c = v h(alpha), w = v g(alpha) / L with h = 1/den, g = tan(alpha)/den,
+    // den = 1 - k tan(alpha), k = H/L (Eq. A.3, A.1). Derived (den + k t = 1):
+    //   g' = sec^2/den^2,  h' = k g',  g'' = 2 sec^2 (t den + k sec^2)/den^3,  h'' = k g''.
+    const double t = std::tan(u[1]), sec2 = 1.0 + t * t, k = p.H / p.L;
+    const double den = 1.0 - k * t;
+    const double g1 = sec2 / (den * den);
+    const double g2 = 2.0 * sec2 * (t * den + k * sec2) / (den * den * den);
+    // Second derivatives of (v_c, w): d2/dalpha2 and d2/dv dalpha (d2/dv2 = 0).
+    const double vc_aa = u[0] * k * g2, vc_va = k * g1;
+    const double w_aa = u[0] * g2 / p.L, w_va = g1 / p.L;
+    const double vc_bias = 0.5 * (Q(1, 1) * vc_aa + (Q(0, 1) + Q(1, 0)) * vc_va);
+    const double w_bias = 0.5 * (Q(1, 1) * w_aa + (Q(0, 1) + Q(1, 0)) * w_va);
+    // The increment (Eq. A.4 in the tracked point's frame) is linear in (v_c, w).
+    return Eigen::Vector3d(dt * (vc_bias - w_bias * p.b), dt * w_bias * p.a, dt * w_bias);
+}
+
 }  // namespace hymm::core

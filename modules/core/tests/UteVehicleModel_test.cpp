@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <functional>
+#include <random>
 
 namespace
 {
@@ -92,6 +93,67 @@ TEST(UteVehicleModelTest, IncrementComposesToStep)
     const auto Jn = numericJacobian<3, 2>(
         [&](const Eigen::Vector2d& uu) { return hymm::core::uteIncrement(uu, dt, p); }, u);
     EXPECT_LT((J - Jn).cwiseAbs().maxCoeff(), 1e-6);
+}
+
+// 1/2 sum_ij Q_ij d2d/du_i du_j by central second differences.
+Eigen::Vector3d numericNoiseBias(const Eigen::Vector2d& u, double dt, const UteParams& p,
+                                 const Eigen::Matrix2d& Q, double h = 1e-4)
+{
+    const auto d = [&](double dv, double da)
+    { return hymm::core::uteIncrement(u + Eigen::Vector2d(dv, da), dt, p); };
+    const Eigen::Vector3d d_vv = (d(h, 0) - 2 * d(0, 0) + d(-h, 0)) / (h * h);
+    const Eigen::Vector3d d_aa = (d(0, h) - 2 * d(0, 0) + d(0, -h)) / (h * h);
+    const Eigen::Vector3d d_va = (d(h, h) - d(h, -h) - d(-h, h) + d(-h, -h)) / (4 * h * h);
+    return 0.5 * (Q(0, 0) * d_vv + Q(1, 1) * d_aa + (Q(0, 1) + Q(1, 0)) * d_va);
+}
+
+TEST(UteVehicleModelTest, NoiseBiasMatchesNumericSecondDerivatives)
+{
+    UteParams p;
+    Eigen::Matrix2d Q;
+    Q << 0.25, 0.004, 0.004, std::pow(5.0 * M_PI / 180, 2);
+    for (const Eigen::Vector2d& u : {Eigen::Vector2d(3.0, 0.0), Eigen::Vector2d(3.0, 0.19),
+                                    Eigen::Vector2d(1.5, -0.4), Eigen::Vector2d(-2.0, 0.3)})
+    {
+        const Eigen::Vector3d b = hymm::core::uteIncrementNoiseBias(u, 0.025, p, Q);
+        const Eigen::Vector3d bn = numericNoiseBias(u, 0.025, p, Q);
+        EXPECT_LT((b - bn).cwiseAbs().maxCoeff(), 1e-7 + 1e-4 * bn.cwiseAbs().maxCoeff())
+            << "u = " << u.transpose() << ": " << b.transpose() << " vs " << bn.transpose();
+    }
+    // Straight line, independent readings: the heading rate bias is v H std_alpha^2 / L^2.
+    const Eigen::Matrix2d Qd = Q.diagonal().asDiagonal();
+    const auto b0 = hymm::core::uteIncrementNoiseBias(Eigen::Vector2d(3.0, 0.0), 1.0, p, Qd);
+    EXPECT_NEAR(b0[2], 3.0 * p.H * Q(1, 1) / (p.L * p.L), 1e-12);
+}
+
+TEST(UteVehicleModelTest, NoiseBiasIsTheMeanOffsetOfNoisyReadings)
+{
+    // The mean of the increments of noisy readings is off the noise-free increment by the
+    // bias (to second order): Monte Carlo with 400k draws, within 4 standard errors.
+    UteParams p;
+    const double sv = 0.5, sa = 5.0 * M_PI / 180, dt = 0.025;
+    const Eigen::Matrix2d Q = Eigen::Vector2d(sv * sv, sa * sa).asDiagonal();
+    std::mt19937 rng(7);
+    std::normal_distribution<double> n01;
+    for (const Eigen::Vector2d& u : {Eigen::Vector2d(3.0, 0.0), Eigen::Vector2d(3.0, 0.19)})
+    {
+        const int n = 400000;
+        Eigen::Vector3d sum = Eigen::Vector3d::Zero(), sq = Eigen::Vector3d::Zero();
+        const Eigen::Vector3d d0 = hymm::core::uteIncrement(u, dt, p);
+        for (int i = 0; i < n; ++i)
+        {
+            const Eigen::Vector2d un = u + Eigen::Vector2d(sv * n01(rng), sa * n01(rng));
+            const Eigen::Vector3d e = hymm::core::uteIncrement(un, dt, p) - d0;
+            sum += e;
+            sq += e.cwiseProduct(e);
+        }
+        const Eigen::Vector3d mean = sum / n;
+        const Eigen::Vector3d se = ((sq / n - mean.cwiseProduct(mean)) / n).cwiseSqrt();
+        const Eigen::Vector3d b = hymm::core::uteIncrementNoiseBias(u, dt, p, Q);
+        for (int i = 0; i < 3; ++i) EXPECT_LT(std::abs(mean[i] - b[i]), 4 * se[i]) << i;
+        // The heading bias is many standard errors from zero: the test can tell it apart.
+        EXPECT_GT(std::abs(mean[2]), 8 * se[2]);
+    }
 }
 
 TEST(UteVehicleModelTest, ExtremeSteeringIsRejected)

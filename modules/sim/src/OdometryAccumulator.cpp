@@ -7,8 +7,8 @@
 namespace hymm::sim
 {
 OdometryAccumulator::OdometryAccumulator(const hymm::core::UteParams& ute, double std_speed,
-                                         double std_steering)
-    : ute_(ute)
+                                         double std_steering, bool correct_bias)
+    : ute_(ute), correct_bias_(correct_bias)
 {
     Q_ = Eigen::Vector2d(std_speed * std_speed, std_steering * std_steering).asDiagonal();
     reset();
@@ -21,10 +21,18 @@ void OdometryAccumulator::reset()
     steps_ = 0;
 }
 
+Eigen::Vector3d OdometryAccumulator::increment(const Eigen::Vector2d& u, double dt,
+                                               Eigen::Matrix<double, 3, 2>* J_u) const
+{
+    const Eigen::Vector3d d = hymm::core::uteIncrement(u, dt, ute_, J_u);
+    if (!correct_bias_) return d;
+    return d - hymm::core::uteIncrementNoiseBias(u, dt, ute_, Q_);
+}
+
 void OdometryAccumulator::addStep(const Eigen::Vector2d& u, double dt)
 {
     Eigen::Matrix<double, 3, 2> Ju;
-    const Eigen::Vector3d d = hymm::core::uteIncrement(u, dt, ute_, &Ju);
+    const Eigen::Vector3d d = increment(u, dt, &Ju);
     const double c = std::cos(mean_[2]), s = std::sin(mean_[2]);
 
     Eigen::Matrix3d JD = Eigen::Matrix3d::Identity();  // d(D (+) d)/dD

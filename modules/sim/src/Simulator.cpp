@@ -1,5 +1,7 @@
 #include "hymm/sim/Simulator.h"
 
+#include <mrpt/math/wrap2pi.h>
+
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -45,7 +47,7 @@ Simulator::Simulator(const Scenario& scenario)
       world_(World::build(scenario.world, follower_.path() ? &*follower_.path() : nullptr)),
       vehicle_(scenario.vehicle, follower_.startPose()),
       odometry_(scenario.vehicle.ute(), scenario.vehicle.std_speed_mps,
-                scenario.vehicle.std_steering),
+                scenario.vehicle.std_steering, scenario.vehicle.odometry_bias_correction),
       control_rng_(streamSeed(scenario.run.seed, kControls)),
       laser_every_(scenario.stepsPerPeriod(scenario.laser.period_s)),
       detector_every_(scenario.stepsPerPeriod(scenario.detector.period_s)),
@@ -104,7 +106,11 @@ void Simulator::advance()
     const Eigen::Vector2d measured = vehicle_.readControls(u, control_rng_);
     vehicle_.step(u, dt);
     odometry_.addStep(measured, dt);
-    dr_pose_ = hymm::core::uteStep(dr_pose_, measured, dt, scenario_.vehicle.ute());
+    // Dead reckoning composes the same increments the odometry reports.
+    const Eigen::Vector3d d = odometry_.increment(measured, dt);
+    const double c = std::cos(dr_pose_[2]), s = std::sin(dr_pose_[2]);
+    dr_pose_ = Eigen::Vector3d(dr_pose_[0] + c * d[0] - s * d[1], dr_pose_[1] + s * d[0] + c * d[1],
+                               mrpt::math::wrapToPi(dr_pose_[2] + d[2]));
     true_controls_.push_back(u);
     measured_controls_.push_back(measured);
     ++k_;

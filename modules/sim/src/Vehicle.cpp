@@ -31,6 +31,10 @@ hymm::core::OptionTable Vehicle::Options::table()
     t.degrees("max_steering_deg", max_steering, openInterval(0, 90), "steering limit");
     t.real("std_speed_mps", std_speed_mps, "m/s", between(0, 100), "noise of one speed reading, 1 sigma");
     t.degrees("std_steering_deg", std_steering, between(0, 90), "noise of one steering reading, 1 sigma");
+    t.flag("odometry_bias_correction", odometry_bias_correction,
+           "odometry subtracts the second-order bias of the noisy readings' increments "
+           "(v H std_steering^2 / L^2 in heading rate on a straight line); false: raw increments, "
+           "biased");
     return t;
 }
 

@@ -9,7 +9,11 @@
  * uteStep with the same controls. With D the increment so far and Q = diag(std_speed^2,
  * std_steering^2) the noise of one control reading,
  *     D' = D (+) d,   P' = J_D P J_D^T + J_d (J_u Q J_u^T) J_d^T,
- * J_D, J_d the Jacobians of the pose composition and J_u = d(d)/du. covariance() adds a
+ * J_D, J_d the Jacobians of the pose composition and J_u = d(d)/du. With
+ * `correct_bias`, d is the conditional mean of the increment given the reading,
+ * uteIncrement(u) - uteIncrementNoiseBias(u, Q): the raw increment of a noisy reading is
+ * biased at second order (the heading rate by v H std_steering^2 / L^2 on a straight
+ * line), a drift P does not describe. covariance() adds a
  * tiny floor (kFloorStdXy, kFloorStdPhi) so that the matrix is positive definite even
  * for zero steps or a parked vehicle.
  */
@@ -27,13 +31,19 @@ public:
     static constexpr double kFloorStdXy = 1e-4;   //!< [m], far below any control noise
     static constexpr double kFloorStdPhi = 1e-5;  //!< [rad]
 
-    OdometryAccumulator(const hymm::core::UteParams& ute, double std_speed, double std_steering);
+    OdometryAccumulator(const hymm::core::UteParams& ute, double std_speed, double std_steering,
+                        bool correct_bias = true);
 
     /** Starts a new increment at the identity. */
     void reset();
 
     /** Adds one step of `dt` seconds with the measured control `u` = (v_e, alpha). */
     void addStep(const Eigen::Vector2d& u, double dt);
+
+    /** The increment one step with the measured control `u` adds (bias-corrected or raw,
+     *  as constructed). */
+    Eigen::Vector3d increment(const Eigen::Vector2d& u, double dt,
+                              Eigen::Matrix<double, 3, 2>* J_u = nullptr) const;
 
     /** (dx, dy, dphi): the pose at the last step in the frame of the pose at reset(). */
     const Eigen::Vector3d& mean() const { return mean_; }
@@ -46,6 +56,7 @@ public:
 private:
     const hymm::core::UteParams ute_;
     Eigen::Matrix2d Q_;
+    bool correct_bias_ = true;
     Eigen::Vector3d mean_;
     Eigen::Matrix3d cov_;
     size_t steps_ = 0;

@@ -37,6 +37,10 @@ public:
         double std_speed_mps = 0.3;               //!< noise of one speed reading [m/s]
         double std_steering =
             3.0 * M_PI / 180;  //!< noise of one steering reading [rad] (ini: _deg)
+        /** Odometry reports the conditional mean of the increment given the noisy
+         *  readings (hymm::core::uteIncrementNoiseBias subtracted), which its covariance
+         *  describes; false: the raw increments of the readings, biased in heading. */
+        bool odometry_bias_correction = true;
 
         hymm::core::UteParams ute() const;
 
