@@ -2,13 +2,15 @@
 // simulated scenario over many noise seeds, scored against the simulator's truth
 // (hymm::app::runScanSlamStudy). Prints one CSV line per seed and a markdown table of
 // medians and spreads; the vehicle NEES is averaged over the runs step by step and
-// compared with the 95 % band of the run-averaged chi-square(3).
+// compared with the 95 % band of the run-averaged chi-square(3). -p S also prints that
+// NEES (3 DOF, position, heading) in bins of S seconds: where the runs leave the band.
 //   hymm-scanslam-eval -c configs/ch5_scanslam.ini -s configs/sim/ch5_scanslam.ini -n 20
 #include <hymm/app/ScanSlamStudy.h>
 #include <hymm/core/config_utils.h>
 #include <hymm/eval/nees.h>
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <mrpt/core/exceptions.h>
+#include <mrpt/math/wrap2pi.h>
 
 #include <Eigen/Dense>
 
@@ -119,6 +121,44 @@ void observationTables(const std::vector<hymm::app::ScanSlamRun>& runs)
     observationTable(runs, "view change since creation [deg]", {0, 5, 10, 20, 40, 90, 180},
                      [](const O& o) { return o.view_change * 180 / M_PI; });
 }
+// Run-averaged vehicle NEES in bins of `bin_s` seconds: the whole 3-DOF NEES, its position
+// (2 DOF) and heading (1 DOF) parts, each averaged over the runs step by step and then over
+// the bin; and the share of the bin's steps inside the 3-DOF band. Shows where a run
+// leaves the band (before or after the loop closure, position or heading).
+void neesProfile(const std::vector<hymm::app::ScanSlamRun>& runs, double bin_s)
+{
+    size_t n = runs.front().steps.size();
+    for (const auto& r : runs) n = std::min(n, r.steps.size());
+    const double k = static_cast<double>(runs.size());
+    const auto band = hymm::eval::averageNeesBounds(3, static_cast<int>(runs.size()), 0.95);
+    std::cout << "\n| t [s] | NEES (3 DOF) | position (2 DOF) | heading (1 DOF) | steps inside the band |\n"
+                 "|---|---|---|---|---|\n";
+    double t0 = runs.front().steps.front().t, sum3 = 0, sum2 = 0, sum1 = 0;
+    size_t m = 0, in = 0;
+    for (size_t i = 0; i < n; ++i)
+    {
+        double a3 = 0, a2 = 0, a1 = 0;
+        for (const auto& r : runs)
+        {
+            const auto& st = r.steps[i];
+            Eigen::Vector3d e = st.truth - st.estimate;
+            e[2] = mrpt::math::wrapToPi(e[2]);
+            a3 += st.nees / k;
+            a2 += e.head<2>().dot(st.cov.topLeftCorner<2, 2>().ldlt().solve(e.head<2>())) / k;
+            a1 += e[2] * e[2] / st.cov(2, 2) / k;
+        }
+        sum3 += a3, sum2 += a2, sum1 += a1, ++m;
+        in += (a3 >= band.lower && a3 <= band.upper) ? 1 : 0;
+        const double t = runs.front().steps[i].t;
+        if (t - t0 >= bin_s - 1e-9 || i + 1 == n)
+        {
+            const double md = static_cast<double>(m);
+            std::printf("| %.0f-%.0f | %.2f | %.2f | %.2f | %.2f |\n", t0, t, sum3 / md, sum2 / md, sum1 / md,
+                        static_cast<double>(in) / md);
+            t0 = t, sum3 = sum2 = sum1 = 0, m = in = 0;
+        }
+    }
+}
 }  // namespace
 
 int main(int argc, char** argv)
@@ -136,6 +176,10 @@ int main(int argc, char** argv)
                                    "also print the converged alignments' errors against the truth, "
                                    "binned by the sensor's travel and view change since the landmark was made",
                                    cmd);
+        TCLAP::ValueArg<double> profile("p", "nees-profile",
+                                        "also print the run-averaged vehicle NEES (3 DOF, position, heading) "
+                                        "in bins of this many seconds",
+                                        false, 0, "S", cmd);
         if (!cmd.parse(argc, argv)) return 0;
         if (seeds.getValue() < 1) throw std::invalid_argument("--seeds must be >= 1");
         const auto cfg = hymm::core::openConfigFile(config.getValue());
@@ -251,6 +295,7 @@ int main(int argc, char** argv)
             std::cout << "\n";
         }
         if (obs_table.getValue()) observationTables(runs);
+        if (profile.getValue() > 0) neesProfile(runs, profile.getValue());
         return 0;
     }
     catch (const std::exception& e)
