@@ -121,14 +121,21 @@ void observationTables(const std::vector<hymm::app::ScanSlamRun>& runs)
     observationTable(runs, "view change since creation [deg]", {0, 5, 10, 20, 40, 90, 180},
                      [](const O& o) { return o.view_change * 180 / M_PI; });
 }
+// Steps every run has (the runs share the frame times).
+size_t commonSteps(const std::vector<hymm::app::ScanSlamRun>& runs)
+{
+    size_t n = runs.front().steps.size();
+    for (const auto& r : runs) n = std::min(n, r.steps.size());
+    return n;
+}
+
 // Run-averaged vehicle NEES in bins of `bin_s` seconds: the whole 3-DOF NEES, its position
 // (2 DOF) and heading (1 DOF) parts, each averaged over the runs step by step and then over
 // the bin; and the share of the bin's steps inside the 3-DOF band. Shows where a run
 // leaves the band (before or after the loop closure, position or heading).
 void neesProfile(const std::vector<hymm::app::ScanSlamRun>& runs, double bin_s)
 {
-    size_t n = runs.front().steps.size();
-    for (const auto& r : runs) n = std::min(n, r.steps.size());
+    const size_t n = commonSteps(runs);
     const double k = static_cast<double>(runs.size());
     const auto band = hymm::eval::averageNeesBounds(3, static_cast<int>(runs.size()), 0.95);
     std::cout << "\n| t [s] | NEES (3 DOF) | position (2 DOF) | heading (1 DOF) | steps inside the band |\n"
@@ -144,8 +151,8 @@ void neesProfile(const std::vector<hymm::app::ScanSlamRun>& runs, double bin_s)
             Eigen::Vector3d e = st.truth - st.estimate;
             e[2] = mrpt::math::wrapToPi(e[2]);
             a3 += st.nees / k;
-            a2 += e.head<2>().dot(st.cov.topLeftCorner<2, 2>().ldlt().solve(e.head<2>())) / k;
-            a1 += e[2] * e[2] / st.cov(2, 2) / k;
+            a2 += hymm::eval::nees(e.head<2>(), st.cov.topLeftCorner<2, 2>()).value / k;
+            a1 += hymm::eval::nees(e.tail<1>(), st.cov.bottomRightCorner<1, 1>()).value / k;
         }
         sum3 += a3, sum2 += a2, sum1 += a1, ++m;
         in += (a3 >= band.lower && a3 <= band.upper) ? 1 : 0;
@@ -217,8 +224,7 @@ int main(int argc, char** argv)
             runs.push_back(std::move(r));
         }
         // Vehicle NEES averaged over the runs, step by step (runs share the frame times).
-        size_t n_steps = runs.front().steps.size();
-        for (const auto& r : runs) n_steps = std::min(n_steps, r.steps.size());
+        const size_t n_steps = commonSteps(runs);
         std::vector<double> avg(n_steps, 0.0);
         for (const auto& r : runs)
             for (size_t i = 0; i < n_steps; ++i) avg[i] += r.steps[i].nees / static_cast<double>(runs.size());

@@ -130,31 +130,6 @@ TEST(ScanWideSearch, CorridorIsRefusedAsAmbiguous)
     EXPECT_GT(r.second, 0.85 * r.goodness);
 }
 
-TEST(ScanWideSearch, ClosesTheLoopOfADriftedFilter)
-{
-    ScanLandmarkMap::Options o;
-    o.noise = {0.1, 1.0 * kDeg};
-    o.max_prediction_std_m = 1.0;
-    o.wide_search = true;
-    o.wide_confirm_scans = 0;  // one template in the scene: nothing to confirm with
-    o.create_landmarks = false;
-    ScanLandmarkMap map(o, Segmenter::Options{}, SegmentAcceptance::Options{}, makeMatcher("sog"));
-    hymm::ekf::EkfSlam ekf{hymm::ekf::EkfSlam::Options{}};
-    ekf.reset(Vec3::Zero(), 1e-6 * Mat3::Identity());
-    const auto w = scene();
-    addTemplateNear(map, ekf, w, Vec2(12, 4));  // the pentagon
-    // Odometry believes the vehicle moved 3.6 m and 11.5 deg (std 3 m, 12 deg): it did not.
-    believeMove(ekf, Vec3(3, -2, 0.2), 3, 12 * kDeg);
-    map.processScan(ekf, *scanAtOrigin(w, 2));
-    std::string outcomes;
-    for (const auto& [k, n] : map.stats().wide) outcomes += k + "=" + std::to_string(n) + " ";
-    EXPECT_EQ(map.stats().wide.count("closed") ? map.stats().wide.at("closed") : 0u, 1u) << outcomes;
-    const Vec3 x = ekf.vehiclePose();
-    EXPECT_LT(x.head<2>().norm(), 1.0) << x.transpose();
-    EXPECT_LT(std::abs(x.z()), 2 * kDeg) << x.transpose();
-    EXPECT_TRUE(ekf.cov().allFinite());
-}
-
 /** Options of the drift tests: wide search from 1 m of predicted std, no creation. */
 ScanLandmarkMap::Options driftOptions(double view_window_m, size_t confirm_scans)
 {
@@ -172,27 +147,48 @@ struct DriftRun
 {
     std::vector<std::map<std::string, size_t>> wide;  //!< outcomes after each scan
     Vec3 x = Vec3::Zero();                            //!< vehicle pose at the end
+    bool cov_finite = false;                          //!< the filter's covariance at the end
+};
+
+/** What the odometry believes after the templates were made: a move `move` with std
+ *  std_xy [m], std_phi [rad] (by default a 4 m move that did not happen); the scans
+ *  that follow are taken from `scan_pose` with seeds first_seed, first_seed + 1, ... */
+struct Drift
+{
+    Vec3 move = Vec3(4, 0.5, 0.05);
+    double std_xy = 3;
+    double std_phi = 8 * kDeg;
+    Vec3 scan_pose = Vec3::Zero();
+    uint32_t first_seed = 7;
 };
 
 /** A filter at the origin holding the templates of the objects near `near` (scan from
- *  the origin) as landmarks; the odometry then believes a 4 m move that did not happen
- *  (std `odo_std_m`, 8 deg); `scans` scans from the origin follow. */
+ *  the origin) as landmarks; the odometry then believes `drift`; `scans` scans follow. */
 DriftRun closeAfterDrift(const hymm::sim::World& w, const std::vector<Vec2>& near,
-                         const ScanLandmarkMap::Options& o, uint32_t scans, double odo_std_m = 3)
+                         const ScanLandmarkMap::Options& o, uint32_t scans, const Drift& drift = {})
 {
     ScanLandmarkMap map(o, Segmenter::Options{}, SegmentAcceptance::Options{}, makeMatcher("sog"));
     hymm::ekf::EkfSlam ekf{hymm::ekf::EkfSlam::Options{}};
     ekf.reset(Vec3::Zero(), 1e-6 * Mat3::Identity());
     for (const Vec2& p : near) addTemplateNear(map, ekf, w, p);
-    believeMove(ekf, Vec3(4, 0.5, 0.05), odo_std_m, 8 * kDeg);
+    believeMove(ekf, drift.move, drift.std_xy, drift.std_phi);
     DriftRun run;
     for (uint32_t k = 0; k < scans; ++k)
     {
-        map.processScan(ekf, *scanAtOrigin(w, 7 + k));
+        map.processScan(ekf, *scanAtOrigin(w, drift.first_seed + k, drift.scan_pose));
         run.wide.push_back(map.stats().wide);
     }
     run.x = ekf.vehiclePose();
+    run.cov_finite = ekf.cov().allFinite();
     return run;
+}
+
+/** The default drift with the odometry's position std `std_xy` [m]. */
+Drift driftWithStd(double std_xy)
+{
+    Drift d;
+    d.std_xy = std_xy;
+    return d;
 }
 
 size_t count(const std::map<std::string, size_t>& m, const char* k) { return m.count(k) ? m.at(k) : 0; }
@@ -202,6 +198,21 @@ std::string str(const std::map<std::string, size_t>& m)
     std::string out;
     for (const auto& [k, n] : m) out += k + "=" + std::to_string(n) + " ";
     return out;
+}
+
+TEST(ScanWideSearch, ClosesTheLoopOfADriftedFilter)
+{
+    // Odometry believes the vehicle moved 3.6 m and 11.5 deg (std 3 m, 12 deg): it did
+    // not. One template in the scene: nothing to confirm with.
+    Drift drift;
+    drift.move = Vec3(3, -2, 0.2);
+    drift.std_phi = 12 * kDeg;
+    drift.first_seed = 2;
+    const DriftRun run = closeAfterDrift(scene(), {Vec2(12, 4)}, driftOptions(0, 0), 1, drift);  // the pentagon
+    EXPECT_EQ(count(run.wide[0], "closed"), 1u) << str(run.wide[0]);
+    EXPECT_LT(run.x.head<2>().norm(), 1.0) << run.x.transpose();
+    EXPECT_LT(std::abs(run.x.z()), 2 * kDeg) << run.x.transpose();
+    EXPECT_TRUE(run.cov_finite);
 }
 
 TEST(ScanWideSearch, AnswerWaitsForTheAgreementOfOtherTemplates)
@@ -242,10 +253,10 @@ TEST(ScanWideSearch, ViewWindowSearchesAVeryUncertainPredictionWhereTheTemplateW
     std::vector<hymm::sim::WorldObject> objs;
     objs.push_back(fixedObject(0, {{-2, -2}, {5, -1}, {0, 1}, {-2, 3}}, 11, 8, 0.8));
     const hymm::sim::World w({}, std::move(objs));
-    const DriftRun wide = closeAfterDrift(w, {{11, 8}}, driftOptions(0, 0), 1, 20);
+    const DriftRun wide = closeAfterDrift(w, {{11, 8}}, driftOptions(0, 0), 1, driftWithStd(20));
     EXPECT_EQ(count(wide.wide[0], "window_too_large"), 1u) << str(wide.wide[0]);
     EXPECT_EQ(count(wide.wide[0], "closed"), 0u) << str(wide.wide[0]);
-    const DriftRun cut = closeAfterDrift(w, {{11, 8}}, driftOptions(5, 0), 1, 20);
+    const DriftRun cut = closeAfterDrift(w, {{11, 8}}, driftOptions(5, 0), 1, driftWithStd(20));
     EXPECT_EQ(count(cut.wide[0], "closed"), 1u) << str(cut.wide[0]);
     EXPECT_LT(cut.x.head<2>().norm(), 0.5) << cut.x.transpose();
     EXPECT_LT(std::abs(cut.x.z()), 2 * kDeg) << cut.x.transpose();
@@ -259,14 +270,14 @@ TEST(ScanWideSearch, ViewWindowRefusesAViewpointFarFromTheTemplates)
     std::vector<hymm::sim::WorldObject> objs;
     objs.push_back(fixedObject(0, {{-2, -2}, {5, -1}, {0, 1}, {-2, 3}}, 11, 8, 0.8));
     const hymm::sim::World w({}, std::move(objs));
-    ScanLandmarkMap map(driftOptions(5, 0), Segmenter::Options{}, SegmentAcceptance::Options{}, makeMatcher("sog"));
-    hymm::ekf::EkfSlam ekf{hymm::ekf::EkfSlam::Options{}};
-    ekf.reset(Vec3::Zero(), 1e-6 * Mat3::Identity());
-    addTemplateNear(map, ekf, w, Vec2(11, 8));
-    believeMove(ekf, Vec3(-10, 0, 0), 1.5, kDeg);
-    map.processScan(ekf, *scanAtOrigin(w, 3, Vec3(-10, 0, 0)));
-    EXPECT_EQ(count(map.stats().wide, "view_elsewhere"), 1u) << str(map.stats().wide);
-    EXPECT_EQ(count(map.stats().wide, "closed"), 0u) << str(map.stats().wide);
+    Drift back;
+    back.move = back.scan_pose = Vec3(-10, 0, 0);
+    back.std_xy = 1.5;
+    back.std_phi = kDeg;
+    back.first_seed = 3;
+    const auto wide = closeAfterDrift(w, {{11, 8}}, driftOptions(5, 0), 1, back).wide[0];
+    EXPECT_EQ(count(wide, "view_elsewhere"), 1u) << str(wide);
+    EXPECT_EQ(count(wide, "closed"), 0u) << str(wide);
 }
 
 }  // namespace

@@ -29,7 +29,7 @@ Eigen::Vector3d OdometryAccumulator::increment(const Eigen::Vector2d& u, double 
     return d - hymm::core::uteIncrementNoiseBias(u, dt, ute_, Q_);
 }
 
-void OdometryAccumulator::addStep(const Eigen::Vector2d& u, double dt)
+Eigen::Vector3d OdometryAccumulator::addStep(const Eigen::Vector2d& u, double dt)
 {
     Eigen::Matrix<double, 3, 2> Ju;
     const Eigen::Vector3d d = increment(u, dt, &Ju);
@@ -45,6 +45,7 @@ void OdometryAccumulator::addStep(const Eigen::Vector2d& u, double dt)
     mean_ = Eigen::Vector3d(mean_[0] + c * d[0] - s * d[1], mean_[1] + s * d[0] + c * d[1],
                             mrpt::math::wrapToPi(mean_[2] + d[2]));
     ++steps_;
+    return d;
 }
 
 Eigen::Matrix3d OdometryAccumulator::covariance() const

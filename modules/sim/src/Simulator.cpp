@@ -1,6 +1,6 @@
 #include "hymm/sim/Simulator.h"
 
-#include <mrpt/math/wrap2pi.h>
+#include <mrpt/poses/CPose2D.h>
 
 #include <cmath>
 #include <stdexcept>
@@ -105,12 +105,11 @@ void Simulator::advance()
     const Eigen::Vector2d u(scenario_.vehicle.speed_mps, follower_.steering(vehicle_.pose()));
     const Eigen::Vector2d measured = vehicle_.readControls(u, control_rng_);
     vehicle_.step(u, dt);
-    odometry_.addStep(measured, dt);
     // Dead reckoning composes the same increments the odometry reports.
-    const Eigen::Vector3d d = odometry_.increment(measured, dt);
-    const double c = std::cos(dr_pose_[2]), s = std::sin(dr_pose_[2]);
-    dr_pose_ = Eigen::Vector3d(dr_pose_[0] + c * d[0] - s * d[1], dr_pose_[1] + s * d[0] + c * d[1],
-                               mrpt::math::wrapToPi(dr_pose_[2] + d[2]));
+    const Eigen::Vector3d d = odometry_.addStep(measured, dt);
+    const mrpt::poses::CPose2D dr =
+        mrpt::poses::CPose2D(dr_pose_[0], dr_pose_[1], dr_pose_[2]) + mrpt::poses::CPose2D(d[0], d[1], d[2]);
+    dr_pose_ = Eigen::Vector3d(dr.x(), dr.y(), dr.phi());
     true_controls_.push_back(u);
     measured_controls_.push_back(measured);
     ++k_;

@@ -37,13 +37,9 @@ public:
     /** Starts a new increment at the identity. */
     void reset();
 
-    /** Adds one step of `dt` seconds with the measured control `u` = (v_e, alpha). */
-    void addStep(const Eigen::Vector2d& u, double dt);
-
-    /** The increment one step with the measured control `u` adds (bias-corrected or raw,
-     *  as constructed). */
-    Eigen::Vector3d increment(const Eigen::Vector2d& u, double dt,
-                              Eigen::Matrix<double, 3, 2>* J_u = nullptr) const;
+    /** Adds one step of `dt` seconds with the measured control `u` = (v_e, alpha) and
+     *  returns the increment it composed (bias-corrected or raw, as constructed). */
+    Eigen::Vector3d addStep(const Eigen::Vector2d& u, double dt);
 
     /** (dx, dy, dphi): the pose at the last step in the frame of the pose at reset(). */
     const Eigen::Vector3d& mean() const { return mean_; }
@@ -54,6 +50,8 @@ public:
     size_t steps() const { return steps_; }
 
 private:
+    Eigen::Vector3d increment(const Eigen::Vector2d& u, double dt, Eigen::Matrix<double, 3, 2>* J_u) const;
+
     const hymm::core::UteParams ute_;
     Eigen::Matrix2d Q_;
     bool correct_bias_ = true;
