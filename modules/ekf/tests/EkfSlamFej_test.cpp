@@ -1,12 +1,14 @@
 // First-Estimates Jacobian EKF (Huang, Mourikis & Roumeliotis, ICRA 2008): the Jacobians
 // used are those of the stored first estimates and of the predicted pose, the update and
 // prediction equal a dense reference built with them, and the linearised system keeps the
-// 3-dimensional unobservable subspace that the standard EKF reduces to 2.
+// 3-dimensional unobservable subspace that the standard EKF reduces to 2; for point
+// landmarks and for the 3-DOF pose landmarks of Scan-SLAM.
 #include <gtest/gtest.h>
 #include <hymm/core/RangeBearingModel.h>
 #include <hymm/core/UteVehicleModel.h>
 #include <hymm/ekf/EkfSlam.h>
 #include <hymm/ekf/pose_composition.h>
+#include <hymm/ekf/pose_landmark_model.h>
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/math/wrap2pi.h>
 
@@ -396,6 +398,186 @@ TEST(EkfSlamFejTest, ObservabilityMatrixKeepsThreeUnobservableDirections)
     EXPECT_GT(s_fej[n - 4], 1e-3 * s_fej[0]);
     // The FEJ null space is the global rotation (plus the two translations); the
     // standard EKF observes that rotation.
+    const auto residual = [](const Observability& o)
+    { return (o.M * o.rotation).norm() / (o.M.norm() * o.rotation.norm()); };
+    EXPECT_LT(residual(fej), 1e-12);
+    EXPECT_GT(residual(std_ekf), 1e-7);
+}
+
+// ---- 3-DOF pose landmarks (Scan-SLAM) ----
+
+const std::vector<Eigen::Vector3d> kPoseLandmarks = {{9.0, 4.0, 0.4}, {6.0, -7.0, -1.2}, {2.0, 10.0, 2.5}};
+const Eigen::Matrix3d kPoseR = Eigen::Vector3d(0.15, 0.1, 2.0 * kDeg).cwiseAbs2().asDiagonal();
+
+Eigen::Vector3d observePose(const Eigen::Vector3d& truth, const Eigen::Vector3d& lm, std::mt19937& rng)
+{
+    std::normal_distribution<double> g(0.0, 1.0);
+    Eigen::Vector3d z = poseLandmarkObservation(truth, lm, kSensorVec);
+    z += Eigen::Vector3d(0.15 * g(rng), 0.1 * g(rng), 2.0 * kDeg * g(rng));
+    z[2] = mrpt::math::wrapToPi(z[2]);
+    return z;
+}
+
+/** A filter with kPoseLandmarks added from the origin (ids 0-2), then moved and updated
+ *  once, so that estimates, first estimates and the prediction all differ. */
+EkfSlam mappedPoseFilter(LinearisationPoint j, std::mt19937& rng, Eigen::Vector3d& truth)
+{
+    EkfSlam f(fejOptions(j));
+    truth = Eigen::Vector3d(0.0, 0.0, 0.1);
+    f.reset(truth, Eigen::Vector3d(0.01, 0.01, 0.5 * kDeg).cwiseAbs2().asDiagonal());
+    for (long id = 0; id < 3; ++id)
+        f.addPoseLandmark(observePose(truth, kPoseLandmarks[static_cast<size_t>(id)], rng), kPoseR, kSensorVec, id);
+    const Eigen::Vector3d d(1.0, 0.1, 3.0 * kDeg);
+    truth = composePose(truth, d);
+    f.predictOdometry(increment(d + Eigen::Vector3d(0.05, -0.02, 1.0 * kDeg)));
+    for (long id = 0; id < 3; ++id)
+        f.updatePoseLandmark(id, observePose(truth, kPoseLandmarks[static_cast<size_t>(id)], rng), kPoseR,
+                             kSensorVec, 0.0);
+    return f;
+}
+
+/** The dense update of pose landmark `id`: innovation at the estimate, H at (xv_lin, xl_lin). */
+void densePoseUpdate(const EkfSlam& f, long id, const Eigen::Vector3d& z, const Eigen::Vector3d& xv_lin,
+                     const Eigen::Vector3d& xl_lin, Eigen::VectorXd& xr, Eigen::MatrixXd& Pr)
+{
+    const Eigen::VectorXd x = f.mean();
+    const Eigen::MatrixXd P = f.cov();
+    const auto o = static_cast<Eigen::Index>(f.landmarkBlock(id).offset);
+    Eigen::Matrix3d Hv, Hl;
+    poseLandmarkObservation(xv_lin, xl_lin, kSensorVec, &Hv, &Hl);
+    Eigen::MatrixXd H = Eigen::MatrixXd::Zero(3, x.size());
+    H.leftCols<3>() = Hv;
+    H.middleCols<3>(o) = Hl;
+    Eigen::Vector3d nu = z - poseLandmarkObservation(x.head<3>(), x.segment<3>(o), kSensorVec);
+    nu[2] = mrpt::math::wrapToPi(nu[2]);
+    const Eigen::MatrixXd S = H * P * H.transpose() + kPoseR;
+    const Eigen::MatrixXd K = P * H.transpose() * S.inverse();
+    xr = x + K * nu;
+    xr[2] = mrpt::math::wrapToPi(xr[2]);
+    xr[o + 2] = mrpt::math::wrapToPi(xr[o + 2]);
+    Pr = P - K * S * K.transpose();
+}
+
+TEST(EkfSlamFejTest, PoseLandmarkUpdateUsesFirstEstimateJacobians)
+{
+    for (const auto j : {LinearisationPoint::Current, LinearisationPoint::FirstEstimates})
+    {
+        std::mt19937 rng(19);
+        Eigen::Vector3d truth;
+        EkfSlam f = mappedPoseFilter(j, rng, truth);
+        const Eigen::Vector3d d(1.0, -0.1, -4.0 * kDeg);
+        truth = composePose(truth, d);
+        f.predictOdometry(increment(d + Eigen::Vector3d(-0.04, 0.03, 0.8 * kDeg)));
+        // One update first, so the vehicle estimate differs from its prediction.
+        f.updatePoseLandmark(0, observePose(truth, kPoseLandmarks[0], rng), kPoseR, kSensorVec, 0.0);
+        ASSERT_GT((f.predictedPose() - f.vehiclePose()).norm(), 1e-4);
+        const long id = 1;
+        ASSERT_GT((f.landmarkFirstEstimate(id) - f.landmarkBlockMean(id)).norm(), 1e-4);
+        const Eigen::Vector3d z = observePose(truth, kPoseLandmarks[1], rng);
+        Eigen::VectorXd x_fej, x_std;
+        Eigen::MatrixXd P_fej, P_std;
+        densePoseUpdate(f, id, z, f.predictedPose(), f.landmarkFirstEstimate(id), x_fej, P_fej);
+        densePoseUpdate(f, id, z, f.vehiclePose(), f.landmarkBlockMean(id), x_std, P_std);
+        ASSERT_GT((P_fej - P_std).norm(), 1e-8);
+
+        EkfSlam iterated(f);  // the iterated update relinearises at its iterates: the same for both
+        const auto rep = f.updatePoseLandmark(id, z, kPoseR, kSensorVec, 0.0);
+        ASSERT_EQ(rep.outcome, PoseUpdateReport::Outcome::updated);
+        const Eigen::VectorXd& x_ref = j == LinearisationPoint::FirstEstimates ? x_fej : x_std;
+        const Eigen::MatrixXd& P_ref = j == LinearisationPoint::FirstEstimates ? P_fej : P_std;
+        EXPECT_LT((f.mean() - x_ref).norm(), 1e-10);
+        EXPECT_LT((f.cov() - P_ref).norm(), 1e-10);
+        if (j == LinearisationPoint::FirstEstimates)
+        {
+            EXPECT_GT((f.cov() - P_std).norm(), 1e-8);
+        }
+
+        const auto rep_it = iterated.updatePoseLandmark(id, z, kPoseR, kSensorVec, 0.0, 10);
+        ASSERT_EQ(rep_it.outcome, PoseUpdateReport::Outcome::updated);
+        EXPECT_GT(rep_it.iterations, 1);
+        // Its first step is the standard EKF's, so it starts from x_std, not x_fej.
+        EXPECT_LT((iterated.mean() - x_std).norm(), (iterated.mean() - x_fej).norm() + 1e-12);
+    }
+}
+
+/** As observability(), with pose landmarks and the Jacobians of their updates (those of
+ *  PoseLandmarkUpdateUsesFirstEstimateJacobians). */
+Observability poseObservability(LinearisationPoint j)
+{
+    std::mt19937 rng(23);
+    std::normal_distribution<double> g(0.0, 1.0);
+    EkfSlam f(fejOptions(j));
+    Eigen::Vector3d truth(0.0, 0.0, 0.1);
+    f.reset(truth, Eigen::Vector3d(0.01, 0.01, 0.5 * kDeg).cwiseAbs2().asDiagonal());
+    const auto L = static_cast<long>(kPoseLandmarks.size());
+    for (long id = 0; id < L; ++id)
+        f.addPoseLandmark(observePose(truth, kPoseLandmarks[static_cast<size_t>(id)], rng), kPoseR, kSensorVec, id);
+    const Eigen::Index n = f.mean().size();
+    constexpr int kSteps = 6;
+    Observability res;
+    res.M.resize(3 * L * kSteps, n);
+    Eigen::MatrixXd Phi = Eigen::MatrixXd::Identity(n, n);
+    for (int k = 0; k < kSteps; ++k)
+    {
+        const Eigen::Vector3d d(1.0, 0.0, 8.0 * kDeg);
+        truth = composePose(truth, d);
+        f.predictOdometry(increment(d + Eigen::Vector3d(0.05 * g(rng), 0.02 * g(rng), 1.0 * kDeg * g(rng))));
+        if (k == 0)
+        {
+            res.rotation.resize(n);
+            res.rotation.head<2>() = skew() * f.predictedPose().head<2>();
+            res.rotation[2] = 1.0;
+            for (long id = 0; id < L; ++id)
+            {
+                const Eigen::Vector3d first = f.landmarkFirstEstimate(id);
+                res.rotation.segment<2>(3 + 3 * id) = skew() * first.head<2>();
+                res.rotation[3 + 3 * id + 2] = 1.0;
+            }
+        }
+        else
+        {
+            Eigen::MatrixXd Fk = Eigen::MatrixXd::Identity(n, n);
+            Fk.topLeftCorner<3, 3>() = f.lastMotionJacobian();
+            Phi = (Fk * Phi).eval();
+        }
+        // Sequential updates within the step: FEJ linearises all of them at x_{k|k-1};
+        // the standard EKF at the estimate each one finds.
+        for (long id = 0; id < L; ++id)
+        {
+            const auto o = static_cast<Eigen::Index>(f.landmarkBlock(id).offset);
+            Eigen::Matrix3d Hv, Hl;
+            if (j == LinearisationPoint::FirstEstimates)
+                poseLandmarkObservation(f.predictedPose(), f.landmarkFirstEstimate(id), kSensorVec, &Hv, &Hl);
+            else
+                poseLandmarkObservation(f.vehiclePose(), f.landmarkBlockMean(id), kSensorVec, &Hv, &Hl);
+            Eigen::MatrixXd H = Eigen::MatrixXd::Zero(3, n);
+            H.leftCols<3>() = Hv;
+            H.middleCols<3>(o) = Hl;
+            res.M.middleRows(3 * (L * k + id), 3) = H * Phi;
+            f.updatePoseLandmark(id, observePose(truth, kPoseLandmarks[static_cast<size_t>(id)], rng), kPoseR,
+                                 kSensorVec, 0.0);
+        }
+    }
+    res.s = Eigen::JacobiSVD<Eigen::MatrixXd>(res.M).singularValues();
+    return res;
+}
+
+TEST(EkfSlamFejTest, PoseLandmarkObservabilityKeepsThreeUnobservableDirections)
+{
+    const Observability std_ekf = poseObservability(LinearisationPoint::Current);
+    const Observability fej = poseObservability(LinearisationPoint::FirstEstimates);
+    const Eigen::Index n = fej.s.size();  // 3 + 3 L columns
+    ASSERT_EQ(n, 12);
+    const auto rank = [](const Eigen::VectorXd& s)
+    {
+        Eigen::Index r = 0;
+        for (Eigen::Index i = 0; i < s.size(); ++i) r += s[i] > 1e-9 * s[0];
+        return r;
+    };
+    EXPECT_EQ(rank(std_ekf.s), n - 2) << std_ekf.s.transpose();
+    EXPECT_EQ(rank(fej.s), n - 3) << fej.s.transpose();
+    EXPECT_GT(std_ekf.s[n - 3], 1e-6 * std_ekf.s[0]);
+    EXPECT_GT(fej.s[n - 4], 1e-3 * fej.s[0]);
     const auto residual = [](const Observability& o)
     { return (o.M * o.rotation).norm() / (o.M.norm() * o.rotation.norm()); };
     EXPECT_LT(residual(fej), 1e-12);

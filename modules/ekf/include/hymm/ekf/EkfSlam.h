@@ -243,7 +243,8 @@ public:
      *  input and numeric failures leave the state untouched and are reported.
      *  `max_iterations` > 1: iterated EKF, the observation relinearised at the updated
      *  vehicle and landmark poses until they move less than 1e-9 (the gate uses the
-     *  prior's linearisation); 1: the EKF update. */
+     *  prior's linearisation); 1: the EKF update, with LinearisationPoint::FirstEstimates
+     *  its H at x_{k|k-1} and the landmark's first estimate. */
     PoseUpdateReport updatePoseLandmark(long id, const Eigen::Vector3d& z,
                                         const Eigen::Matrix3d& R, const Eigen::Vector3d& sensor,
                                         double gate_prob, int max_iterations = 1);
