@@ -289,6 +289,17 @@ int main(int argc, char** argv)
             for (const auto& [k, n] : wide) std::cout << " " << k << "=" << n;
             std::cout << "\n";
         }
+        // Duplicate merging (merge_duplicates), summed over the runs.
+        std::map<std::string, size_t> merge;
+        for (const auto& r : runs)
+            for (const auto& [k, n] : r.counters)
+                if (k.rfind("scan_landmarks.merge", 0) == 0) merge[k.substr(15)] += n;
+        if (merge["merge_candidates"] > 0)
+        {
+            std::cout << "\nduplicate merging (sum over the runs):";
+            for (const auto& [k, n] : merge) std::cout << " " << k << "=" << n;
+            std::cout << "\n";
+        }
         // Template augmentation from the dense map (thesis 6.2), summed over the runs.
         std::map<std::string, size_t> aug;
         for (const auto& r : runs)

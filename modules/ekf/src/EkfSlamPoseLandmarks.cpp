@@ -27,14 +27,14 @@ bool validCovariance3(const Eigen::Matrix3d& R)
     return llt.info() == Eigen::Success;
 }
 
-/** The passive blocks see the gain of a pose-landmark update (landmark at offset o)
- *  through their cross-covariance, read before P moves. */
-void updatePassive(PassiveStates& passive, const Eigen::Matrix3d& Hv, const Eigen::Matrix3d& Hl,
+/** The passive blocks see the gain of a pose-landmark update (observer at offset ov: 0
+ *  the vehicle; landmark at offset o) through their cross-covariance, read before P moves. */
+void updatePassive(PassiveStates& passive, const Eigen::Matrix3d& Hv, const Eigen::Matrix3d& Hl, Eigen::Index ov,
                    Eigen::Index o, const Eigen::LLT<Eigen::Matrix3d>& llt, const Eigen::MatrixXd& Wt,
                    const Eigen::Vector3d& y)
 {
     const Eigen::MatrixXd& Cpa = passive.crossAll();
-    const Eigen::MatrixXd PpHt = Cpa.leftCols<3>() * Hv.transpose() + Cpa.middleCols<3>(o) * Hl.transpose();
+    const Eigen::MatrixXd PpHt = Cpa.middleCols<3>(ov) * Hv.transpose() + Cpa.middleCols<3>(o) * Hl.transpose();
     const Eigen::MatrixXd Wp = llt.matrixL().solve(PpHt.transpose()).transpose();
     passive.applyUpdate(Wp, Wt.transpose(), y);
 }
@@ -63,7 +63,8 @@ struct PoseLinearisation
     Eigen::Vector3d y;
 };
 
-/** The first-estimates linearisation point: x_{k|k-1} and the landmark's first estimate. */
+/** The first-estimates linearisation point: the observer's (x_{k|k-1} for the vehicle, else
+ *  its first estimate) and the landmark's first estimate. */
 struct FejPoint
 {
     Eigen::Vector3d vehicle, landmark;
@@ -71,7 +72,7 @@ struct FejPoint
 
 /** False if S is not positive definite. Iterated EKF (Bell and Cathey 1993): linearised at
  *  x_i the innovation is z - h(x_i) - H_i (x_0 - x_i); at x_i = x_0 the EKF's z - h(x_0). */
-bool linearise(const Eigen::Ref<const Eigen::MatrixXd>& P, Eigen::Index o, const Eigen::Vector3d& z,
+bool linearise(const Eigen::Ref<const Eigen::MatrixXd>& P, Eigen::Index ov, Eigen::Index o, const Eigen::Vector3d& z,
                const Eigen::Matrix3d& R, const Eigen::Vector3d& sensor, const Eigen::Vector3d& xv0,
                const Eigen::Vector3d& xl0, const Eigen::Vector3d& xv, const Eigen::Vector3d& xl,
                const FejPoint* fej, PoseLinearisation& L)
@@ -85,9 +86,9 @@ bool linearise(const Eigen::Ref<const Eigen::MatrixXd>& P, Eigen::Index o, const
     dl.z() = mrpt::math::wrapToPi(dl.z());
     nu.z() = mrpt::math::wrapToPi(nu.z());
     nu -= L.Hv * dv + L.Hl * dl;
-    // P H^T from the vehicle and the landmark columns only (H is zero elsewhere).
-    L.PHt = P.leftCols<3>() * L.Hv.transpose() + P.middleCols<3>(o) * L.Hl.transpose();
-    Eigen::Matrix3d S = L.Hv * L.PHt.topRows<3>() + L.Hl * L.PHt.middleRows<3>(o) + R;
+    // P H^T from the observer's and the landmark's columns only (H is zero elsewhere).
+    L.PHt = P.middleCols<3>(ov) * L.Hv.transpose() + P.middleCols<3>(o) * L.Hl.transpose();
+    Eigen::Matrix3d S = L.Hv * L.PHt.middleRows<3>(ov) + L.Hl * L.PHt.middleRows<3>(o) + R;
     S = (0.5 * (S + S.transpose())).eval();
     L.llt.compute(S);
     if (L.llt.info() != Eigen::Success) return false;
@@ -114,6 +115,19 @@ PoseUpdateReport EkfSlam::updatePoseLandmark(long id, const Eigen::Vector3d& z,
                                              const Eigen::Vector3d& sensor, double gate_prob,
                                              int max_iterations)
 {
+    return updatePoseBlock(-1, id, z, R, sensor, gate_prob, max_iterations);
+}
+
+PoseUpdateReport EkfSlam::updateRelativePose(long observer, long id, const Eigen::Vector3d& z,
+                                             const Eigen::Matrix3d& R, double gate_prob, int max_iterations)
+{
+    if (observer == id) throw std::invalid_argument("updateRelativePose: a landmark observed from itself");
+    return updatePoseBlock(observer, id, z, R, Eigen::Vector3d::Zero(), gate_prob, max_iterations);
+}
+
+PoseUpdateReport EkfSlam::updatePoseBlock(long observer, long id, const Eigen::Vector3d& z, const Eigen::Matrix3d& R,
+                                          const Eigen::Vector3d& sensor, double gate_prob, int max_iterations)
+{
     PoseUpdateReport rep;
     const auto fail = [&rep](PoseUpdateReport::Outcome o)
     {
@@ -121,22 +135,26 @@ PoseUpdateReport EkfSlam::updatePoseLandmark(long id, const Eigen::Vector3d& z,
         return rep;
     };
     if (!z.allFinite() || !validCovariance3(R)) return fail(PoseUpdateReport::Outcome::invalid);
-    const LandmarkBlock& b = layout_.get(id);
-    if (b.dim != 3)
-        throw std::invalid_argument("updatePoseLandmark: landmark " + std::to_string(id) +
-                                    " is not a 3-DOF pose block");
-    const auto o = static_cast<Eigen::Index>(b.offset);
-    const Eigen::Vector3d xv0 = x_.head<3>(), xl0 = x_.segment<3>(o);
+    const auto offset3 = [this](long b_id)
+    {
+        const LandmarkBlock& b = layout_.get(b_id);
+        if (b.dim != 3)
+            throw std::invalid_argument("pose update: landmark " + std::to_string(b_id) + " is not a 3-DOF pose block");
+        return static_cast<Eigen::Index>(b.offset);
+    };
+    const Eigen::Index o = offset3(id), ov = observer < 0 ? 0 : offset3(observer);
+    const Eigen::Vector3d xv0 = x_.segment<3>(ov), xl0 = x_.segment<3>(o);
     Eigen::Vector3d xv = xv0, xl = xl0;  // linearisation point (the prior at iteration 0)
     PoseLinearisation L;
     // First-estimates Jacobians for the EKF step; the iterated update relinearises at its
     // iterates by definition, so it keeps them.
     std::optional<FejPoint> fej;
     if (options_.jacobians == LinearisationPoint::FirstEstimates && max_iterations <= 1)
-        fej = FejPoint{predicted_pose_, first_estimates_.at(id)};
+        fej = FejPoint{observer < 0 ? predicted_pose_ : Eigen::Vector3d(first_estimates_.at(observer)),
+                       first_estimates_.at(id)};
     for (int it = 0;; ++it)
     {
-        if (!linearise(activeP(), o, z, R, sensor, xv0, xl0, xv, xl, fej ? &*fej : nullptr, L))
+        if (!linearise(activeP(), ov, o, z, R, sensor, xv0, xl0, xv, xl, fej ? &*fej : nullptr, L))
             return fail(PoseUpdateReport::Outcome::numeric);
         // Thesis 5.5: the aligned observation is verified by a gate before it is used (on
         // the prior's linearisation, as the EKF would).
@@ -144,16 +162,17 @@ PoseUpdateReport EkfSlam::updatePoseLandmark(long id, const Eigen::Vector3d& z,
         if (it == 0 && gate_prob > 0 && gate_prob < 1 && rep.nis > mrpt::math::chi2inv(gate_prob, 3))
             return fail(PoseUpdateReport::Outcome::gated);
         if (it + 1 >= max_iterations) break;
-        const double moved = std::max(nextPoint(L, 0, xv0, xv), nextPoint(L, o, xl0, xl));
+        const double moved = std::max(nextPoint(L, ov, xv0, xv), nextPoint(L, o, xl0, xl));
         ++rep.iterations;
         if (moved < 1e-9) break;
     }
     const Eigen::MatrixXd Wt = L.llt.matrixL().solve(L.PHt.transpose());
     if (!Wt.allFinite() || !L.y.allFinite()) return fail(PoseUpdateReport::Outcome::numeric);
-    if (passive_.numBlocks() > 0) updatePassive(passive_, L.Hv, L.Hl, o, L.llt, Wt, L.y);
+    if (passive_.numBlocks() > 0) updatePassive(passive_, L.Hv, L.Hl, ov, o, L.llt, Wt, L.y);
     // x_0 + K nu with the last linearisation's gain and innovation.
     x_.noalias() += Wt.transpose() * L.y;
     x_[2] = mrpt::math::wrapToPi(x_[2]);
+    x_[ov + 2] = mrpt::math::wrapToPi(x_[ov + 2]);
     x_[o + 2] = mrpt::math::wrapToPi(x_[o + 2]);
     // P -= W W^T (the Joseph form for the optimal gain; see fuse()), kept symmetric; with
     // iterations, the gain of the last linearisation.

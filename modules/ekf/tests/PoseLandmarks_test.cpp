@@ -266,3 +266,90 @@ TEST(EkfPoseLandmarksTest, IteratedUpdateReachesTheMapEstimate)
         }
     }
 }
+
+// A landmark observed from another (two templates of one object, aligned with each
+// other): one step equals a dense EKF update with H in the two blocks; iterated, over
+// Monte Carlo runs the state stays consistent, and merging (the update, then
+// marginalising the second block) keeps the first block consistent and more accurate.
+// (The single EKF step is slightly over-confident here: joint NEES 9.49 over 4,000 runs
+// against 9.04 iterated and 9.08 before the update; its H is evaluated where the two
+// frames' lever arm is 0.4 m off.)
+TEST(EkfPoseLandmarksTest, RelativeUpdateIsTheEkfUpdateAndStaysConsistent)
+{
+    const Eigen::Vector3d sensor(0.3, 0.0, 0.05), truth_v(0.0, 0.0, 0.1), truth_a(8.0, 3.0, 0.5);
+    const Eigen::Vector3d truth_b = composePose(truth_a, Eigen::Vector3d(1.0, -0.5, 0.3));
+    const Eigen::Matrix3d R = Eigen::Vector3d(0.3, 0.3, 0.05).cwiseAbs2().asDiagonal();
+    const Eigen::Matrix3d R_rel = Eigen::Vector3d(0.05, 0.05, 0.01).cwiseAbs2().asDiagonal();
+    const Eigen::Matrix3d P0 = Eigen::Vector3d(0.05, 0.05, 0.02).cwiseAbs2().asDiagonal();
+    std::mt19937 rng(29);
+    std::normal_distribution<double> g(0.0, 1.0);
+    const auto noisy = [&](Eigen::Vector3d z, const Eigen::Matrix3d& C)
+    {
+        z += C.diagonal().cwiseSqrt().cwiseProduct(Eigen::Vector3d(g(rng), g(rng), g(rng)));
+        z.z() = mrpt::math::wrapToPi(z.z());
+        return z;
+    };
+    constexpr int kRuns = 400;
+    double nees_joint = 0, nees_a = 0, err_a_before = 0, err_a_after = 0;
+    for (int r = 0; r < kRuns; ++r)
+    {
+        EkfSlam f{EkfSlam::Options{}};
+        f.reset(noisy(truth_v, P0), P0);
+        const long a = f.addPoseLandmark(noisy(poseLandmarkObservation(truth_v, truth_a, sensor), R), R, sensor);
+        const long b = f.addPoseLandmark(noisy(poseLandmarkObservation(truth_v, truth_b, sensor), R), R, sensor);
+        const Eigen::Vector3d z = noisy(poseLandmarkObservation(truth_b, truth_a, Eigen::Vector3d::Zero()), R_rel);
+        err_a_before += (f.landmarkBlockMean(a).head<2>() - truth_a.head<2>()).squaredNorm();
+        if (r == 0)
+        {
+            // Dense reference: z = h(x_b, x_a), H at the estimate in the columns of b and a.
+            const Eigen::VectorXd x = f.mean();
+            const Eigen::MatrixXd P = f.cov();
+            const auto oa = static_cast<Eigen::Index>(f.landmarkBlock(a).offset);
+            const auto ob = static_cast<Eigen::Index>(f.landmarkBlock(b).offset);
+            Eigen::Matrix3d Hb, Ha;
+            const Eigen::Vector3d h = poseLandmarkObservation(x.segment<3>(ob), x.segment<3>(oa), Eigen::Vector3d::Zero(), &Hb, &Ha);
+            Eigen::MatrixXd H = Eigen::MatrixXd::Zero(3, x.size());
+            H.middleCols<3>(ob) = Hb;
+            H.middleCols<3>(oa) = Ha;
+            Eigen::Vector3d nu = z - h;
+            nu.z() = mrpt::math::wrapToPi(nu.z());
+            const Eigen::MatrixXd S = H * P * H.transpose() + R_rel;
+            const Eigen::MatrixXd K = P * H.transpose() * S.inverse();
+            const Eigen::VectorXd x_ref = x + K * nu;
+            const Eigen::MatrixXd P_ref = P - K * S * K.transpose();
+            EkfSlam copy(f);
+            ASSERT_EQ(copy.updateRelativePose(b, a, z, R_rel, 0.0).outcome, PoseUpdateReport::Outcome::updated);
+            EXPECT_LT((copy.mean() - x_ref).norm(), 1e-10);
+            EXPECT_LT((copy.cov() - P_ref).norm(), 1e-10);
+        }
+        const auto rep = f.updateRelativePose(b, a, z, R_rel, 0.0, 10);
+        ASSERT_EQ(rep.outcome, PoseUpdateReport::Outcome::updated);
+        ASSERT_GT(rep.iterations, 1);
+        Eigen::VectorXd e(9);
+        e << f.vehiclePose() - truth_v, f.landmarkBlockMean(a) - truth_a, f.landmarkBlockMean(b) - truth_b;
+        for (int k : {2, 5, 8}) e[k] = mrpt::math::wrapToPi(e[k]);
+        nees_joint += e.dot(Eigen::MatrixXd(f.cov()).ldlt().solve(e));
+        f.removeLandmark(b);
+        const Eigen::Vector3d ea = e.segment<3>(3);
+        nees_a += ea.dot(f.landmarkBlockCov(a).ldlt().solve(ea));
+        err_a_after += ea.head<2>().squaredNorm();
+    }
+    // Mean NEES of kRuns chi-square draws: 99 % two-sided band.
+    const auto band = [&](int dof)
+    {
+        return std::make_pair(mrpt::math::chi2inv(0.005, dof * kRuns) / kRuns,
+                              mrpt::math::chi2inv(0.995, dof * kRuns) / kRuns);
+    };
+    EXPECT_GT(nees_joint / kRuns, band(9).first);
+    EXPECT_LT(nees_joint / kRuns, band(9).second);
+    EXPECT_GT(nees_a / kRuns, band(3).first);
+    EXPECT_LT(nees_a / kRuns, band(3).second);
+    EXPECT_LT(err_a_after, 0.8 * err_a_before);  // the second template's information reached the first
+
+    EkfSlam f{EkfSlam::Options{}};
+    f.reset(truth_v, P0);
+    const long a = f.addPoseLandmark(poseLandmarkObservation(truth_v, truth_a, sensor), R, sensor);
+    EXPECT_THROW(f.updateRelativePose(a, a, Eigen::Vector3d::Zero(), R_rel, 0.0), std::invalid_argument);
+    const long p = f.addLandmark(Eigen::Vector2d(1, 1), Eigen::MatrixXd::Zero(2, 3), Eigen::Matrix2d::Identity());
+    EXPECT_THROW(f.updateRelativePose(p, a, Eigen::Vector3d::Zero(), R_rel, 0.0), std::invalid_argument);
+}

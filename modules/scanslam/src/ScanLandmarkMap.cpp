@@ -40,6 +40,12 @@ core::OptionTable ScanLandmarkMap::Options::table()
               "iterated EKF: relinearisations of a local alignment's update at most (1 = the EKF)");
     t.integer("wide_update_iterations", wide_update_iterations, "", 1, 100,
               "the same for a wide-search (loop-closing) update");
+    t.flag("merge_duplicates", merge_duplicates,
+           "a landmark aligned in a scan and another whose template overlaps it at the estimates become one (relative pose fused, the newer removed)");
+    t.real("merge_min_overlap", merge_min_overlap, "", between(0, 1),
+           "merge_duplicates: share of the smaller template's points near the other's");
+    t.integer("merge_retry_scans", merge_retry_scans, "", 1, 1000000,
+              "merge_duplicates: scans before a pair that failed is tried again");
     t.real("explain_distance_m", explain_distance_m, "m", atLeast(0, 100),
            "a return this close to an aligned template is explained");
     t.real("max_creation_range_m", max_creation_range_m, "m", above(0, 10000),
@@ -118,6 +124,10 @@ std::vector<std::pair<std::string, size_t>> ScanLandmarkMap::Stats::list() const
     out.emplace_back("augmented", augmented);
     out.emplace_back("augment_points", augment_points);
     out.emplace_back("augment_empty", augment_empty);
+    out.emplace_back("merge_candidates", merge_candidates);
+    out.emplace_back("merge_align_failed", merge_align_failed);
+    out.emplace_back("merge_gated", merge_gated);
+    out.emplace_back("merged", merged);
     return out;
 }
 
@@ -165,14 +175,6 @@ bool hasOrientation(const PointSet& set, double min_ratio)
 
 namespace
 {
-/** Largest distance of a template point from its frame's origin. */
-double radius(const ScanTemplate& tpl)
-{
-    double r = 0;
-    for (const Vec2& p : tpl.sog.points) r = std::max(r, p.norm());
-    return r;
-}
-
 /** Marks the returns within `d` of a template point placed at z (sensor frame). */
 size_t markExplained(const ScanTemplate& tpl, const Vec3& z, const PointSet& pts, double d,
                      std::vector<char>& explained)
@@ -181,7 +183,7 @@ size_t markExplained(const ScanTemplate& tpl, const Vec3& z, const PointSet& pts
     placed.reserve(tpl.sog.size());
     for (const Vec2& p : tpl.sog.points) placed.push_back(transformPoint(z, p));
     const Vec2 origin = z.head<2>();
-    const double reach = radius(tpl) + d, d2 = d * d;
+    const double reach = templateRadius(tpl) + d, d2 = d * d;
     size_t n = 0;
     for (size_t i = 0; i < pts.size(); ++i)
     {
@@ -220,6 +222,7 @@ void ScanLandmarkMap::processScan(ekf::EkfSlam& ekf, const mrpt::obs::CObservati
     const double fov = static_cast<double>(scan.aperture);
     std::vector<char> explained(pts.size(), 0);
     for (const auto& [id, tpl] : templates_) observe(ekf, id, tpl, pts, sensor, max_range, fov, explained);
+    if (options_.merge_duplicates) mergeDuplicates(ekf);
     if (options_.create_landmarks) createLandmarks(ekf, pts, sensor, explained);
 }
 
@@ -244,7 +247,7 @@ void ScanLandmarkMap::observe(ekf::EkfSlam& ekf, long id, const ScanTemplate& tp
     // estimate: earlier updates of this scan are already in it.
     const Vec3 z_hat = ekf::poseLandmarkObservation(ekf.vehiclePose(),
                                                     ekf.landmarkBlockMean(id).head<3>(), sensor);
-    if (z_hat.head<2>().norm() > max_range + radius(tpl) + options_.explain_distance_m) return;
+    if (z_hat.head<2>().norm() > max_range + templateRadius(tpl) + options_.explain_distance_m) return;
     ++stats_.predicted;
     Vec3 placed = z_hat;
     const double view_change = (z_hat.head<2>() - tpl.frame_in_sensor.head<2>()).norm();

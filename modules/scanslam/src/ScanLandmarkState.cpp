@@ -38,7 +38,7 @@ std::vector<size_t*> counters(ScanLandmarkMap::Stats& s)
             &s.prediction_uncertain, &s.aligned, &s.updated, &s.gated, &s.update_numeric,
             &s.update_invalid, &s.returns_explained, &s.segments, &s.short_runs, &s.segments_far,
             &s.segments_collinear, &s.creation_failed, &s.created, &s.augmented, &s.augment_points,
-            &s.augment_empty};
+            &s.augment_empty, &s.merge_candidates, &s.merge_align_failed, &s.merge_gated, &s.merged};
 }
 
 /** A distribution's state through its standard stream form (exact for the real ones:
@@ -153,6 +153,13 @@ void ScanLandmarkMap::saveState(mrpt::serialization::CArchive& out) const
         writeLong(out, id);
         out << static_cast<std::uint64_t>(scan);
     }
+    writeSize(out, merge_last_.size());
+    for (const auto& [pair, scan] : merge_last_)
+    {
+        writeLong(out, pair.first);
+        writeLong(out, pair.second);
+        out << static_cast<std::uint64_t>(scan);
+    }
     writeLong(out, wide_pending_.id);
     out << static_cast<std::uint64_t>(wide_pending_.scan);
     writeMatrix(out, wide_pending_.correction);
@@ -192,6 +199,14 @@ void ScanLandmarkMap::loadState(mrpt::serialization::CArchive& in)
     {
         const long id = readLong(in);
         wide_last_[id] = readU64(in);
+    }
+    merge_last_.clear();
+    const size_t nm = readSize(in, "merge attempt");
+    for (size_t i = 0; i < nm; ++i)
+    {
+        const long keep = readLong(in);
+        const long drop = readLong(in);
+        merge_last_[{keep, drop}] = readU64(in);
     }
     wide_pending_.id = readLong(in);
     wide_pending_.scan = readU64(in);

@@ -72,4 +72,11 @@ PointSet visiblePart(const PointSet& tpl, const Vec3& z, double max_range_m, dou
     return out;
 }
 
+double templateRadius(const ScanTemplate& tpl)
+{
+    double r = 0;
+    for (const Vec2& p : tpl.sog.points) r = std::max(r, p.norm());
+    return r;
+}
+
 }  // namespace hymm::scanslam

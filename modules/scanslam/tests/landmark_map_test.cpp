@@ -2,6 +2,7 @@
 // are created from corners and re-observed, and bad input (empty and all-invalid scans,
 // a straight wall, a scan far from the prediction) is counted, never a throw or a NaN.
 #include <gtest/gtest.h>
+#include <hymm/ekf/pose_landmark_model.h>
 #include <hymm/scanslam/ScanLandmarkMap.h>
 
 #include <mrpt/poses/CPosePDFGaussian.h>
@@ -346,6 +347,51 @@ TEST(ScanLandmarkMap, AugmentedTemplateIsWhatTheMatcherAligns)
     RecordProperty("vehicle_y_true_dense", std::to_string(y[0]));
     RecordProperty("vehicle_y_shifted_dense", std::to_string(y[1]));
     EXPECT_GT(std::abs(y[1] - y[0]), 0.05);
+}
+
+// merge_duplicates: a second landmark on an object already held (here the first one's
+// template added again 0.4 m and 3 deg off, as a drifted lap would make it) is aligned
+// with the first, fused into it as a relative pose and removed; without the option both
+// stay. A pair that does not align is not tried again for merge_retry_scans.
+TEST(ScanLandmarkMap, DuplicateOfALandmarkIsMergedIntoIt)
+{
+    for (const bool merge : {false, true})
+    {
+        SCOPED_TRACE(merge ? "merge" : "no merge");
+        ScanLandmarkMap::Options o;
+        o.merge_duplicates = merge;
+        auto [map, ekf] = afterFirstScan(o, 1);
+        ASSERT_FALSE(map->templates().empty());
+        const long first = map->templates().begin()->first;
+        const Vec3 z = hymm::ekf::poseLandmarkObservation(ekf.vehiclePose(), ekf.landmarkBlockMean(first).head<3>(),
+                                                          Vec3::Zero());
+        AlignResult dup;
+        dup.ok = true;
+        dup.z = z + Vec3(0.4, -0.2, 3 * M_PI / 180);
+        dup.R = Eigen::Vector3d(0.2, 0.2, 0.05).cwiseAbs2().asDiagonal();
+        const long second = map->addTemplateLandmark(ekf, map->templates().at(first), dup, Vec3::Zero());
+        const size_t before = map->templates().size();
+        for (int k = 0; k < 2; ++k) map->processScan(ekf, *scanAt(boxes(), Vec3::Zero(), 2 + k));
+        expectFinite(ekf);
+        const auto& st = map->stats();
+        if (!merge)
+        {
+            EXPECT_EQ(st.merge_candidates, 0u);
+            EXPECT_TRUE(ekf.hasLandmark(second));
+            EXPECT_GE(map->templates().size(), before);
+            continue;
+        }
+        EXPECT_EQ(st.merged, 1u);
+        EXPECT_EQ(st.merge_candidates, st.merged + st.merge_align_failed + st.merge_gated);
+        EXPECT_FALSE(ekf.hasLandmark(second));
+        EXPECT_EQ(map->templates().count(second), 0u);
+        EXPECT_TRUE(ekf.hasLandmark(first));
+        // The one left is where the scans put it (the vehicle has not moved).
+        const Vec3 z_after = hymm::ekf::poseLandmarkObservation(ekf.vehiclePose(), ekf.landmarkBlockMean(first).head<3>(),
+                                                                Vec3::Zero());
+        EXPECT_LT((z_after - z).head<2>().norm(), 0.1);
+        EXPECT_LT(std::abs(z_after.z() - z.z()), 2 * M_PI / 180);
+    }
 }
 
 }  // namespace

@@ -249,6 +249,15 @@ public:
                                         const Eigen::Matrix3d& R, const Eigen::Vector3d& sensor,
                                         double gate_prob, int max_iterations = 1);
 
+    /** Updates with an observation z of pose landmark `id` as seen from pose landmark
+     *  `observer` (z = x_observer^-1 (+) x_id, the model of updatePoseLandmark with the
+     *  observer in the vehicle's place and no mounting), e.g. the alignment of one template
+     *  with another that is a second landmark on the same object. Gate and bad input as
+     *  updatePoseLandmark, and so are the iterations (`max_iterations` > 1: iterated EKF);
+     *  with one, first-estimates Jacobians at both blocks' first estimates. */
+    PoseUpdateReport updateRelativePose(long observer, long id, const Eigen::Vector3d& z,
+                                        const Eigen::Matrix3d& R, double gate_prob, int max_iterations = 1);
+
     /** Marginalises a landmark out (deletes its rows and columns). Throws if unknown. */
     void removeLandmark(long id);
 
@@ -337,6 +346,9 @@ private:
     void augment(const std::vector<std::pair<long, Eigen::VectorXd>>& blocks,
                  const Eigen::MatrixXd& G, const Eigen::MatrixXd& noise, bool confirmed);
     size_t pruneTentative();
+    /** updatePoseLandmark / updateRelativePose: observer -1 is the vehicle. */
+    PoseUpdateReport updatePoseBlock(long observer, long id, const Eigen::Vector3d& z, const Eigen::Matrix3d& R,
+                                     const Eigen::Vector3d& sensor, double gate_prob, int max_iterations);
     Pairing makePairing(size_t obs, const LandmarkBlock& b, const Eigen::Vector3d& sensor) const;
 
     const Options options_;

@@ -50,6 +50,16 @@ public:
          *  relinearises the update at its own result (iterated EKF); 1 = the EKF. */
         int update_iterations = 1;
         int wide_update_iterations = 10;   //!< the same for the wide-search (loop-closing) updates
+        /** A landmark aligned in this scan and another whose template, both placed at the
+         *  filter's estimates, overlaps it (this share of the smaller one's points within
+         *  explain_distance_m of the other's) are one object: the newer template is
+         *  aligned with the older, the relative pose fused (EkfSlam::updateRelativePose,
+         *  iterated as the wide-search updates) and the newer removed (mergeDuplicates). */
+        bool merge_duplicates = false;
+        double merge_min_overlap = 0.5;
+        /** A pair whose templates did not align, or whose relative pose was gated, is
+         *  tried again after this many scans. */
+        size_t merge_retry_scans = 50;
         /** [m] a return within this of a predicted (or aligned) template point is that
          *  landmark's: it creates no new landmark. */
         double explain_distance_m = 1.0;
@@ -144,6 +154,10 @@ public:
         size_t gated = 0;              //!< aligned but outside the NN gate
         size_t update_numeric = 0;     //!< innovation covariance not PD
         size_t update_invalid = 0;     //!< z or R not finite / not PD
+        size_t merge_candidates = 0;   //!< pairs of templates aligned in one scan that overlap
+        size_t merge_align_failed = 0; //!< of them: the two templates did not align
+        size_t merge_gated = 0;        //!< of them: relative pose gated or refused by the EKF
+        size_t merged = 0;             //!< of them: fused, the newer landmark removed
         size_t returns_explained = 0;  //!< returns attributed to a template
         size_t segments = 0;           //!< segments of the unexplained returns
         size_t short_runs = 0;         //!< runs of neighbours below min_points
@@ -245,6 +259,11 @@ private:
     /** The matcher's covariance `R` plus the viewpoint term of Options (view_std_*) for
      *  a template made at `made` (frame in the sensor frame) predicted at `z_hat`. */
     Mat3 viewCovariance(const Mat3& R, const Vec3& made, const Vec3& z_hat) const;
+    /** merge_duplicates: the landmarks of last_aligned_ and the ones they overlap become
+     *  one (ScanLandmarkMerge.cpp). */
+    void mergeDuplicates(ekf::EkfSlam& ekf);
+    /** Aligns the two templates, fuses the relative pose, removes `drop`; false if not. */
+    bool mergePair(ekf::EkfSlam& ekf, long keep, long drop);
     /** Segments the unexplained returns and adds the accepted ones as landmarks. */
     void createLandmarks(ekf::EkfSlam& ekf, const PointSet& pts, const Vec3& sensor,
                          const std::vector<char>& explained);
@@ -259,6 +278,8 @@ private:
     std::vector<AlignedObservation> last_aligned_;
     size_t wide_this_scan_ = 0;
     std::map<long, size_t> wide_last_;  //!< landmark -> scan of its last wide search
+    /** (kept, dropped) -> scan of the last failed merge attempt (merge_retry_scans). */
+    std::map<std::pair<long, long>, size_t> merge_last_;
     /** The last unconfirmed wide answer: its landmark, scan and implied vehicle correction. */
     struct WidePending
     {

@@ -34,6 +34,9 @@ struct ScanTemplate
 void savePointSet(mrpt::serialization::CArchive& out, const PointSet& p);
 void loadPointSet(mrpt::serialization::CArchive& in, PointSet& p);
 
+/** Largest distance of a template point from its frame's origin. */
+double templateRadius(const ScanTemplate& tpl);
+
 /** Fraction of the template's points that fall inside the sensor's view (range below
  *  `max_range_m`, |bearing| <= fov/2) when the template frame sits at `z` in the sensor
  *  frame. Thesis 5.7: a landmark is in view when this exceeds 0.9. */
