@@ -41,6 +41,15 @@ EkfSlam::Options fejOptions(LinearisationPoint j = LinearisationPoint::FirstEsti
 
 Eigen::Matrix2d skew() { return (Eigen::Matrix2d() << 0.0, -1.0, 1.0, 0.0).finished(); }
 
+/** A filter at the true pose (0, 0, 0.1) with a small prior covariance; sets `truth`. */
+EkfSlam startNearOrigin(LinearisationPoint j, Eigen::Vector3d& truth)
+{
+    EkfSlam f(fejOptions(j));
+    truth = Eigen::Vector3d(0.0, 0.0, 0.1);
+    f.reset(truth, Eigen::Vector3d(0.01, 0.01, 0.5 * kDeg).cwiseAbs2().asDiagonal());
+    return f;
+}
+
 /** Known-id observations of kLandmarks from `truth`, with seeded noise. */
 std::vector<RangeBearingObs> observe(const Eigen::Vector3d& truth, std::mt19937& rng)
 {
@@ -71,9 +80,7 @@ mrpt::poses::CPosePDFGaussian increment(const Eigen::Vector3d& d)
  *  so every estimate differs from its first estimate and from its prediction. */
 EkfSlam mappedFilter(LinearisationPoint j, std::mt19937& rng, Eigen::Vector3d& truth)
 {
-    EkfSlam f(fejOptions(j));
-    truth = Eigen::Vector3d(0.0, 0.0, 0.1);
-    f.reset(truth, Eigen::Vector3d(0.01, 0.01, 0.5 * kDeg).cwiseAbs2().asDiagonal());
+    EkfSlam f = startNearOrigin(j, truth);
     f.updateRangeBearing(observe(truth, rng), kSensor);
     const Eigen::Vector3d d(1.0, 0.1, 3.0 * kDeg);
     truth = composePose(truth, d);
@@ -327,9 +334,8 @@ Observability observability(LinearisationPoint j)
 {
     std::mt19937 rng(17);
     std::normal_distribution<double> g(0.0, 1.0);
-    EkfSlam f(fejOptions(j));
-    Eigen::Vector3d truth(0.0, 0.0, 0.1);
-    f.reset(truth, Eigen::Vector3d(0.01, 0.01, 0.5 * kDeg).cwiseAbs2().asDiagonal());
+    Eigen::Vector3d truth;
+    EkfSlam f = startNearOrigin(j, truth);
     f.updateRangeBearing(observe(truth, rng), kSensor);
     const Eigen::Index n = f.mean().size(), L = static_cast<Eigen::Index>(kLandmarks.size());
     constexpr int kSteps = 6;
@@ -422,9 +428,7 @@ Eigen::Vector3d observePose(const Eigen::Vector3d& truth, const Eigen::Vector3d&
  *  once, so that estimates, first estimates and the prediction all differ. */
 EkfSlam mappedPoseFilter(LinearisationPoint j, std::mt19937& rng, Eigen::Vector3d& truth)
 {
-    EkfSlam f(fejOptions(j));
-    truth = Eigen::Vector3d(0.0, 0.0, 0.1);
-    f.reset(truth, Eigen::Vector3d(0.01, 0.01, 0.5 * kDeg).cwiseAbs2().asDiagonal());
+    EkfSlam f = startNearOrigin(j, truth);
     for (long id = 0; id < 3; ++id)
         f.addPoseLandmark(observePose(truth, kPoseLandmarks[static_cast<size_t>(id)], rng), kPoseR, kSensorVec, id);
     const Eigen::Vector3d d(1.0, 0.1, 3.0 * kDeg);
@@ -506,9 +510,8 @@ Observability poseObservability(LinearisationPoint j)
 {
     std::mt19937 rng(23);
     std::normal_distribution<double> g(0.0, 1.0);
-    EkfSlam f(fejOptions(j));
-    Eigen::Vector3d truth(0.0, 0.0, 0.1);
-    f.reset(truth, Eigen::Vector3d(0.01, 0.01, 0.5 * kDeg).cwiseAbs2().asDiagonal());
+    Eigen::Vector3d truth;
+    EkfSlam f = startNearOrigin(j, truth);
     const auto L = static_cast<long>(kPoseLandmarks.size());
     for (long id = 0; id < L; ++id)
         f.addPoseLandmark(observePose(truth, kPoseLandmarks[static_cast<size_t>(id)], rng), kPoseR, kSensorVec, id);
