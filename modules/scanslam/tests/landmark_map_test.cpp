@@ -2,6 +2,8 @@
 // are created from corners and re-observed, and bad input (empty and all-invalid scans,
 // a straight wall, a scan far from the prediction) is counted, never a throw or a NaN.
 #include <gtest/gtest.h>
+#include <mrpt/io/CMemoryStream.h>
+#include <mrpt/serialization/CArchive.h>
 #include <hymm/ekf/pose_landmark_model.h>
 #include <hymm/scanslam/ScanLandmarkMap.h>
 
@@ -392,6 +394,56 @@ TEST(ScanLandmarkMap, DuplicateOfALandmarkIsMergedIntoIt)
         EXPECT_LT((z_after - z).head<2>().norm(), 0.1);
         EXPECT_LT(std::abs(z_after.z() - z.z()), 2 * M_PI / 180);
     }
+}
+
+// A pair that fails to merge waits merge_retry_scans scans, and that wait is part of the
+// saved run state: a map saved and loaded after a failed attempt continues exactly as the
+// original (same counters, same filter, bit for bit).
+TEST(ScanLandmarkMap, FailedMergeWaitsAndIsPartOfTheSavedState)
+{
+    ScanLandmarkMap::Options o;
+    o.merge_duplicates = true;
+    auto [map, ekf] = afterFirstScan(o, 1);
+    ASSERT_FALSE(map->templates().empty());
+    const long first = map->templates().begin()->first;
+    // A "duplicate" that is the first template mirrored: it overlaps the object but its
+    // shape does not fit the original's, so the merge is refused (no alignment or gated).
+    ScanTemplate mirrored = map->templates().at(first);
+    for (Vec2& p : mirrored.sog.points) p.x() = -p.x();
+    AlignResult dup;
+    dup.ok = true;
+    dup.z = hymm::ekf::poseLandmarkObservation(ekf.vehiclePose(), ekf.landmarkBlockMean(first).head<3>(), Vec3::Zero());
+    dup.R = Eigen::Vector3d(0.05, 0.05, 0.02).cwiseAbs2().asDiagonal();
+    const long second = map->addTemplateLandmark(ekf, mirrored, dup, Vec3::Zero());
+    map->processScan(ekf, *scanAt(boxes(), Vec3::Zero(), 2));
+    const auto& st = map->stats();
+    ASSERT_GE(st.merge_candidates, 1u);
+    EXPECT_EQ(st.merged, 0u);
+    EXPECT_TRUE(ekf.hasLandmark(second));
+    const size_t tried = st.merge_candidates;
+    // Within merge_retry_scans the pair is not tried again.
+    map->processScan(ekf, *scanAt(boxes(), Vec3::Zero(), 3));
+    EXPECT_EQ(map->stats().merge_candidates, tried);
+
+    mrpt::io::CMemoryStream mem;
+    auto out = mrpt::serialization::archiveFrom(mem);
+    map->saveState(out);
+    ekf.saveState(out);
+    mem.Seek(0);
+    auto in = mrpt::serialization::archiveFrom(mem);
+    auto map2 = makeMap(o);
+    auto ekf2 = makeEkf();
+    map2->loadState(in);
+    ekf2.loadState(in);
+    for (int k = 0; k < 3; ++k)
+    {
+        map->processScan(ekf, *scanAt(boxes(), Vec3::Zero(), 4 + k));
+        map2->processScan(ekf2, *scanAt(boxes(), Vec3::Zero(), 4 + k));
+    }
+    EXPECT_EQ(map->stats().list(), map2->stats().list());
+    EXPECT_EQ(ekf.mean(), ekf2.mean());
+    EXPECT_EQ(Eigen::MatrixXd(ekf.cov()), Eigen::MatrixXd(ekf2.cov()));
+    EXPECT_EQ(map->stats().merge_candidates, tried);
 }
 
 }  // namespace
