@@ -113,6 +113,25 @@ void observationTable(const std::vector<hymm::app::ScanSlamRun>& runs, const cha
     }
 }
 /** The alignment tables of --observations: by travel and by view change since creation. */
+/** The run counters whose name starts with `prefix`, summed over the runs, keyed by the
+ *  name without its first `strip` characters. */
+std::map<std::string, size_t> sumCounters(const std::vector<hymm::app::ScanSlamRun>& runs, const std::string& prefix,
+                                          size_t strip)
+{
+    std::map<std::string, size_t> out;
+    for (const auto& r : runs)
+        for (const auto& [k, n] : r.counters)
+            if (k.rfind(prefix, 0) == 0) out[k.substr(strip)] += n;
+    return out;
+}
+
+void printCounts(const std::string& title, const std::map<std::string, size_t>& counts)
+{
+    std::cout << "\n" << title << " (sum over the runs):";
+    for (const auto& [k, n] : counts) std::cout << " " << k << "=" << n;
+    std::cout << "\n";
+}
+
 void observationTables(const std::vector<hymm::app::ScanSlamRun>& runs)
 {
     using O = hymm::app::ScanSlamRun::Observation;
@@ -278,39 +297,14 @@ int main(int argc, char** argv)
                           << nees.size() << " / " << fmt(spread(nees), 1, 2) << " / " << fmt(spread(err), 1, 3) << ", "
                           << *std::max_element(err.begin(), err.end()) << " |\n";
         }
-        // Outcomes of the wide search summed over the runs (ScanLandmarkMap::Stats::wide).
-        std::map<std::string, size_t> wide;
-        for (const auto& r : runs)
-            for (const auto& [k, n] : r.counters)
-                if (k.rfind("scan_landmarks.wide.", 0) == 0) wide[k.substr(20)] += n;
-        if (!wide.empty())
-        {
-            std::cout << "\nwide-search outcomes (sum over the runs):";
-            for (const auto& [k, n] : wide) std::cout << " " << k << "=" << n;
-            std::cout << "\n";
-        }
-        // Duplicate merging (merge_duplicates), summed over the runs.
-        std::map<std::string, size_t> merge;
-        for (const auto& r : runs)
-            for (const auto& [k, n] : r.counters)
-                if (k.rfind("scan_landmarks.merge", 0) == 0) merge[k.substr(15)] += n;
-        if (merge["merge_candidates"] > 0)
-        {
-            std::cout << "\nduplicate merging (sum over the runs):";
-            for (const auto& [k, n] : merge) std::cout << " " << k << "=" << n;
-            std::cout << "\n";
-        }
-        // Template augmentation from the dense map (thesis 6.2), summed over the runs.
-        std::map<std::string, size_t> aug;
-        for (const auto& r : runs)
-            for (const auto& [k, n] : r.counters)
-                if (k.rfind("scan_landmarks.augment", 0) == 0) aug[k.substr(15)] += n;
-        if (aug["augmented"] + aug["augment_empty"] > 0)
-        {
-            std::cout << "\ntemplate augmentation (sum over the runs):";
-            for (const auto& [k, n] : aug) std::cout << " " << k << "=" << n;
-            std::cout << "\n";
-        }
+        // Counter groups summed over the runs (ScanLandmarkMap::Stats): wide-search
+        // outcomes, duplicate merging, template augmentation from the dense map (6.2).
+        auto wide = sumCounters(runs, "scan_landmarks.wide.", 20);
+        if (!wide.empty()) printCounts("wide-search outcomes", wide);
+        auto merge = sumCounters(runs, "scan_landmarks.merge", 15);
+        if (merge["merge_candidates"] > 0) printCounts("duplicate merging", merge);
+        auto aug = sumCounters(runs, "scan_landmarks.augment", 15);
+        if (aug["augmented"] + aug["augment_empty"] > 0) printCounts("template augmentation", aug);
         if (obs_table.getValue()) observationTables(runs);
         if (profile.getValue() > 0) neesProfile(runs, profile.getValue());
         return 0;

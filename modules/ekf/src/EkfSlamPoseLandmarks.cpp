@@ -63,12 +63,8 @@ struct PoseLinearisation
     Eigen::Vector3d y;
 };
 
-/** The first-estimates linearisation point: the observer's (x_{k|k-1} for the vehicle, else
- *  its first estimate) and the landmark's first estimate. */
-struct FejPoint
-{
-    Eigen::Vector3d vehicle, landmark;
-};
+/** (observer, landmark) linearisation point of EkfSlam::poseFejPoint. */
+using FejPoint = std::pair<Eigen::Vector3d, Eigen::Vector3d>;
 
 /** False if S is not positive definite. Iterated EKF (Bell and Cathey 1993): linearised at
  *  x_i the innovation is z - h(x_i) - H_i (x_0 - x_i); at x_i = x_0 the EKF's z - h(x_0). */
@@ -80,7 +76,7 @@ bool linearise(const Eigen::Ref<const Eigen::MatrixXd>& P, Eigen::Index ov, Eige
     const Eigen::Vector3d h = poseLandmarkObservation(xv, xl, sensor, &L.Hv, &L.Hl);
     // FEJ-EKF (see LinearisationPoint): the innovation at the estimate, the Jacobians at
     // x_{k|k-1} and at the landmark's first estimate (only with x = x_0, one iteration).
-    if (fej) poseLandmarkObservation(fej->vehicle, fej->landmark, sensor, &L.Hv, &L.Hl);
+    if (fej) poseLandmarkObservation(fej->first, fej->second, sensor, &L.Hv, &L.Hl);
     Eigen::Vector3d dv = xv0 - xv, dl = xl0 - xl, nu = z - h;
     dv.z() = mrpt::math::wrapToPi(dv.z());
     dl.z() = mrpt::math::wrapToPi(dl.z());
@@ -109,6 +105,27 @@ double nextPoint(const PoseLinearisation& L, Eigen::Index o, const Eigen::Vector
     return step.lpNorm<Eigen::Infinity>();
 }
 }  // namespace
+
+std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>> EkfSlam::poseFejPoint(long observer, long id) const
+{
+    if (options_.jacobians != LinearisationPoint::FirstEstimates) return std::nullopt;
+    return FejPoint{observer < 0 ? predicted_pose_ : Eigen::Vector3d(first_estimates_.at(observer)),
+                    first_estimates_.at(id)};
+}
+
+void EkfSlam::poseObservationJacobians(long id, const Eigen::Vector3d& sensor, Eigen::Matrix3d& H_v,
+                                       Eigen::Matrix3d& H_l) const
+{
+    const LandmarkBlock& b = layout_.get(id);
+    if (b.dim != 3)
+        throw std::invalid_argument("EkfSlam::poseObservationJacobians: landmark " + std::to_string(id) +
+                                    " is not a 3-DOF pose block");
+    const auto fej = poseFejPoint(-1, id);
+    if (fej)
+        poseLandmarkObservation(fej->first, fej->second, sensor, &H_v, &H_l);
+    else
+        poseLandmarkObservation(x_.head<3>(), x_.segment<3>(static_cast<Eigen::Index>(b.offset)), sensor, &H_v, &H_l);
+}
 
 PoseUpdateReport EkfSlam::updatePoseLandmark(long id, const Eigen::Vector3d& z,
                                              const Eigen::Matrix3d& R,
@@ -148,10 +165,7 @@ PoseUpdateReport EkfSlam::updatePoseBlock(long observer, long id, const Eigen::V
     PoseLinearisation L;
     // First-estimates Jacobians for the EKF step; the iterated update relinearises at its
     // iterates by definition, so it keeps them.
-    std::optional<FejPoint> fej;
-    if (options_.jacobians == LinearisationPoint::FirstEstimates && max_iterations <= 1)
-        fej = FejPoint{observer < 0 ? predicted_pose_ : Eigen::Vector3d(first_estimates_.at(observer)),
-                       first_estimates_.at(id)};
+    const std::optional<FejPoint> fej = max_iterations <= 1 ? poseFejPoint(observer, id) : std::nullopt;
     for (int it = 0;; ++it)
     {
         if (!linearise(activeP(), ov, o, z, R, sensor, xv0, xl0, xv, xl, fej ? &*fej : nullptr, L))

@@ -483,8 +483,21 @@ TEST(EkfSlamFejTest, PoseLandmarkUpdateUsesFirstEstimateJacobians)
         densePoseUpdate(f, id, z, f.predictedPose(), f.landmarkFirstEstimate(id), x_fej, P_fej);
         densePoseUpdate(f, id, z, f.vehiclePose(), f.landmarkBlockMean(id), x_std, P_std);
         ASSERT_GT((P_fej - P_std).norm(), 1e-8);
+        // The Jacobians the filter reports are those its update uses.
+        Eigen::Matrix3d Hv, Hl, Hv_ref, Hl_ref;
+        f.poseObservationJacobians(id, kSensorVec, Hv, Hl);
+        if (j == LinearisationPoint::FirstEstimates)
+            poseLandmarkObservation(f.predictedPose(), f.landmarkFirstEstimate(id), kSensorVec, &Hv_ref, &Hl_ref);
+        else
+            poseLandmarkObservation(f.vehiclePose(), f.landmarkBlockMean(id), kSensorVec, &Hv_ref, &Hl_ref);
+        EXPECT_EQ(Hv, Hv_ref);
+        EXPECT_EQ(Hl, Hl_ref);
 
-        EkfSlam iterated(f);  // the iterated update relinearises at its iterates: the same for both
+        // The iterated update relinearises at its iterates: with either option it is the
+        // standard filter's, on the same state.
+        EkfSlam iterated(f);
+        EkfSlam iterated_std(fejOptions(LinearisationPoint::Current));
+        iterated_std.setActiveState(f.mean(), f.cov(), {{0, 3}, {1, 3}, {2, 3}});
         const auto rep = f.updatePoseLandmark(id, z, kPoseR, kSensorVec, 0.0);
         ASSERT_EQ(rep.outcome, PoseUpdateReport::Outcome::updated);
         const Eigen::VectorXd& x_ref = j == LinearisationPoint::FirstEstimates ? x_fej : x_std;
@@ -499,13 +512,15 @@ TEST(EkfSlamFejTest, PoseLandmarkUpdateUsesFirstEstimateJacobians)
         const auto rep_it = iterated.updatePoseLandmark(id, z, kPoseR, kSensorVec, 0.0, 10);
         ASSERT_EQ(rep_it.outcome, PoseUpdateReport::Outcome::updated);
         EXPECT_GT(rep_it.iterations, 1);
-        // Its first step is the standard EKF's, so it starts from x_std, not x_fej.
-        EXPECT_LT((iterated.mean() - x_std).norm(), (iterated.mean() - x_fej).norm() + 1e-12);
+        const auto rep_std = iterated_std.updatePoseLandmark(id, z, kPoseR, kSensorVec, 0.0, 10);
+        EXPECT_EQ(rep_std.iterations, rep_it.iterations);
+        EXPECT_LT((iterated.mean() - iterated_std.mean()).norm(), 1e-12);
+        EXPECT_LT((iterated.cov() - iterated_std.cov()).norm(), 1e-12);
     }
 }
 
-/** As observability(), with pose landmarks and the Jacobians of their updates (those of
- *  PoseLandmarkUpdateUsesFirstEstimateJacobians). */
+/** As observability(), with pose landmarks and the Jacobians the filter reports for their
+ *  updates (PoseLandmarkUpdateUsesFirstEstimateJacobians checks that it uses them). */
 Observability poseObservability(LinearisationPoint j)
 {
     std::mt19937 rng(23);
@@ -549,10 +564,7 @@ Observability poseObservability(LinearisationPoint j)
         {
             const auto o = static_cast<Eigen::Index>(f.landmarkBlock(id).offset);
             Eigen::Matrix3d Hv, Hl;
-            if (j == LinearisationPoint::FirstEstimates)
-                poseLandmarkObservation(f.predictedPose(), f.landmarkFirstEstimate(id), kSensorVec, &Hv, &Hl);
-            else
-                poseLandmarkObservation(f.vehiclePose(), f.landmarkBlockMean(id), kSensorVec, &Hv, &Hl);
+            f.poseObservationJacobians(id, kSensorVec, Hv, Hl);
             Eigen::MatrixXd H = Eigen::MatrixXd::Zero(3, n);
             H.leftCols<3>() = Hv;
             H.middleCols<3>(o) = Hl;

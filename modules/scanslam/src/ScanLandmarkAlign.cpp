@@ -26,7 +26,7 @@ Vec3 ScanLandmarkMap::alignAndUpdate(ekf::EkfSlam& ekf, long id, const ScanTempl
         return z_hat;
     }
     ++stats_.aligned;
-    const Mat3 R = viewCovariance(res.R, tpl.frame_in_sensor, z_hat);
+    const Mat3 R = viewCovariance(res.R, viewChange(tpl, z_hat));
     const auto rep = ekf.updatePoseLandmark(id, res.z, R, sensor, options_.gate_prob, options_.update_iterations);
     using O = ekf::PoseUpdateReport::Outcome;
     last_aligned_.push_back({id, res.z, R, z_hat, rep.outcome == O::updated});

@@ -208,9 +208,15 @@ void ScanLandmarkMap::processScan(ekf::EkfSlam& ekf, const mrpt::obs::CObservati
     ScanReadStats rs;
     const PointSet pts = fromScan(scan, options_.noise, &rs);
     stats_.beams_invalid += rs.invalid + rs.non_finite + rs.out_of_range;
-    // Landmarks the filter dropped take their templates with them.
+    // Landmarks the filter dropped (merged, or removed by its owner) take their templates
+    // and their wide-search and merge bookkeeping with them (ids are never reused).
     for (auto it = templates_.begin(); it != templates_.end();)
         it = ekf.hasLandmark(it->first) ? std::next(it) : templates_.erase(it);
+    for (auto it = wide_last_.begin(); it != wide_last_.end();)
+        it = templates_.count(it->first) ? std::next(it) : wide_last_.erase(it);
+    for (auto it = merge_last_.begin(); it != merge_last_.end();)
+        it = templates_.count(it->first.first) && templates_.count(it->first.second) ? std::next(it)
+                                                                                     : merge_last_.erase(it);
     if (pts.size() < 3)
     {
         ++stats_.scans_empty;
@@ -250,7 +256,7 @@ void ScanLandmarkMap::observe(ekf::EkfSlam& ekf, long id, const ScanTemplate& tp
     if (z_hat.head<2>().norm() > max_range + templateRadius(tpl) + options_.explain_distance_m) return;
     ++stats_.predicted;
     Vec3 placed = z_hat;
-    const double view_change = (z_hat.head<2>() - tpl.frame_in_sensor.head<2>()).norm();
+    const double view_change = viewChange(tpl, z_hat);
     // The uncertainty test comes before the view change: z_hat, hence the view change
     // measured from it, is meaningless when the prediction is metres off.
     const bool need_s = options_.max_prediction_std_m > 0 || (augmenter_ && options_.augment_above_std_m > 0);
@@ -311,9 +317,8 @@ Mat3 ScanLandmarkMap::predictionCov(const ekf::EkfSlam& ekf, long id, const Vec3
     return 0.5 * (S + S.transpose());
 }
 
-Mat3 ScanLandmarkMap::viewCovariance(const Mat3& R, const Vec3& made, const Vec3& z_hat) const
+Mat3 ScanLandmarkMap::viewCovariance(const Mat3& R, double d) const
 {
-    const double d = (z_hat.head<2>() - made.head<2>()).norm();
     const double s_xy = options_.view_std_xy_m + options_.view_std_xy_per_m * d;
     const double s_phi = options_.view_std_phi + options_.view_std_phi_per_m * d;
     Mat3 out = R;

@@ -9,7 +9,6 @@
  */
 #include <hymm/ekf/EkfSlam.h>
 
-#include <Eigen/Geometry>
 #include <algorithm>
 #include <set>
 
@@ -22,10 +21,9 @@ namespace
 /** Points of `tpl` placed at pose `z` (template frame in some frame). */
 std::vector<Vec2> placed(const ScanTemplate& tpl, const Vec3& z)
 {
-    const Eigen::Rotation2Dd rot(z.z());
     std::vector<Vec2> out;
     out.reserve(tpl.sog.size());
-    for (const Vec2& p : tpl.sog.points) out.push_back(rot * p + z.head<2>());
+    for (const Vec2& p : tpl.sog.points) out.push_back(transformPoint(z, p));
     return out;
 }
 
@@ -50,20 +48,29 @@ void ScanLandmarkMap::mergeDuplicates(ekf::EkfSlam& ekf)
     std::vector<long> seen;
     for (const AlignedObservation& a : last_aligned_)
         if (a.updated && templates_.count(a.id)) seen.push_back(a.id);
+    if (seen.empty()) return;
+    struct Placed
+    {
+        long id;
+        Vec3 x;
+        double radius;
+    };
+    std::vector<Placed> all;  // every template's frame and reach, once per scan
+    all.reserve(templates_.size());
+    for (const auto& [id, tpl] : templates_)
+        all.push_back({id, ekf.landmarkBlockMean(id).head<3>(), templateRadius(tpl)});
     std::set<std::pair<long, long>> pairs;  // (keep, drop): the older landmark stays
     for (const long s_id : seen)
     {
-        const Vec3 xs = ekf.landmarkBlockMean(s_id).head<3>();
-        const ScanTemplate& ts = templates_.at(s_id);
-        const std::vector<Vec2> ps = placed(ts, xs);
-        for (const auto& [o_id, to] : templates_)
+        const auto s_it = std::find_if(all.begin(), all.end(), [&](const Placed& p) { return p.id == s_id; });
+        const std::vector<Vec2> ps = placed(templates_.at(s_id), s_it->x);
+        for (const Placed& o : all)
         {
-            if (o_id == s_id) continue;
-            const Vec3 xo = ekf.landmarkBlockMean(o_id).head<3>();
-            if ((xo.head<2>() - xs.head<2>()).norm() > templateRadius(ts) + templateRadius(to) + options_.explain_distance_m)
+            if (o.id == s_id || (o.x.head<2>() - s_it->x.head<2>()).norm() >
+                                    s_it->radius + o.radius + options_.explain_distance_m)
                 continue;
-            if (overlap(ps, placed(to, xo), options_.explain_distance_m) >= options_.merge_min_overlap)
-                pairs.emplace(std::min(s_id, o_id), std::max(s_id, o_id));
+            if (overlap(ps, placed(templates_.at(o.id), o.x), options_.explain_distance_m) >= options_.merge_min_overlap)
+                pairs.emplace(std::min(s_id, o.id), std::max(s_id, o.id));
         }
     }
     std::set<long> gone;
@@ -77,9 +84,6 @@ void ScanLandmarkMap::mergeDuplicates(ekf::EkfSlam& ekf)
         else
             merge_last_[{keep, drop}] = stats_.scans;
     }
-    // Pairs of removed landmarks are never tried again.
-    for (auto it = merge_last_.begin(); it != merge_last_.end();)
-        it = templates_.count(it->first.first) && templates_.count(it->first.second) ? std::next(it) : merge_last_.erase(it);
 }
 
 bool ScanLandmarkMap::mergePair(ekf::EkfSlam& ekf, long keep, long drop)
@@ -100,7 +104,7 @@ bool ScanLandmarkMap::mergePair(ekf::EkfSlam& ekf, long keep, long drop)
     // sensors' poses at creation, through the filter's frames.
     const double d = (compose(xk, inverse(tk.frame_in_sensor)).head<2>() -
                       compose(xd, inverse(td.frame_in_sensor)).head<2>()).norm();
-    const Mat3 R = viewCovariance(res.R, Vec3(d, 0, 0), Vec3::Zero());
+    const Mat3 R = viewCovariance(res.R, d);
     const auto rep = ekf.updateRelativePose(drop, keep, res.z, R, options_.gate_prob, options_.wide_update_iterations);
     if (rep.outcome != ekf::PoseUpdateReport::Outcome::updated)
     {
@@ -108,8 +112,7 @@ bool ScanLandmarkMap::mergePair(ekf::EkfSlam& ekf, long keep, long drop)
         return false;
     }
     ekf.removeLandmark(drop);
-    templates_.erase(drop);
-    wide_last_.erase(drop);
+    templates_.erase(drop);  // its bookkeeping goes at the next scan (processScan)
     ++stats_.merged;
     return true;
 }

@@ -139,15 +139,14 @@ Vec3 ScanLandmarkMap::observeWide(ekf::EkfSlam& ekf, long id, const ScanTemplate
         ++stats_.wide[std::string("refine.") + res.failure];
         return z_hat;
     }
-    if (options_.max_view_change_m > 0 &&
-        (res.z.head<2>() - tpl.frame_in_sensor.head<2>()).norm() > options_.max_view_change_m)
+    if (options_.max_view_change_m > 0 && viewChange(tpl, res.z) > options_.max_view_change_m)
     {
         ++stats_.wide["view_changed"];
         return z_hat;
     }
     if (options_.wide_confirm_scans > 0 && !confirmWide(ekf, id, res.z, sensor)) return z_hat;
     ++stats_.aligned;
-    const Mat3 R = viewCovariance(res.R, tpl.frame_in_sensor, res.z);
+    const Mat3 R = viewCovariance(res.R, viewChange(tpl, res.z));
     const auto rep = ekf.updatePoseLandmark(id, res.z, R, sensor, options_.gate_prob, options_.wide_update_iterations);
     using O = ekf::PoseUpdateReport::Outcome;
     last_aligned_.push_back({id, res.z, R, z_hat, rep.outcome == O::updated, true});

@@ -32,6 +32,7 @@
 #include <mrpt/system/CTimeLogger.h>
 
 #include <Eigen/Core>
+#include <optional>
 #include <string>
 #include <unordered_map>
 #include <utility>
@@ -223,6 +224,10 @@ public:
      *  the vehicle. Throws if unknown or not a 2D point. */
     void observationJacobians(long id, const Eigen::Vector3d& sensor,
                               Eigen::Matrix<double, 2, 3>& H_v, Eigen::Matrix2d& H_l) const;
+    /** The same for pose landmark `id` (updatePoseLandmark with one iteration). Throws if
+     *  unknown or not a 3-DOF block. */
+    void poseObservationJacobians(long id, const Eigen::Vector3d& sensor, Eigen::Matrix3d& H_v,
+                                  Eigen::Matrix3d& H_l) const;
 
     /**
      * Adds an active landmark block by the augmentation of Eq. 2.53 for any block size:
@@ -346,6 +351,10 @@ private:
     void augment(const std::vector<std::pair<long, Eigen::VectorXd>>& blocks,
                  const Eigen::MatrixXd& G, const Eigen::MatrixXd& noise, bool confirmed);
     size_t pruneTentative();
+    /** Where a one-step pose update of `id` from `observer` (-1: the vehicle) takes its
+     *  Jacobians with first-estimates Jacobians: (x_{k|k-1} or the observer's first
+     *  estimate, the landmark's first estimate); nothing with `current`. */
+    std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>> poseFejPoint(long observer, long id) const;
     /** updatePoseLandmark / updateRelativePose: observer -1 is the vehicle. */
     PoseUpdateReport updatePoseBlock(long observer, long id, const Eigen::Vector3d& z, const Eigen::Matrix3d& R,
                                      const Eigen::Vector3d& sensor, double gate_prob, int max_iterations);

@@ -256,9 +256,9 @@ private:
     /** Whether the wide answer z of landmark `id` agrees with the pending one of another
      *  landmark (same implied vehicle correction); else it becomes the pending one. */
     bool confirmWide(const ekf::EkfSlam& ekf, long id, const Vec3& z, const Vec3& sensor);
-    /** The matcher's covariance `R` plus the viewpoint term of Options (view_std_*) for
-     *  a template made at `made` (frame in the sensor frame) predicted at `z_hat`. */
-    Mat3 viewCovariance(const Mat3& R, const Vec3& made, const Vec3& z_hat) const;
+    /** The matcher's covariance `R` plus the viewpoint term of Options (view_std_*) for a
+     *  viewpoint change of `d` metres (viewChange). */
+    Mat3 viewCovariance(const Mat3& R, double d) const;
     /** merge_duplicates: the landmarks of last_aligned_ and the ones they overlap become
      *  one (ScanLandmarkMerge.cpp). */
     void mergeDuplicates(ekf::EkfSlam& ekf);

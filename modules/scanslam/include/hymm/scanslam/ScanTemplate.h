@@ -37,6 +37,13 @@ void loadPointSet(mrpt::serialization::CArchive& in, PointSet& p);
 /** Largest distance of a template point from its frame's origin. */
 double templateRadius(const ScanTemplate& tpl);
 
+/** How far the template frame at `z` (sensor frame) is from where it was made in the
+ *  sensor frame: the viewpoint change d of the alignment covariance's viewpoint term. */
+inline double viewChange(const ScanTemplate& tpl, const Vec3& z)
+{
+    return (z.head<2>() - tpl.frame_in_sensor.head<2>()).norm();
+}
+
 /** Fraction of the template's points that fall inside the sensor's view (range below
  *  `max_range_m`, |bearing| <= fov/2) when the template frame sits at `z` in the sensor
  *  frame. Thesis 5.7: a landmark is in view when this exceeds 0.9. */
