@@ -324,7 +324,18 @@ void GuardedRawlogStream::trackHeader(const std::string& qualified, bool old_for
     const bool null = qualified == "nullptr";
     // Bytes that only look like a header (a value with the high bit set, then as many
     // bytes) name no class; a real header naming none is refused by MRPT itself.
-    if (!null && !mrpt::rtti::findRegisteredClass(qualified)) return;
+    const mrpt::rtti::TRuntimeClassId* id = null ? nullptr : mrpt::rtti::findRegisteredClass(qualified);
+    if (!null && !id) return;
+    // An abstract class (CPosePDF, CAction, CObservation, ...) has no constructor: MRPT
+    // prints a warning and reads an empty pointer in its place, which its deserialisers
+    // dereference (found by the rawlog fuzz target: a movement's pose PDF named
+    // CPosePDF). No writer can produce one, so it is refused wherever it appears.
+    if (id && !id->ptrCreateObject)
+    {
+        size_error_ = "names the abstract class '" + unqualified(qualified) +
+                      "', which no rawlog can hold, at byte " + std::to_string(at);
+        throw RawlogSizeError(size_error_);
+    }
     const bool element = !open_.empty() && open_.back().collection;
     if (element) requireClass(qualified, CLASS_ID(mrpt::obs::CAction), at, kActionSlot);
     if (old_format) return;  // no end flag to close it (old-format collections: armFor)

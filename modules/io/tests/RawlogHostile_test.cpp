@@ -608,6 +608,52 @@ std::vector<uint8_t> serialised(const mrpt::serialization::CSerializable& o)
     return std::vector<uint8_t>(p, p + mem.getTotalBytesCount());
 }
 
+// A class name that MRPT knows but cannot create (an abstract base: CPosePDF, CAction,
+// CObservation): MRPT warns and reads an empty pointer in its place, then dereferences it
+// (found by the long rawlog_fuzz run: a movement's pose PDF named
+// mrpt::poses::CPosePDF, SEGV in CActionRobotMovement2D::serializeFrom;
+// regressions/rawlog/segv_abstract_pose_pdf_class). Refused wherever it appears.
+TEST(RawlogHostileTest, AbstractClassNamesAreRefused)
+{
+    using namespace mrpt::obs;
+    const auto renamed = [](const std::vector<uint8_t>& whole, const std::vector<uint8_t>& part,
+                            const std::string& name) {
+        const auto at = std::search(whole.begin(), whole.end(), part.begin(), part.end());
+        EXPECT_NE(at, whole.end());
+        EXPECT_TRUE(part[0] & 0x80);
+        const size_t old_len = part[0] & 0x7F;
+        std::vector<uint8_t> data(whole.begin(), at);
+        data.push_back(static_cast<uint8_t>(0x80 | name.size()));
+        data.insert(data.end(), name.begin(), name.end());
+        data.insert(data.end(), at + 1 + static_cast<std::ptrdiff_t>(old_len), whole.end());
+        return data;
+    };
+    const mrpt::poses::CPosePDFGaussian pdf(mrpt::poses::CPose2D(0.5, 0, 0.1));
+    CActionRobotMovement2D mov;
+    mov.estimationMethod = CActionRobotMovement2D::emScan2DMatching;
+    mov.poseChange = mrpt::poses::CPosePDFGaussian::Create(pdf);
+    CActionCollection acts;
+    acts.insert(mov);
+    const auto whole = serialised(acts);
+    {
+        const auto path = writeGz(whole);
+        const auto r = readInChild(path, budgetFor(whole));
+        ASSERT_TRUE(r.exited);
+        EXPECT_EQ(r.code, 1) << r.message;  // unchanged, it reads
+    }
+    // The movement's pose PDF, then the movement itself, named by their abstract bases.
+    for (const auto& [part, name] :
+         {std::pair{serialised(pdf), std::string("mrpt::poses::CPosePDF")},
+          std::pair{serialised(mov), std::string("mrpt::obs::CAction")}})
+    {
+        SCOPED_TRACE(name);
+        const auto data = renamed(whole, part, name);
+        const auto path = writeGz(data);
+        expectCleanError(path, data, "entry 0",
+                         "names the abstract class '" + name.substr(name.rfind(':') + 1) + "'");
+    }
+}
+
 // A CActionCollection as MRPT writes it (header, version 0, count, elements, end flag)
 // holding the given serialised objects, whatever their class.
 std::vector<uint8_t> collectionOf(const std::vector<std::vector<uint8_t>>& elements)
