@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <hymm/denseslam/DenseSlam.h>
 #include <hymm/app/motion_outputs.h>
+#include <hymm/core/config_utils.h>
 #include <hymm/sim/Simulator.h>
 #include <hymm/sim/motion_truth.h>
 #include <mrpt/config/CConfigFileMemory.h>
@@ -186,6 +187,36 @@ TEST(DenseSlamMotion, SlowLayerFindsTheChangedAreasAfterTheLoop)
     EXPECT_GT(sc.total.precision, 0.3);
     EXPECT_LT(sc.static_fp_fraction, 0.05);
     EXPECT_GT(slam.motionHook()->stats().slow_differencings, 0u);
+}
+
+// The shipped configs/ch6_dynamic_slow.ini (virtual landmarks 30 m deep, beams with no
+// return as free space) on the same scene: regions reach the removed middle object and
+// its cells are seen free after it left, so it is found with the two added ones.
+TEST(DenseSlamMotion, ShippedSlowConfigFindsTheRemovedMiddleObject)
+{
+    auto s = hymm::sim::Scenario::fromFile(kDir + "ch6_dynamic_slow.ini");
+    const auto cfg = hymm::core::openConfigFile(std::string(HYMM_SOURCE_DIR) + "/configs/ch6_dynamic_slow.ini");
+    DenseSlam slam = DenseSlam::fromConfig(*cfg);
+    hymm::sim::Simulator sim(s);
+    double t_end = 0;
+    hymm::denseslam::testing::run(s, slam, [&](double t) { t_end = t; });
+    ASSERT_GT(t_end, 240.0);
+    slam.refreshRegions();
+    const auto truth = hymm::app::motionTruthFromWorld(sim.world(), 0.0, t_end, 1.0);
+    const auto sc = hymm::app::scoreMotionLayer(slam, MotionKind::Slow, truth, 0.2, 1);
+    std::printf("slow, shipped config: P %.3f R %.3f static FP %.3f\n", sc.total.precision, sc.total.recall,
+                sc.static_fp_fraction);
+    for (const char* n : {"middle", "new_left", "new_right"})
+    {
+        ASSERT_TRUE(sc.per_object.count(n)) << n;
+        const auto& o = sc.per_object.at(n);
+        std::printf("  %s: recall %.3f (%zu/%zu footprint cells)\n", n, o.recall, o.truth_found, o.truth);
+        EXPECT_GT(o.truth, 0u) << n << ": no region covers it";
+        EXPECT_GT(o.truth_found, 0u) << n;
+    }
+    EXPECT_GT(sc.total.precision, 0.5);
+    EXPECT_GT(sc.total.recall, 0.1);
+    EXPECT_LT(sc.static_fp_fraction, 0.05);
 }
 
 }  // namespace
