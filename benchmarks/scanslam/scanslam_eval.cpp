@@ -216,7 +216,8 @@ int main(int argc, char** argv)
         std::cout << "seed,steps,closure_t,dr_rmse,path_rmse,path_rmse_before,path_rmse_after,lm_before,lm_xy_before,"
                      "lm_phi_deg_before,lm_after,lm_xy_after,lm_phi_deg_after,lm_nees_after,"
                      "template_outline_m,created,updated,gated,out_of_view,align_failed,"
-                     "ms_per_step,x_real_time,view_changed,prediction_uncertain,wide_fused,wide_wrong,wide_gated\n";
+                     "ms_per_step,x_real_time,view_changed,prediction_uncertain,wide_fused,wide_wrong,wide_gated,"
+                     "veh_nees_before,veh_nees_after\n";
         for (int k = 0; k < seeds.getValue(); ++k)
         {
             sc.run.seed = first.getValue() + k;
@@ -227,7 +228,16 @@ int main(int argc, char** argv)
             for (const auto& [key, n] : r.counters)
                 if (key.find("align_failed") != std::string::npos) failed += n;
             const auto wc = wideCounts(r);
-            std::printf("%ld,%zu,%.1f,%.4f,%.4f,%.4f,%.4f,%zu,%.4f,%.4f,%zu,%.4f,%.4f,%.3f,%.4f,%zu,%zu,%zu,%zu,%zu,%.3f,%.1f,%zu,%zu,%zu,%zu,%zu\n",
+            // The run's own mean vehicle NEES before and from the closure on (the whole run
+            // when there is none): which runs carry the run-averaged excess.
+            double nb = 0, na = 0;
+            size_t kb = 0, ka = 0;
+            for (size_t i = 0; i < r.steps.size(); ++i)
+                if (r.closure_t >= 0 && i >= r.closure_step)
+                    na += r.steps[i].nees, ++ka;
+                else
+                    nb += r.steps[i].nees, ++kb;
+            std::printf("%ld,%zu,%.1f,%.4f,%.4f,%.4f,%.4f,%zu,%.4f,%.4f,%zu,%.4f,%.4f,%.3f,%.4f,%zu,%zu,%zu,%zu,%zu,%.3f,%.1f,%zu,%zu,%zu,%zu,%zu,%.2f,%.2f\n",
                         sc.run.seed, r.steps.size(), r.closure_t, r.dead_reckoning_rmse_m,
                         r.path_rmse_m, r.path_rmse_before_m,
                         r.path_rmse_after_m, r.before_closure.landmarks, r.before_closure.rmse_xy_m,
@@ -238,7 +248,9 @@ int main(int argc, char** argv)
                         counter(r, "scan_landmarks.gated"), counter(r, "scan_landmarks.out_of_view"),
                         failed, 1e3 * secs / static_cast<double>(r.steps.size()),
                         r.duration_s / secs, counter(r, "scan_landmarks.view_changed"),
-                        counter(r, "scan_landmarks.prediction_uncertain"), wc[0], wc[1], wc[2]);
+                        counter(r, "scan_landmarks.prediction_uncertain"), wc[0], wc[1], wc[2],
+                        nb / static_cast<double>(std::max<size_t>(kb, 1)),
+                        ka > 0 ? na / static_cast<double>(ka) : std::nan(""));
             std::fflush(stdout);
             runs.push_back(std::move(r));
         }
