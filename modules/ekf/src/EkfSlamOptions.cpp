@@ -43,6 +43,10 @@ hymm::core::OptionTable EkfSlam::Options::table()
     t.choice("jacobians", jacobians,
              {{"current", LinearisationPoint::Current}, {"first_estimates", LinearisationPoint::FirstEstimates}},
              "linearisation points of the Jacobians (standard EKF or First-Estimates Jacobian EKF)");
+    t.choice("pose_update_second_order", pose_update_second_order,
+             {{"off", SecondOrderTerms::Off}, {"covariance", SecondOrderTerms::Covariance},
+              {"full", SecondOrderTerms::Full}},
+             "second-order terms of the pose-landmark update: none, S only, or S and the predicted observation");
     return t;
 }
 

@@ -71,9 +71,20 @@ using FejPoint = std::pair<Eigen::Vector3d, Eigen::Vector3d>;
 bool linearise(const Eigen::Ref<const Eigen::MatrixXd>& P, Eigen::Index ov, Eigen::Index o, const Eigen::Vector3d& z,
                const Eigen::Matrix3d& R, const Eigen::Vector3d& sensor, const Eigen::Vector3d& xv0,
                const Eigen::Vector3d& xl0, const Eigen::Vector3d& xv, const Eigen::Vector3d& xl,
-               const FejPoint* fej, PoseLinearisation& L)
+               const FejPoint* fej, SecondOrderTerms second_order, PoseLinearisation& L)
 {
-    const Eigen::Vector3d h = poseLandmarkObservation(xv, xl, sensor, &L.Hv, &L.Hl);
+    Eigen::Vector3d h = poseLandmarkObservation(xv, xl, sensor, &L.Hv, &L.Hl);
+    Eigen::Matrix3d S2 = Eigen::Matrix3d::Zero();
+    if (second_order != SecondOrderTerms::Off)
+    {
+        // EkfSlam::Options::pose_update_second_order, over the joint (observer, landmark)
+        // block of P.
+        Eigen::Matrix<double, 6, 6> Ps;
+        Ps << P.block<3, 3>(ov, ov), P.block<3, 3>(ov, o), P.block<3, 3>(o, ov), P.block<3, 3>(o, o);
+        Eigen::Vector3d bias;
+        poseObservationSecondOrder(xv, xl, sensor, Ps, bias, S2);
+        if (second_order == SecondOrderTerms::Full) h += bias;
+    }
     // FEJ-EKF (see LinearisationPoint): the innovation at the estimate, the Jacobians at
     // x_{k|k-1} and at the landmark's first estimate (only with x = x_0, one iteration).
     if (fej) poseLandmarkObservation(fej->first, fej->second, sensor, &L.Hv, &L.Hl);
@@ -84,7 +95,7 @@ bool linearise(const Eigen::Ref<const Eigen::MatrixXd>& P, Eigen::Index ov, Eige
     nu -= L.Hv * dv + L.Hl * dl;
     // P H^T from the observer's and the landmark's columns only (H is zero elsewhere).
     L.PHt = P.middleCols<3>(ov) * L.Hv.transpose() + P.middleCols<3>(o) * L.Hl.transpose();
-    Eigen::Matrix3d S = L.Hv * L.PHt.middleRows<3>(ov) + L.Hl * L.PHt.middleRows<3>(o) + R;
+    Eigen::Matrix3d S = L.Hv * L.PHt.middleRows<3>(ov) + L.Hl * L.PHt.middleRows<3>(o) + R + S2;
     S = (0.5 * (S + S.transpose())).eval();
     L.llt.compute(S);
     if (L.llt.info() != Eigen::Success) return false;
@@ -168,7 +179,8 @@ PoseUpdateReport EkfSlam::updatePoseBlock(long observer, long id, const Eigen::V
     const std::optional<FejPoint> fej = max_iterations <= 1 ? poseFejPoint(observer, id) : std::nullopt;
     for (int it = 0;; ++it)
     {
-        if (!linearise(activeP(), ov, o, z, R, sensor, xv0, xl0, xv, xl, fej ? &*fej : nullptr, L))
+        if (!linearise(activeP(), ov, o, z, R, sensor, xv0, xl0, xv, xl, fej ? &*fej : nullptr,
+                       options_.pose_update_second_order, L))
             return fail(PoseUpdateReport::Outcome::numeric);
         // Thesis 5.5: the aligned observation is verified by a gate before it is used (on
         // the prior's linearisation, as the EKF would).

@@ -37,6 +37,50 @@ Eigen::Vector3d poseLandmarkObservation(const Eigen::Vector3d& x_v, const Eigen:
     return z;
 }
 
+std::array<Eigen::Matrix<double, 6, 6>, 3> poseLandmarkObservationHessians(const Eigen::Vector3d& x_v,
+                                                                           const Eigen::Vector3d& x_l,
+                                                                           const Eigen::Vector3d& sensor)
+{
+    constexpr double eps = 1e-5;
+    std::array<Eigen::Matrix<double, 6, 6>, 3> H;
+    for (auto& h : H) h.setZero();
+    Eigen::Matrix<double, 6, 1> x;
+    x << x_v, x_l;
+    const auto jacobian = [&sensor](const Eigen::Matrix<double, 6, 1>& s) {
+        Eigen::Matrix3d Hv, Hl;
+        poseLandmarkObservation(s.head<3>(), s.tail<3>(), sensor, &Hv, &Hl);
+        Eigen::Matrix<double, 3, 6> J;
+        J << Hv, Hl;
+        return J;
+    };
+    for (int k = 0; k < 6; ++k)
+    {
+        Eigen::Matrix<double, 6, 1> a = x, b = x;
+        a[k] += eps;
+        b[k] -= eps;
+        const Eigen::Matrix<double, 3, 6> dJ = (jacobian(a) - jacobian(b)) / (2 * eps);
+        for (int i = 0; i < 3; ++i) H[static_cast<size_t>(i)].col(k) = dJ.row(i).transpose();
+    }
+    for (auto& h : H) h = (0.5 * (h + h.transpose())).eval();
+    return H;
+}
+
+void poseObservationSecondOrder(const Eigen::Vector3d& x_v, const Eigen::Vector3d& x_l,
+                                const Eigen::Vector3d& sensor, const Eigen::Matrix<double, 6, 6>& P,
+                                Eigen::Vector3d& bias, Eigen::Matrix3d& S2)
+{
+    const auto Hs = poseLandmarkObservationHessians(x_v, x_l, sensor);
+    std::array<Eigen::Matrix<double, 6, 6>, 3> A;
+    for (size_t i = 0; i < 3; ++i)
+    {
+        A[i] = Hs[i] * P;
+        bias[static_cast<Eigen::Index>(i)] = 0.5 * A[i].trace();
+    }
+    for (Eigen::Index i = 0; i < 3; ++i)
+        for (Eigen::Index j = 0; j <= i; ++j)
+            S2(i, j) = S2(j, i) = 0.5 * (A[static_cast<size_t>(i)] * A[static_cast<size_t>(j)]).trace();
+}
+
 Eigen::Vector3d poseLandmarkFromObservation(const Eigen::Vector3d& x_v, const Eigen::Vector3d& z,
                                             const Eigen::Vector3d& sensor, Eigen::Matrix3d* G_v,
                                             Eigen::Matrix3d* G_z)

@@ -108,6 +108,14 @@ enum class LinearisationPoint
     FirstEstimates
 };
 
+/** Which second-order terms the pose-landmark update adds (Options). */
+enum class SecondOrderTerms
+{
+    Off,
+    Covariance,
+    Full
+};
+
 class EkfSlam
 {
 public:
@@ -140,6 +148,10 @@ public:
         /** Linearisation points of the Jacobians. Ini: jacobians = current |
          *  first_estimates. */
         LinearisationPoint jacobians = LinearisationPoint::Current;
+        /** Second-order EKF terms of the pose-landmark update (poseObservationSecondOrder):
+         *  S only (Covariance) or S and the predicted observation (Full). Ini: off |
+         *  covariance | full (README, "Second-order terms of the pose update"). */
+        SecondOrderTerms pose_update_second_order = SecondOrderTerms::Off;
 
         /** Every ini key, declared once: loader, saver and README table come from it. */
         hymm::core::OptionTable table();
