@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The slow-motion scene (thesis 6.3.3, Fig. 6.10) over N noise seeds: per seed, simulate
-# configs/sim/ch6_dynamic_slow.ini, run hymm-slam (default configs/ch6_dynamic_slow.ini)
+# the scenario (default configs/sim/ch6_dynamic_slow.ini), run hymm-slam (default
+# configs/ch6_dynamic_slow.ini)
 # with the simulator's object truth, and print the slow layer's scores from metrics.json:
 # precision, recall, static false-positive fraction, per changed area detected/recall, and
 # the path's position RMSE (whether a setting reaches the filter).
@@ -20,6 +21,7 @@ for o in object_0 object_2 object_3 object_4; do printf " %s" "${area[$o]}"; don
 echo " path_rmse"
 for s in $(seq "$first" $((first + n - 1))); do
     d="$work/seed_$s"
+    rm -rf "$d/sim"  # one scenario's rawlog per folder: WORK may hold another's
     "$build/bin/hymm-simul" -c "$scenario" -s "$s" -o "$d/sim" >/dev/null
     S="$(ls "$d"/sim/*.rawlog)"; S="${S%.rawlog}"
     "$build/bin/hymm-slam" -c "$slam" -r "$S.rawlog" --gt-path "${S}_gt_path.tum" \

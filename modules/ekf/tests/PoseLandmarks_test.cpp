@@ -209,6 +209,44 @@ TEST(EkfPoseLandmarksTest, SecondOrderUpdateUsesTheCurvatureTerms)
     }
 }
 
+// The same terms when the observer is a landmark (updateRelativePose, duplicate merging):
+// the joint block is the two landmarks' rows and columns of P, not the vehicle's.
+TEST(EkfPoseLandmarksTest, SecondOrderRelativeUpdateUsesTheLandmarksJointBlock)
+{
+    EkfSlam::Options o;
+    o.pose_update_second_order = SecondOrderTerms::Covariance;
+    EkfSlam f{o};
+    Eigen::Matrix3d P0 = Eigen::Matrix3d::Zero();
+    P0.diagonal() << 0.3, 0.2, std::pow(5 * M_PI / 180, 2);
+    f.reset(Eigen::Vector3d(0, 0, 0.1), P0);
+    const Eigen::Vector3d sensor = Eigen::Vector3d::Zero();
+    const Eigen::Matrix3d R = Eigen::Vector3d(0.02, 0.02, 2e-4).asDiagonal();
+    const long a = f.addPoseLandmark(Eigen::Vector3d(4, 1, 0.3), R, sensor);
+    f.predictOdometry(mrpt::poses::CPosePDFGaussian(
+        mrpt::poses::CPose2D(3, 0, 0.2), mrpt::math::CMatrixDouble33(Eigen::Matrix3d(
+                                             Eigen::Vector3d(0.05, 0.05, std::pow(2 * M_PI / 180, 2)).asDiagonal()))));
+    const long b = f.addPoseLandmark(Eigen::Vector3d(15, -2, -0.4), R, sensor);
+    const auto oa = static_cast<Eigen::Index>(f.landmarkBlock(a).offset);
+    const auto ob = static_cast<Eigen::Index>(f.landmarkBlock(b).offset);
+    const Eigen::Vector3d xa = f.landmarkBlockMean(a), xb = f.landmarkBlockMean(b);
+    Eigen::Matrix<double, 6, 6> Ps;
+    Ps << f.cov().block<3, 3>(oa, oa), f.cov().block<3, 3>(oa, ob), f.cov().block<3, 3>(ob, oa),
+        f.cov().block<3, 3>(ob, ob);
+    Eigen::Matrix3d Ha, Hb, S2;
+    Eigen::Vector3d bias;
+    const Eigen::Vector3d h = poseLandmarkObservation(xa, xb, sensor, &Ha, &Hb);
+    poseObservationSecondOrder(xa, xb, sensor, Ps, bias, S2);
+    Eigen::Matrix<double, 3, 6> J;
+    J << Ha, Hb;
+    const Eigen::Vector3d z = h + Eigen::Vector3d(0.3, -0.2, 0.02);
+    const Eigen::Vector3d nu = z - h;
+    const Eigen::Matrix3d S = J * Ps * J.transpose() + S2 + R;
+    const auto rep = f.updateRelativePose(a, b, z, R, 0, 1);
+    ASSERT_EQ(rep.outcome, PoseUpdateReport::Outcome::updated);
+    EXPECT_NEAR(rep.nis, nu.dot(S.ldlt().solve(nu)), 1e-9 * (1 + rep.nis));
+    EXPECT_GT(S2.trace(), 1e-4);  // not negligible: the test would see a wrong block
+}
+
 TEST(EkfPoseLandmarksTest, ConsistentOverMonteCarloRuns)
 {
     const int runs = 25, steps = 80;

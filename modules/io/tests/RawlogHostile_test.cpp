@@ -621,6 +621,7 @@ TEST(RawlogHostileTest, AbstractClassNamesAreRefused)
         const auto at = std::search(whole.begin(), whole.end(), part.begin(), part.end());
         EXPECT_NE(at, whole.end());
         EXPECT_TRUE(part[0] & 0x80);
+        if (at == whole.end()) return std::vector<uint8_t>{};
         const size_t old_len = part[0] & 0x7F;
         std::vector<uint8_t> data(whole.begin(), at);
         data.push_back(static_cast<uint8_t>(0x80 | name.size()));
