@@ -6,6 +6,7 @@
 #include <mrpt/obs/CActionCollection.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
 #include <mrpt/obs/CActionRobotMovement3D.h>
+#include <mrpt/obs/CObservationBeaconRanges.h>
 #include <mrpt/obs/CObservationBearingRange.h>
 #include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/obs/CSensoryFrame.h>
@@ -606,6 +607,41 @@ std::vector<uint8_t> serialised(const mrpt::serialization::CSerializable& o)
     arch << o;
     const auto* p = static_cast<const uint8_t*>(mem.getRawBufferData());
     return std::vector<uint8_t>(p, p + mem.getTotalBytesCount());
+}
+
+// A beacon-range observation is not read by the pipeline, but MRPT deserialises it inside
+// a sensory frame and sized its measurements from the count alone (found by the long
+// rawlog_fuzz run: 47 million measurements, 23 GB in the Release replay).
+TEST(RawlogHostileTest, HugeBeaconRangeCountIsRefused)
+{
+    using namespace mrpt::obs;
+    CObservationBeaconRanges obs;
+    obs.sensorLabel = "beacons";
+    for (int i = 0; i < 3; ++i)
+    {
+        CObservationBeaconRanges::TMeasurement m;
+        m.sensedDistance = 2.0f + static_cast<float>(i);
+        m.beaconID = i;
+        obs.sensedData.push_back(m);
+    }
+    CSensoryFrame sf;
+    sf.insert(CObservationBeaconRanges::Create(obs));
+    auto data = serialised(sf);
+    {
+        const auto path = writeGz(data);
+        const auto r = readInChild(path, budgetFor(data));
+        ASSERT_TRUE(r.exited);
+        EXPECT_EQ(r.code, 1) << r.message;  // unchanged, it reads
+    }
+    // The count follows the class name, the version byte and three floats.
+    const std::string name = "mrpt::obs::CObservationBeaconRanges";
+    const auto at = std::search(data.begin(), data.end(), name.begin(), name.end());
+    ASSERT_NE(at, data.end());
+    const size_t count = static_cast<size_t>(at - data.begin()) + name.size() + 1 + 12;
+    ASSERT_EQ(getU32(data, count), 3u);
+    putU32(data, count, 0x7FFFFFFFu);
+    const auto path = writeGz(data);
+    expectCleanError(path, data, "entry 0", "beacon measurements");
 }
 
 // A class name that MRPT knows but cannot create (an abstract base: CPosePDF, CAction,
