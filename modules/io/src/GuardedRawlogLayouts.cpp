@@ -55,13 +55,11 @@ void GuardedRawlogStream::armFor(const std::string& qualified, bool old_format)
         checkpoints_.push_back(countAt(h, at, 1, 8, "bytes of sensor label"));
     }
     else if (name == "CObservationBeaconRanges" && v <= 3)
-        // Three floats, then the count; per measurement a CPoint3D object, a float and a
-        // uint32; after them the auxiliary pose object (v1+), the label (v2+) and the
-        // timestamp (v3). Not consumed by the readers, but MRPT deserialises it inside a
-        // sensory frame (found by rawlog_fuzz: a count of 47 million, 23 GB).
+        // 3 floats, the count; per measurement a CPoint3D object, a float, a uint32; then
+        // a pose object (v1+), the label (v2+), the timestamp (v3). Not read by us, but
+        // deserialised inside sensory frames (rawlog_fuzz: 47 million, 23 GB).
         checkpoints_.push_back(countAt(h, data + 12, kMinObjectBytes + 8,
-                                       (v >= 1 ? kMinObjectBytes : 0) + (v >= 2 ? 4 : 0) + (v >= 3 ? 8 : 0),
-                                       "beacon measurements"));
+            (v >= 1 ? kMinObjectBytes : 0) + (v >= 2 ? 4 : 0) + (v >= 3 ? 8 : 0), "beacon measurements"));
     else if (name == "CActionRobotMovement2D" && v <= 7)
         armRobotMovement(h);
     else if (name == "CActionRobotMovement3D" && v <= 1)
