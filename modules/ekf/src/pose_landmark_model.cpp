@@ -42,8 +42,7 @@ std::array<Eigen::Matrix<double, 6, 6>, 3> poseLandmarkObservationHessians(const
                                                                            const Eigen::Vector3d& sensor)
 {
     constexpr double eps = 1e-5;
-    std::array<Eigen::Matrix<double, 6, 6>, 3> H;
-    for (auto& h : H) h.setZero();
+    std::array<Eigen::Matrix<double, 6, 6>, 3> H;  // every column is set below
     Eigen::Matrix<double, 6, 1> x;
     x << x_v, x_l;
     const auto jacobian = [&sensor](const Eigen::Matrix<double, 6, 1>& s) {

@@ -88,6 +88,14 @@ Vec3 poseDifference(const Vec3& a, const Vec3& b)
     return {a.x() - b.x(), a.y() - b.y(), mrpt::math::wrapToPi(a.z() - b.z())};
 }
 
+std::vector<Vec2> transformedPoints(const std::vector<Vec2>& points, const Vec3& z)
+{
+    std::vector<Vec2> out;
+    out.reserve(points.size());
+    for (const Vec2& p : points) out.push_back(transformPoint(z, p));
+    return out;
+}
+
 PointSet transformed(const PointSet& set, const Vec3& z)
 {
     PointSet out = set;

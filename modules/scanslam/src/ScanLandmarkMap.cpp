@@ -179,9 +179,7 @@ namespace
 size_t markExplained(const ScanTemplate& tpl, const Vec3& z, const PointSet& pts, double d,
                      std::vector<char>& explained)
 {
-    std::vector<Vec2> placed;
-    placed.reserve(tpl.sog.size());
-    for (const Vec2& p : tpl.sog.points) placed.push_back(transformPoint(z, p));
+    const std::vector<Vec2> placed = transformedPoints(tpl.sog.points, z);
     const Vec2 origin = z.head<2>();
     const double reach = templateRadius(tpl) + d, d2 = d * d;
     size_t n = 0;

@@ -18,15 +18,6 @@ namespace hymm::scanslam
 {
 namespace
 {
-/** Points of `tpl` placed at pose `z` (template frame in some frame). */
-std::vector<Vec2> placed(const ScanTemplate& tpl, const Vec3& z)
-{
-    std::vector<Vec2> out;
-    out.reserve(tpl.sog.size());
-    for (const Vec2& p : tpl.sog.points) out.push_back(transformPoint(z, p));
-    return out;
-}
-
 /** Share of the smaller set's points within d of a point of the other. */
 double overlap(const std::vector<Vec2>& a, const std::vector<Vec2>& b, double d)
 {
@@ -45,9 +36,9 @@ void ScanLandmarkMap::mergeDuplicates(ekf::EkfSlam& ekf)
     // Each landmark aligned in this scan against every other landmark whose template,
     // placed at the filter's estimates, overlaps its own: an older landmark not located
     // again (so the newer one was made) may be anywhere in the map.
-    std::vector<long> seen;
+    std::set<long> seen;
     for (const AlignedObservation& a : last_aligned_)
-        if (a.updated && templates_.count(a.id)) seen.push_back(a.id);
+        if (a.updated && templates_.count(a.id)) seen.insert(a.id);
     if (seen.empty()) return;
     struct Placed
     {
@@ -60,17 +51,17 @@ void ScanLandmarkMap::mergeDuplicates(ekf::EkfSlam& ekf)
     for (const auto& [id, tpl] : templates_)
         all.push_back({id, ekf.landmarkBlockMean(id).head<3>(), templateRadius(tpl)});
     std::set<std::pair<long, long>> pairs;  // (keep, drop): the older landmark stays
-    for (const long s_id : seen)
+    for (const Placed& a : all)
     {
-        const auto s_it = std::find_if(all.begin(), all.end(), [&](const Placed& p) { return p.id == s_id; });
-        const std::vector<Vec2> ps = placed(templates_.at(s_id), s_it->x);
+        if (!seen.count(a.id)) continue;
+        const std::vector<Vec2> pa = transformedPoints(templates_.at(a.id).sog.points, a.x);
         for (const Placed& o : all)
         {
-            if (o.id == s_id || (o.x.head<2>() - s_it->x.head<2>()).norm() >
-                                    s_it->radius + o.radius + options_.explain_distance_m)
+            if (o.id == a.id || (o.x.head<2>() - a.x.head<2>()).norm() > a.radius + o.radius + options_.explain_distance_m)
                 continue;
-            if (overlap(ps, placed(templates_.at(o.id), o.x), options_.explain_distance_m) >= options_.merge_min_overlap)
-                pairs.emplace(std::min(s_id, o.id), std::max(s_id, o.id));
+            const std::vector<Vec2> po = transformedPoints(templates_.at(o.id).sog.points, o.x);
+            if (overlap(pa, po, options_.explain_distance_m) >= options_.merge_min_overlap)
+                pairs.emplace(std::min(a.id, o.id), std::max(a.id, o.id));
         }
     }
     std::set<long> gone;

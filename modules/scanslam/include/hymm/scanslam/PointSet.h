@@ -91,5 +91,7 @@ Vec3 poseDifference(const Vec3& a, const Vec3& b);
 
 /** `set` transformed by z: points and covariances (R C R^T). */
 PointSet transformed(const PointSet& set, const Vec3& z);
+/** The points alone transformed by z (a template placed at a pose). */
+std::vector<Vec2> transformedPoints(const std::vector<Vec2>& points, const Vec3& z);
 
 }  // namespace hymm::scanslam
