@@ -161,7 +161,34 @@ struct LapRow
     double dense_mb = 0;  //!< HybridMetricMap::memoryBytes()
     size_t scan_templates = 0, template_points = 0;  //!< scan landmarks (thesis ch. 5)
     std::map<std::string, double> profile_ms;  //!< section -> ms per step in this lap
+    std::map<std::string, size_t> scan_counters;  //!< ScanLandmarkMap::Stats, whole run so far
 };
+
+/** The scan-landmark counters that changed during the run, one column per lap (the
+ *  increase in that lap). */
+void printScanCounters(std::ostream& o, const std::vector<LapRow>& rows)
+{
+    if (rows.empty() || rows.back().scan_counters.empty()) return;
+    o << "\nScan-landmark counters, increase per lap:\n\n| counter |";
+    for (const auto& r : rows) o << ' ' << r.lap << " |";
+    o << "\n|---|";
+    for (size_t i = 0; i < rows.size(); ++i) o << "---|";
+    o << '\n';
+    for (const auto& [name, total] : rows.back().scan_counters)
+    {
+        if (total == 0) continue;
+        o << "| " << name << " |";
+        size_t before = 0;
+        for (const auto& r : rows)
+        {
+            const auto it = r.scan_counters.find(name);
+            const size_t now = it == r.scan_counters.end() ? 0 : it->second;
+            o << ' ' << now - before << " |";
+            before = now;
+        }
+        o << '\n';
+    }
+}
 
 /** Covariance health: active P, and each passive block's Schur complement. */
 void covarianceHealth(const hymm::ekf::EkfSlam& ekf, LapRow& r)
@@ -333,6 +360,7 @@ int main(int argc, char** argv)
         long lap = 0;
         std::vector<double> step_ms, cpu_ms;
         std::map<std::string, double> prof_before;
+        std::vector<LapRow> rows;
         const auto finishLap = [&](double sim_t) {
             LapRow r;
             r.lap = lap + 1;
@@ -369,6 +397,7 @@ int main(int argc, char** argv)
             {
                 r.scan_templates = src->map().templates().size();
                 for (const auto& [id, tpl] : src->map().templates()) r.template_points += tpl.sog.size();
+                for (const auto& [name, n] : src->map().stats().list()) r.scan_counters[name] = n;
             }
             if (profile.getValue())
             {
@@ -380,6 +409,7 @@ int main(int argc, char** argv)
                     for (const auto& kv : now) sections.push_back(kv.first);
             }
             printRow(std::cout, r);
+            rows.push_back(r);
             if (csv_out.is_open())
             {
                 if (r.lap == 1) printCsvHeader(csv_out, sections);
@@ -412,6 +442,7 @@ int main(int argc, char** argv)
             last_t = f.t;
         }
         finishLap(last_t);
+        printScanCounters(std::cout, rows);
         // The per-lap sections are in the CSV; no dump of the whole run at exit.
         slam->profiler().clear();
         slam->hybridMap()->profiler().clear();

@@ -69,6 +69,7 @@ double processRawlog(DenseSlam& slam, io::RawlogReader& reader, bool quiet,
         }
         if (!after(reader.entriesRead())) break;
     }
+    slam.flushOdometry();  // [ScanOdometry]: the increments after the last frame
     return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 

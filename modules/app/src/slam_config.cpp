@@ -10,6 +10,7 @@
 #include <hymm/extract/TreeExtractor.h>
 #include <hymm/scanslam/CorrelativeMatcher.h>
 #include <hymm/scanslam/IcpMatcher.h>
+#include <hymm/scanslam/ScanOdometry.h>
 #include <hymm/dense/LayerRegistry.h>
 #include <hymm/scanslam/ScanLandmarkMap.h>
 #include <hymm/scanslam/SegmentAcceptance.h>
@@ -96,6 +97,7 @@ std::vector<OptionSection> declaredSections()
         declared<scanslam::SogMatcher::Options>("scanslam", "SogMatcher"),
         declared<scanslam::IcpMatcher::Options>("scanslam", "IcpMatcher"),
         declared<scanslam::CorrelativeMatcher::Options>("scanslam", "CorrelativeMatcher"),
+        declared<scanslam::ScanOdometry::Options>("scanslam", "ScanOdometry"),
         declared<eval::TrajectoryEvaluator::Options>("eval", "TrajectoryEvaluator"),
         declared<eval::LandmarkEvaluator::Options>("eval", "LandmarkEvaluator"),
         declared<datasets::VictoriaParkImporter::Options>("datasets", "VictoriaParkImporter"),

@@ -57,6 +57,8 @@ DenseSlam::DenseSlam(const Options& opts, const ekf::EkfSlam::Options& ekf_opts,
                 "([DenseSlam] dense_layers)");
         hll_ = hll::HighLevelLandmarks::make(dense_opts.hll, sources_cfg);
     }
+    if (dense_opts.scan_odometry.enabled)
+        scan_odometry_ = scanslam::ScanOdometry::make(dense_opts.scan_odometry, sources_cfg);
     makeSources(sources_cfg);
 }
 
@@ -147,14 +149,64 @@ void DenseSlam::processOdometry(const mrpt::poses::CPosePDFGaussian& increment)
         ++stats_.odometry_invalid;
         return;
     }
-    mrpt::system::CTimeLoggerEntry tle(profiler_, "denseslam.1_predict");
-    mrpt::poses::CPosePDFGaussian inc = increment;
-    inc.cov *= options_.odometry_cov_scale;
+    scanslam::ScanOdometry::Increment inc;
+    inc.mean = Eigen::Vector3d(increment.mean.x(), increment.mean.y(), increment.mean.phi());
+    inc.cov = increment.cov.asEigen() * options_.odometry_cov_scale;
     inc.cov(0, 0) += options_.odometry_std_xy * options_.odometry_std_xy;
     inc.cov(1, 1) += options_.odometry_std_xy * options_.odometry_std_xy;
     inc.cov(2, 2) += options_.odometry_std_phi * options_.odometry_std_phi;
-    ekf_.predictOdometry(inc);
     ++stats_.predictions;
+    if (scan_odometry_)
+        // Applied with the next frame's scan (applyPendingOdometry).
+        pending_odometry_ = pending_odometry_ ? scanslam::composeIncrements(*pending_odometry_, inc) : inc;
+    else
+        predict(inc);
+}
+
+void DenseSlam::predict(const scanslam::ScanOdometry::Increment& increment)
+{
+    mrpt::system::CTimeLoggerEntry tle(profiler_, "denseslam.1_predict");
+    const mrpt::poses::CPosePDFGaussian inc(
+        mrpt::poses::CPose2D(increment.mean.x(), increment.mean.y(), increment.mean.z()),
+        mrpt::math::CMatrixDouble33(increment.cov));
+    ekf_.predictOdometry(inc);
+}
+
+void DenseSlam::flushOdometry()
+{
+    if (!pending_odometry_) return;
+    predict(*pending_odometry_);
+    pending_odometry_.reset();
+    if (scan_odometry_) scan_odometry_->reset();
+}
+
+void DenseSlam::applyPendingOdometry(const mrpt::obs::CSensoryFrame& frame)
+{
+    if (!scan_odometry_) return;
+    const mrpt::obs::CObservation2DRangeScan* scan = nullptr;
+    for (const auto& o : frame)
+        if (!scan && o) scan = dynamic_cast<const mrpt::obs::CObservation2DRangeScan*>(o.get());
+    if (!scan)
+    {
+        // The next scan's reference would not be where this motion started.
+        flushOdometry();
+        return;
+    }
+    mrpt::system::CTimeLoggerEntry tle(profiler_, "denseslam.1_scan_odometry");
+    // No odometry since the last frame: the scan is the next one's reference (the motion
+    // in between is unknown, nothing to fuse it with).
+    scanslam::ScanOdometry::Increment wheel;
+    if (pending_odometry_)
+        wheel = *pending_odometry_;
+    else
+    {
+        scan_odometry_->reset();
+        wheel.cov = Eigen::Matrix3d::Identity();
+    }
+    const auto inc = scan_odometry_->refine(*scan, wheel);
+    tle.stop();
+    if (pending_odometry_) predict(inc);
+    pending_odometry_.reset();
 }
 
 void DenseSlam::processOdometryObservation(const mrpt::obs::CObservation& obs)
@@ -186,6 +238,7 @@ void DenseSlam::processFrame(const mrpt::obs::CSensoryFrame& input)
         ++stats_.frames_duplicate;
         return;
     }
+    applyPendingOdometry(frame);
     const double t = endFrame(observeFrame(frame), std::move(signature));
     if (partition_ || classic_) processDense(frame, t, updates_ != updates_before);
     if (hll_) searchHighLevelLandmarks(t);

@@ -47,6 +47,8 @@ std::vector<std::pair<std::string, size_t>> DenseSlam::scanSourceCounters() cons
     std::vector<std::pair<std::string, size_t>> out;
     for (const auto& s : sources_)
         for (const auto& [k, n] : s->counters()) out.emplace_back(s->name() + "." + k, n);
+    if (scan_odometry_)
+        for (const auto& [k, n] : scan_odometry_->stats().list()) out.emplace_back("scan_odometry." + k, n);
     return out;
 }
 

@@ -237,6 +237,7 @@ void DenseSlam::DenseOptions::loadFromConfigFile(const mrpt::config::CConfigFile
     classic.loadFromConfigFile(cfg, "ClassicOccupancyGrid");
     dynamic.loadAll(cfg, "DynamicSlam");
     hll = hll::HighLevelLandmarks::loadOptions(&cfg);
+    scan_odometry = scanslam::ScanOdometry::loadOptions(&cfg);
 }
 
 namespace

@@ -72,8 +72,9 @@ const char* registeredClassName(const std::string& name)
 
 std::string DenseSlam::stateUnsupported() const
 {
-    // Every component's state is saved (state version 3); kept so that a component added
-    // later without one is refused rather than silently lost.
+    // Every component's state is saved (state version 3) but the scan odometry's (its
+    // reference scan and the pending increment): refused rather than silently lost.
+    if (scan_odometry_) return "[ScanOdometry] (scan-matching odometry)";
     return {};
 }
 

@@ -48,6 +48,7 @@
 #include <hymm/hll/HighLevelLandmarks.h>
 #include <hymm/ltr/RegionPartition.h>
 #include <hymm/ltr/VirtualLandmarks.h>
+#include <hymm/scanslam/ScanOdometry.h>
 #include <hymm/uif/DelayedDenseStore.h>
 #include <mrpt/config/CLoadableOptions.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
@@ -98,8 +99,14 @@ public:
     /** Processes one rawlog entry (actions, sensory frame or single observation). */
     void processEntry(const io::RawlogEntry& entry);
 
-    /** Applies an odometry increment (the action of an MRPT rawlog). */
+    /** Applies an odometry increment (the action of an MRPT rawlog). With [ScanOdometry]
+     *  enabled the increments are composed and applied by the next processFrame(), fused
+     *  there with the alignment of its scan to the previous one (flushOdometry() applies
+     *  what is pending at the end of a log). */
     void processOdometry(const mrpt::poses::CPosePDFGaussian& increment);
+    /** Applies the odometry still pending ([ScanOdometry] enabled: the increments since
+     *  the last frame) as it is; a no-op otherwise. */
+    void flushOdometry();
 
     /** Processes the observations of one sensory frame and records a path sample.
      *  Observations with an unusable sensor pose or scan geometry are left out
@@ -119,9 +126,12 @@ public:
     const std::vector<std::unique_ptr<PointLandmarkSource>>& pointSources() const { return point_sources_; }
     /** The registered per-scan landmark sources in use (Options::scan_sources). */
     const std::vector<std::unique_ptr<ScanLandmarkSource>>& scanSources() const { return sources_; }
+    /** Scan-matching odometry ([ScanOdometry]); nullptr unless enabled. */
+    const scanslam::ScanOdometry* scanOdometry() const { return scan_odometry_.get(); }
     /** The scan_landmarks source, or nullptr when it is not in use. */
     const ScanLandmarksSource* scanLandmarks() const;
-    /** Every registered source's counters as "<source>.<counter>". */
+    /** Every registered source's counters as "<source>.<counter>", then the scan
+     *  odometry's as "scan_odometry.<counter>" when it is on. */
     std::vector<std::pair<std::string, size_t>> scanSourceCounters() const;
 
     /** Brings the current vertices of every region to the latest landmark estimates
@@ -171,6 +181,11 @@ private:
     const mrpt::obs::CSensoryFrame& usableObservations(const mrpt::obs::CSensoryFrame& input,
                                                        mrpt::obs::CSensoryFrame& filtered);
     static FrameSignature frameSignature(const mrpt::obs::CSensoryFrame& frame);
+    /** [ScanOdometry]: the pending increment fused with the alignment of the frame's
+     *  first scan to the previous scan, then the prediction (step 1). */
+    void applyPendingOdometry(const mrpt::obs::CSensoryFrame& frame);
+    /** EKF prediction with an increment (after the checks and noise of processOdometry). */
+    void predict(const scanslam::ScanOdometry::Increment& increment);
     /** True if the frame repeats the previous one (same stamped observations, no
      *  prediction in between): skipped, its readings are not used twice. */
     bool repeatsPreviousFrame(const FrameSignature& signature) const;
@@ -266,6 +281,9 @@ private:
     std::unique_ptr<dense::ClassicOccupancyGrid> classic_;
     std::unique_ptr<dynamic::SlamMotionHook> motion_;  //!< nullptr unless enabled
     std::unique_ptr<hll::HighLevelLandmarks> hll_;     //!< nullptr unless enabled
+    std::unique_ptr<scanslam::ScanOdometry> scan_odometry_;  //!< nullptr unless enabled
+    /** [ScanOdometry]: the odometry since the last frame, not applied yet. */
+    std::optional<scanslam::ScanOdometry::Increment> pending_odometry_;
     double frame_t_ = 0;  //!< [s] time of the frame being processed (motion hook)
     std::optional<double> last_stamp_;  //!< [s] stamp of the previous stamped frame
     /** The previous frame as duplicate detection sees it: its observations' class names

@@ -17,6 +17,7 @@
 #include <hymm/hll/HighLevelLandmarks.h>
 #include <hymm/ltr/RegionPartition.h>
 #include <hymm/ltr/VirtualLandmarks.h>
+#include <hymm/scanslam/ScanOdometry.h>
 #include <hymm/uif/DelayedDenseStore.h>
 #include <mrpt/config/CLoadableOptions.h>
 
@@ -98,7 +99,8 @@ using LaserOptions = core::LaserNoise;
 
 /** Settings of the dense part; read from [LtrPartition], [VirtualLandmarks],
  *  [DelayedDenseStore], [HybridMetricMap] with the sections of its layer kinds,
- *  [ClassicOccupancyGrid], [DynamicSlam], [MotionDetector] and [HighLevelLandmarks]. The
+ *  [ClassicOccupancyGrid], [DynamicSlam], [MotionDetector] and [HighLevelLandmarks]
+ *  (and [ScanOdometry], which is no dense setting but is read with them). The
  *  layers switched on come from DenseSlamOptions::dense_layers (ini: [DenseSlam]
  *  dense_layers), which override HybridMetricMap::Options::enable_*. */
 struct DenseOptions
@@ -113,6 +115,10 @@ struct DenseOptions
      *  layers). Its matcher's section [HllMatcher] is read from the config given to
      *  the constructor. */
     hll::HighLevelLandmarks::Options hll;
+    /** [ScanOdometry] (off by default): consecutive scans aligned and fused with the
+     *  wheel odometry. Its matcher's section [ScanOdometryMatcher] is read from the config
+     *  given to the constructor. */
+    scanslam::ScanOdometry::Options scan_odometry;
 
     /** Reads the five sections, [DynamicSlam] and [MotionDetector] (absent sections keep the defaults; unknown keys are
      *  errors). */

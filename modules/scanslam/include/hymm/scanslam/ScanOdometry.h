@@ -1,0 +1,139 @@
+/**
+ * @file ScanOdometry.h
+ * @brief Scan-matching odometry: the vehicle's motion between two consecutive laser
+ *        scans, measured by aligning the previous scan to the current one with one of
+ *        the Scan-SLAM matchers, fused with the wheel odometry of the same interval.
+ *
+ * Where landmarks are seldom in view (corridors, a poor wheel odometry, Intel's lab) the
+ * prediction grows until no template is located locally and every loop-closing window is
+ * too wide. Two consecutive scans overlap almost entirely, so their alignment measures
+ * the motion in between far better than the wheels do. Both are Gaussian measurements of
+ * one SE(2) increment u (the pose at the current scan in the vehicle frame of the
+ * previous one): the fusion is a Kalman update of the wheel's (u_w, P_w) by the scan's
+ * (u_s, P_s), with an NN gate on their difference, so a failed alignment (a featureless
+ * corridor, people in the way) leaves the wheel odometry as it was.
+ *
+ * The scan is then used twice: here and by the landmark sources. Its noise is averaged
+ * over hundreds of returns here, so the correlation it leaves between the two uses is
+ * small; the floors (min_std_*) and the growth with the distance travelled keep P_s
+ * honest (see the README for the measured NEES).
+ *
+ * Ini sections: [ScanOdometry] (Options) and [ScanOdometryMatcher] (the chosen matcher's
+ * keys, as in [IcpMatcher] / [SogMatcher] / [CorrelativeMatcher]); the return noise is
+ * [Laser]'s.
+ */
+#pragma once
+
+#include <hymm/core/OptionTable.h>
+#include <mrpt/config/CConfigFileBase.h>
+#include <mrpt/obs/CObservation2DRangeScan.h>
+
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "hymm/scanslam/PointSet.h"
+#include "hymm/scanslam/ScanMatcher.h"
+
+namespace hymm::scanslam
+{
+class ScanOdometry
+{
+public:
+    struct Options
+    {
+        bool enabled = false;
+        std::string matcher = "correlative";  //!< sog | icp | correlative (keys in [ScanOdometryMatcher])
+        ScanNoise noise{};            //!< return noise ([Laser])
+        double max_range_m = 30;      //!< returns farther away are not aligned [m]
+        size_t max_points = 300;      //!< the previous scan is thinned evenly to this many points
+        double gate_prob = 0.999;     //!< chi-square(3) gate on scan - wheel increment (0 or 1: none)
+        /** The matcher's covariance of a consecutive pair times this (measured: README),
+         *  on top of the matcher's own cov_inflation, which was measured on templates. */
+        double cov_scale = 3.5;
+        double min_std_xy_m = 0.01;   //!< std added to the aligned increment, x and y [m]
+        double min_std_phi = 0.1 * M_PI / 180;  //!< and to its angle [rad] (ini: min_std_phi_deg)
+        double std_xy_per_m = 0;      //!< std added per metre travelled (unmodelled errors)
+        double std_phi_per_m = 0;     //!< [rad/m] (ini: std_phi_deg_per_m)
+
+        /** Every key, declared once (loader, unknown-key check, saver, README table). */
+        core::OptionTable table();
+        /** Reads [section] and [Laser]'s noise; unknown keys and bad values throw. */
+        void load(const mrpt::config::CConfigFileBase& cfg, const std::string& section);
+    };
+
+    /** Counters of a run, by outcome. */
+    struct Stats
+    {
+        size_t scans = 0;          //!< scans given to refine()
+        size_t no_reference = 0;   //!< no previous scan (the first one, or after reset())
+        size_t too_few_points = 0; //!< fewer than 3 usable returns in either scan
+        std::map<std::string, size_t> align_failed;  //!< by the matcher's failure reason
+        size_t gated = 0;          //!< aligned, but too far from the wheel increment
+        size_t fused = 0;          //!< the aligned increment fused with the wheel's
+
+        /** (name, count) of every counter, failures as align_failed.<reason>. */
+        std::vector<std::pair<std::string, size_t>> list() const;
+    };
+
+    /** An SE(2) increment with its covariance. */
+    struct Increment
+    {
+        Vec3 mean = Vec3::Zero();
+        Mat3 cov = Mat3::Zero();
+    };
+
+    /** [ScanOdometry] and [ScanOdometryMatcher] of `cfg` (defaults when null); the
+     *  matcher's section is read even when disabled, so a strict file knows it. */
+    static Options loadOptions(const mrpt::config::CConfigFileBase* cfg);
+    static std::unique_ptr<ScanOdometry> make(const Options& options, const mrpt::config::CConfigFileBase* cfg);
+    /** The matcher `kind` with the keys of [ScanOdometryMatcher]; the correlative one
+     *  starts from consecutive-scan defaults (0.1 m grid, +-0.4 m and +-4 deg window). */
+    static std::unique_ptr<ScanMatcher> odometryMatcher(const std::string& kind,
+                                                        const mrpt::config::CConfigFileBase* cfg);
+
+    ScanOdometry(const Options& options, std::unique_ptr<ScanMatcher> matcher);
+
+    /** The vehicle's increment from the previous scan given here to `scan`: `wheel`
+     *  (the wheel odometry of that interval, with its covariance) fused with the
+     *  alignment of the previous scan to this one, or `wheel` itself when there is no
+     *  previous scan, the alignment fails or is gated. `scan` becomes the reference of
+     *  the next call. Never throws on bad data; the result's covariance is symmetric PSD. */
+    Increment refine(const mrpt::obs::CObservation2DRangeScan& scan, const Increment& wheel);
+
+    /** Forgets the previous scan (the next refine() has nothing to align to): a motion
+     *  the reference does not cover was applied in between. */
+    void reset() { has_reference_ = false; }
+
+    const Stats& stats() const { return stats_; }
+    const Options& options() const { return options_; }
+
+private:
+    /** The vehicle increment of the alignment `r` (u = increment(z)) with its covariance:
+     *  the matcher's through the numeric Jacobian of `increment`, times cov_scale, plus
+     *  the floors and the per-metre terms. */
+    Increment alignedIncrement(const AlignResult& r, const std::function<Vec3(const Vec3&)>& increment) const;
+    /** Valid returns of `scan` within max_range_m, in the sensor frame. */
+    PointSet usablePoints(const mrpt::obs::CObservation2DRangeScan& scan) const;
+
+    Options options_;
+    std::unique_ptr<ScanMatcher> matcher_;
+    Stats stats_;
+    bool has_reference_ = false;
+    PointSet reference_;               //!< the previous scan, thinned (its sensor frame)
+    Vec3 reference_mount_ = Vec3::Zero();  //!< its sensor pose on the vehicle
+};
+
+/** a (+) b with the covariance of both propagated to first order (independent a and b). */
+ScanOdometry::Increment composeIncrements(const ScanOdometry::Increment& a, const ScanOdometry::Increment& b);
+
+/** The wheel increment `w` updated by the independent measurement `s` of the same
+ *  increment (Kalman update, Joseph form); `d2` receives the squared Mahalanobis
+ *  distance of s - w (angle wrapped) under P_w + P_s. */
+ScanOdometry::Increment fuseIncrements(const ScanOdometry::Increment& w, const ScanOdometry::Increment& s,
+                                       double* d2 = nullptr);
+
+}  // namespace hymm::scanslam
