@@ -49,7 +49,7 @@ void addScanLandmarksToPlot(const DenseSlam& slam, MapPlot& plot)
 
 void writeScanSourceMetrics(eval::MetricsJson& j, const DenseSlam& slam)
 {
-    if (slam.scanSources().empty()) return;
+    if (slam.scanSourceCounters().empty()) return;  // no scan source, no scan odometry
     auto& o = j.object("scan_sources");
     for (const auto& [k, n] : slam.scanSourceCounters()) o.set(k, static_cast<unsigned long>(n));
     o.set("scan_landmarks.templates", static_cast<unsigned long>(scanLandmarkEstimates(slam).size()));
@@ -57,7 +57,7 @@ void writeScanSourceMetrics(eval::MetricsJson& j, const DenseSlam& slam)
 
 void writeScanSourceSummary(std::ostream& f, const DenseSlam& slam)
 {
-    if (slam.scanSources().empty()) return;
+    if (slam.scanSourceCounters().empty()) return;
     f << "scan sources        ";
     for (const auto& [k, n] : slam.scanSourceCounters()) f << ' ' << k << '=' << n;
     f << "\n";

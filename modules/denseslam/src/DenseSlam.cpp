@@ -184,12 +184,22 @@ void DenseSlam::applyPendingOdometry(const mrpt::obs::CSensoryFrame& frame)
 {
     if (!scan_odometry_) return;
     const mrpt::obs::CObservation2DRangeScan* scan = nullptr;
+    bool reads_pose = false;
     for (const auto& o : frame)
-        if (!scan && o) scan = dynamic_cast<const mrpt::obs::CObservation2DRangeScan*>(o.get());
+    {
+        if (!o) continue;
+        // Odometry read inside the frame belongs before the frame's other readings
+        // (processObservation skips it then).
+        if (IS_CLASS(*o, mrpt::obs::CObservationOdometry)) processOdometryObservation(*o);
+        if (!scan) scan = dynamic_cast<const mrpt::obs::CObservation2DRangeScan*>(o.get());
+        reads_pose = reads_pose || dynamic_cast<const mrpt::obs::CObservationBearingRange*>(o.get()) != nullptr;
+    }
     if (!scan)
     {
-        // The next scan's reference would not be where this motion started.
-        flushOdometry();
+        // Bearing-range readings need the motion now; the next scan then has no reference
+        // where that motion started. Frames of readings the pipeline does not place (IMU,
+        // GPS, ...) leave the odometry pending for the next scan.
+        if (reads_pose) flushOdometry();
         return;
     }
     mrpt::system::CTimeLoggerEntry tle(profiler_, "denseslam.1_scan_odometry");
@@ -315,7 +325,9 @@ void DenseSlam::processObservation(const mrpt::obs::CObservation& o)
     else if (const auto* scan = dynamic_cast<const mrpt::obs::CObservation2DRangeScan*>(&o))
         processScanObservation(*scan);
     else if (IS_CLASS(o, mrpt::obs::CObservationOdometry))
-        processOdometryObservation(o);
+    {
+        if (!scan_odometry_) processOdometryObservation(o);  // else applyPendingOdometry read it
+    }
     else
         ++stats_.unsupported[o.GetRuntimeClass()->className];
 }

@@ -4,7 +4,9 @@
  *        initialisation from the next observation, observation by scan alignment.
  */
 #include "hymm/hll/HighLevelLandmarks.h"
+
 #include <hymm/core/laser_noise.h>
+#include <hymm/scanslam/matcher_choice.h>
 
 #include <hymm/ekf/pose_landmark_model.h>
 
@@ -20,10 +22,7 @@ core::OptionTable HighLevelLandmarks::Options::table()
     OptionTable t;
     t.flag("enabled", enabled, "search the dense maps for high-level landmarks (thesis 6.1)");
     t.include(detector.table());
-    t.choice("matcher", matcher,
-             {{"sog", std::string("sog")}, {"icp", std::string("icp")},
-              {"correlative", std::string("correlative")}},
-             "scan matcher that observes the HLL templates (its keys in [HllMatcher])");
+    scanslam::declareMatcherChoice(t, matcher, "scan matcher that observes the HLL templates (its keys in [HllMatcher])");
     t.real("in_view_fraction", in_view_fraction, "", between(0, 1),
            "share of a template's points in the sensor's view to attempt an alignment");
     t.real("gate_prob", gate_prob, "", between(0, 1), "NN gate on an aligned observation");

@@ -5,12 +5,14 @@
  *        segments of the unexplained returns that pass the acceptance test.
  */
 #include <limits>
+
 #include <hymm/core/OptionTable.h>
 #include "hymm/scanslam/ScanLandmarkMap.h"
 
 #include <hymm/core/config_utils.h>
 #include <hymm/core/laser_noise.h>
 #include <hymm/ekf/pose_landmark_model.h>
+#include <hymm/scanslam/matcher_choice.h>
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
@@ -26,10 +28,7 @@ core::OptionTable ScanLandmarkMap::Options::table()
 {
     using namespace hymm::core;
     OptionTable t;
-    t.choice("matcher", matcher,
-             {{"sog", std::string("sog")}, {"icp", std::string("icp")},
-              {"correlative", std::string("correlative")}},
-             "scan matcher that observes the templates");
+    declareMatcherChoice(t, matcher, "scan matcher that observes the templates");
     t.real("std_range_m", noise.std_range_m, "m", above(0, 10), "range noise of a return (templates); deprecated: [Laser] std_range_m");
     t.real("std_bearing_deg", noise.std_bearing, "deg", above(0, 60), "bearing noise of a return; deprecated: [Laser] std_bearing_deg",
            M_PI / 180);

@@ -6,10 +6,12 @@
 
 #include <hymm/core/laser_noise.h>
 #include <hymm/scanslam/CorrelativeMatcher.h>
+#include <hymm/scanslam/matcher_choice.h>
 #include <mrpt/math/distributions.h>
 
 #include <Eigen/Cholesky>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -22,10 +24,7 @@ core::OptionTable ScanOdometry::Options::table()
     OptionTable t;
     t.flag("enabled", enabled,
            "fuse the alignment of each scan to the previous one with the wheel odometry in between");
-    t.choice("matcher", matcher,
-             {{"sog", std::string("sog")}, {"icp", std::string("icp")},
-              {"correlative", std::string("correlative")}},
-             "scan matcher of the consecutive scans (its keys in [ScanOdometryMatcher])");
+    declareMatcherChoice(t, matcher, "scan matcher of the consecutive scans (its keys in [ScanOdometryMatcher])");
     t.real("max_range_m", max_range_m, "m", above(0, 10000), "returns farther away are not aligned");
     t.integer("max_points", max_points, "", 3, 1000000,
               "the previous scan is thinned evenly to at most this many points");
@@ -118,14 +117,15 @@ PointSet thinned(const PointSet& set, size_t n)
 Mat3 symmetric(const Mat3& m) { return 0.5 * (m + m.transpose()); }
 
 /** The points of `set` (previous sensor frame) that, placed by z (previous sensor frame
- *  in the current one), lie inside `scan`'s field of view and range with a margin (the
- *  prediction is uncertain by about the margin). */
-PointSet inViewOf(const PointSet& set, const Vec3& z, const mrpt::obs::CObservation2DRangeScan& scan)
+ *  in the current one), lie inside `scan`'s field of view and within `max_range` (and
+ *  the scan's) with a margin (the prediction is uncertain by about the margin). */
+PointSet inViewOf(const PointSet& set, const Vec3& z, const mrpt::obs::CObservation2DRangeScan& scan,
+                  double max_range)
 {
     constexpr double kMarginAngle = 3 * M_PI / 180;  // [rad]
     constexpr double kMarginRange = 1.0;             // [m]
     const double half = 0.5 * scan.aperture - kMarginAngle;
-    const double reach = scan.maxRange - kMarginRange;
+    const double reach = std::min<double>(scan.maxRange, max_range) - kMarginRange;
     PointSet out;
     for (size_t i = 0; i < set.size(); ++i)
     {
@@ -165,7 +165,7 @@ ScanOdometry::Increment ScanOdometry::refine(const mrpt::obs::CObservation2DRang
     // field of view or the range has no counterpart, and the matcher would pull it onto
     // the nearest other return, which biases the increment (forward motion came out
     // ~1 % short on the chapter-5 world when every return was used).
-    const PointSet overlap = inViewOf(previous, z0, scan);
+    const PointSet overlap = inViewOf(previous, z0, scan, options_.max_range_m);
     if (overlap.size() < 3)
     {
         ++stats_.too_few_points;

@@ -21,14 +21,7 @@ using namespace hymm::scanslam::testing;
 
 mrpt::obs::CObservation2DRangeScan::Ptr scanAt(const hymm::sim::World& w, const Vec3& pose, uint32_t seed)
 {
-    hymm::sim::LaserSimulator::Options o;
-    o.max_range_m = 30;
-    o.fov = M_PI;
-    o.resolution = 0.5 * M_PI / 180;
-    o.std_range_m = 0.05;
-    o.std_bearing = 0.5 * M_PI / 180;
-    hymm::sim::LaserSimulator sim(o, seed, seed + 1000);
-    return sim.observe(w, Eigen::Vector3d(pose.x(), pose.y(), pose.z()), 0.0, mrpt::Clock::now());
+    return simulatedScan(w, pose, seed);  // Laser{}: 0.05 m, 0.5 deg, 30 m, 0.5 deg beams
 }
 
 std::unique_ptr<ScanLandmarkMap> makeMap(ScanLandmarkMap::Options o = {})

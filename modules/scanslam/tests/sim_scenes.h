@@ -48,9 +48,11 @@ struct Laser
     ScanNoise noise() const { return {std_range_m, std_bearing_deg * M_PI / 180}; }
 };
 
-/** A scan from the sensor at global `pose`, 180 deg field of view. */
-inline PointSet simulate(const sim::World& world, const Vec3& pose, uint32_t seed,
-                         const Laser& laser = {}, ScanReadStats* stats = nullptr)
+/** A scan from the vehicle at global `pose`, 180 deg field of view, the laser mounted
+ *  at `mount` on the vehicle. */
+inline mrpt::obs::CObservation2DRangeScan::Ptr simulatedScan(const sim::World& world, const Vec3& pose, uint32_t seed,
+                                                             const Laser& laser = {},
+                                                             const Vec3& mount = Vec3::Zero())
 {
     sim::LaserSimulator::Options o;
     o.max_range_m = laser.max_range_m;
@@ -58,10 +60,18 @@ inline PointSet simulate(const sim::World& world, const Vec3& pose, uint32_t see
     o.resolution = laser.resolution_deg * M_PI / 180;
     o.std_range_m = laser.std_range_m;
     o.std_bearing = laser.std_bearing_deg * M_PI / 180;
+    o.pose_x_m = mount.x();
+    o.pose_y_m = mount.y();
+    o.pose_yaw = mount.z();
     sim::LaserSimulator sim(o, seed, seed + 1000);
-    const auto scan = sim.observe(world, Eigen::Vector3d(pose.x(), pose.y(), pose.z()), 0.0,
-                                  mrpt::Clock::now());
-    return fromScan(*scan, laser.noise(), stats);
+    return sim.observe(world, Eigen::Vector3d(pose.x(), pose.y(), pose.z()), 0.0, mrpt::Clock::now());
+}
+
+/** The points of simulatedScan() from the sensor at global `pose` (no mounting). */
+inline PointSet simulate(const sim::World& world, const Vec3& pose, uint32_t seed,
+                         const Laser& laser = {}, ScanReadStats* stats = nullptr)
+{
+    return fromScan(*simulatedScan(world, pose, seed, laser), laser.noise(), stats);
 }
 
 }  // namespace hymm::scanslam::testing

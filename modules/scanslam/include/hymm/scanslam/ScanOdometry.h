@@ -70,7 +70,7 @@ public:
     {
         size_t scans = 0;          //!< scans given to refine()
         size_t no_reference = 0;   //!< no previous scan (the first one, or after reset())
-        size_t too_few_points = 0; //!< fewer than 3 usable returns in either scan
+        size_t too_few_points = 0; //!< fewer than 3 usable returns in either scan or seen again (or a non-finite wheel increment)
         std::map<std::string, size_t> align_failed;  //!< by the matcher's failure reason
         size_t gated = 0;          //!< aligned, but too far from the wheel increment
         size_t fused = 0;          //!< the aligned increment fused with the wheel's
