@@ -8,7 +8,14 @@
  */
 #include <hymm/datasets/MatFile.h>
 #include <hymm/io/RawlogReader.h>
+#include <mrpt/img/CImage.h>
 #include <mrpt/io/CFileOutputStream.h>
+#include <mrpt/obs/CObservationComment.h>
+#include <mrpt/obs/CObservationGPS.h>
+#include <mrpt/obs/CObservationIMU.h>
+#include <mrpt/obs/CObservationImage.h>
+#include <mrpt/obs/CObservationRange.h>
+#include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/serialization/CArchive.h>
 
 #include <Eigen/Core>
@@ -41,6 +48,65 @@ void cutRawlog(const fs::path& rawlog, size_t n, const fs::path& out)
         if (e.frame) arch << *e.frame;
         if (e.observation) arch << *e.observation;
     }
+}
+
+mrpt::obs::CObservationImage::Ptr imageObservation(int w, int h, mrpt::img::TImageChannels ch)
+{
+    auto obs = mrpt::obs::CObservationImage::Create();
+    obs->sensorLabel = "camera";
+    mrpt::img::CImage img(w, h, ch);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            for (int c = 0; c < static_cast<int>(ch); ++c) *img(x, y, c) = static_cast<uint8_t>(17 * x + 5 * y + c);
+    obs->image = img;
+    return obs;
+}
+
+// Frames of the observation classes the pipeline does not read but MRPT builds (comment,
+// range finder, IMU, GPS, grey, raw colour, JPEG and external images), so that the
+// rawlog target mutates the sizes GuardedRawlogStream checks in them. Images are
+// serialised when the frame is written, hence the JPEG switch around that write.
+void sensorSeed(const fs::path& out)
+{
+    using namespace mrpt::obs;
+    mrpt::io::CFileOutputStream f(out.string());
+    auto arch = mrpt::serialization::archiveFrom(f);
+    CSensoryFrame first;
+    auto comment = CObservationComment::Create();
+    comment->text = "sensor seed";
+    first.insert(comment);
+    auto range = CObservationRange::Create();
+    range->sensorLabel = "sonar";
+    range->sensedData.resize(2);
+    range->sensedData[1].sensedDistance = 1.5f;
+    first.insert(range);
+    auto imu = CObservationIMU::Create();
+    imu->sensorLabel = "imu";
+    imu->set(IMU_WZ, 0.1);
+    first.insert(imu);
+    auto gps = CObservationGPS::Create();
+    gps->sensorLabel = "gps";
+    gnss::Message_NMEA_GGA gga;
+    gga.fields.fix_quality = 1;
+    gps->setMsg(gga);
+    first.insert(gps);
+    arch << first;
+    const bool raw = mrpt::img::CImage::DISABLE_JPEG_COMPRESSION();
+    for (const bool jpeg : {false, true})
+    {
+        mrpt::img::CImage::DISABLE_JPEG_COMPRESSION(!jpeg);
+        CSensoryFrame images;
+        images.insert(imageObservation(jpeg ? 16 : 8, jpeg ? 12 : 6, mrpt::img::CH_RGB));
+        if (!jpeg)
+        {
+            images.insert(imageObservation(8, 6, mrpt::img::CH_GRAY));
+            auto external = CObservationImage::Create();
+            external->image.setExternalStorage("left_000001.png");
+            images.insert(external);
+        }
+        arch << images;
+    }
+    mrpt::img::CImage::DISABLE_JPEG_COMPRESSION(raw);
 }
 
 std::string readAll(const fs::path& p)
@@ -137,6 +203,7 @@ int main(int argc, char** argv)
                     fs::copy_file(e.path(),
                                   out / "ini" / (d.filename().string() + "_" + e.path().filename().string()),
                                   fs::copy_options::overwrite_existing);
+        sensorSeed(out / "rawlog" / "sensors.rawlog");
         importSeeds(out / "import");
     }
     catch (const std::exception& e)

@@ -1,8 +1,11 @@
 // GuardedRawlogStream: where the counts lie in the serialised objects of the classes
-// HYMM reads (the checkpoints armFor sets when a class name goes by).
+// HYMM reads (the checkpoints armFor sets when a class name goes by), and which classes
+// may appear where (trackHeader).
 #include "GuardedRawlogStream.h"
 
-#include <mrpt/obs/CAction.h>
+#include <mrpt/obs/CActionCollection.h>
+#include <mrpt/obs/CObservation.h>
+#include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/poses/CPosePDF.h>
 
 #include <array>
@@ -54,12 +57,6 @@ void GuardedRawlogStream::armFor(const std::string& qualified, bool old_format)
         if (at == 0) return;
         checkpoints_.push_back(countAt(h, at, 1, 8, "bytes of sensor label"));
     }
-    else if (name == "CObservationBeaconRanges" && v <= 3)
-        // 3 floats, the count; per measurement a CPoint3D object, a float, a uint32; then
-        // a pose object (v1+), the label (v2+), the timestamp (v3). Not read by us, but
-        // deserialised inside sensory frames (rawlog_fuzz: 47 million, 23 GB).
-        checkpoints_.push_back(countAt(h, data + 12, kMinObjectBytes + 8,
-            (v >= 1 ? kMinObjectBytes : 0) + (v >= 2 ? 4 : 0) + (v >= 3 ? 8 : 0), "beacon measurements"));
     else if (name == "CActionRobotMovement2D" && v <= 7)
         armRobotMovement(h);
     else if (name == "CActionRobotMovement3D" && v <= 1)
@@ -83,6 +80,8 @@ void GuardedRawlogStream::armFor(const std::string& qualified, bool old_format)
         c.kind = Checkpoint::Matrix;
         checkpoints_.push_back(c);
     }
+    else
+        armSensor(h);
 }
 
 void GuardedRawlogStream::armCollection(const ObjectHeader& h)
@@ -141,9 +140,7 @@ void GuardedRawlogStream::armScan(const ObjectHeader& h)
     Checkpoint c = countAt(h, at, v == 0 ? 4 : 5, tail, "beams");
     if (v >= 5)
     {
-        c.then_what = "bytes of sensor label";
-        c.then_gap = 4 + 8 + 4;
-        c.then_tail = 4 + (v >= 7 ? 1u : 0u) + endFlagBytes(h);
+        c.then[0] = {"bytes of sensor label", 4 + 8 + 4, 1, 4 + (v >= 7 ? 1u : 0u) + endFlagBytes(h)};
     }
     checkpoints_.push_back(c);
 }
@@ -186,9 +183,7 @@ void GuardedRawlogStream::armBearingRange(const ObjectHeader& h)
     Checkpoint c = countAt(h, at, element, v >= 1 ? 4 : 0, "measurements");
     if (v >= 1 && exact_stride)
     {
-        c.then_what = "bytes of sensor label";
-        c.then_gap = 0;
-        c.then_tail = endFlagBytes(h);
+        c.then[0] = {"bytes of sensor label", 0, 1, endFlagBytes(h)};
     }
     checkpoints_.push_back(c);
 }
@@ -236,11 +231,64 @@ void GuardedRawlogStream::armRobotMovement3D(const ObjectHeader& h)
     if (at == 0) return;
     const uint64_t stamp = h.version >= 1 ? 8 : 0;
     Checkpoint c = countAt(h, at, 1, 4 + stamp, "velocity flags");
-    c.then_what = "velocities";
-    c.then_gap = 0;
-    c.then_element = 4;
-    c.then_tail = stamp + endFlagBytes(h);
+    c.then[0] = {"velocities", 0, 4, stamp + endFlagBytes(h)};
     checkpoints_.push_back(c);
+}
+
+void GuardedRawlogStream::trackHeader(const std::string& qualified, bool old_format, uint64_t at)
+{
+    const bool null = qualified == "nullptr";
+    // Bytes that only look like a header (a value with the high bit set, then as many
+    // bytes) name no class; a real header naming none is refused by MRPT itself.
+    const mrpt::rtti::TRuntimeClassId* id = null ? nullptr : mrpt::rtti::findRegisteredClass(qualified);
+    if (!null && !id) return;
+    // An abstract class (CPosePDF, CAction, CObservation, ...) has no constructor: MRPT
+    // prints a warning and reads an empty pointer in its place, which its deserialisers
+    // dereference (found by the rawlog fuzz target: a movement's pose PDF named
+    // CPosePDF). No writer can produce one, so it is refused wherever it appears.
+    if (id && !id->ptrCreateObject)
+    {
+        size_error_ = "names the abstract class '" + unqualified(qualified) +
+                      "', which no rawlog can hold, at byte " + std::to_string(at);
+        throw RawlogSizeError(size_error_);
+    }
+    // MRPT builds whatever class an entry or a frame's element names before the reader
+    // or the frame casts it (to null): a planted map or scene object would be built with
+    // the sizes it declares, which only these layouts' classes have checked.
+    if (at == entry_start_ && !null)
+    {
+        const bool entry = id->derivedFrom(CLASS_ID(mrpt::obs::CActionCollection)) ||
+                           id->derivedFrom(CLASS_ID(mrpt::obs::CSensoryFrame)) ||
+                           id->derivedFrom(CLASS_ID(mrpt::obs::CObservation));
+        if (!entry) requireClass(qualified, CLASS_ID(mrpt::obs::CObservation), at, "a rawlog entry");
+    }
+    const bool element = !open_.empty() && open_.back().collection;
+    if (element) requireClass(qualified, CLASS_ID(mrpt::obs::CAction), at, kActionSlot);
+    if (!open_.empty() && open_.back().sensory_frame)
+        requireClass(qualified, CLASS_ID(mrpt::obs::CObservation), at, kObservationSlot);
+    if (old_format) return;  // no end flag to close it (old-format collections: armFor)
+    const std::string name = unqualified(qualified);
+    const Frame f{name == "CActionCollection", element, name == "CSensoryFrame"};
+    if (null)
+        open_.push_back(f);  // no version byte: its end flag is the next read
+    else
+        pending_ = f;
+}
+
+void GuardedRawlogStream::requireClass(const std::string& qualified, const mrpt::rtti::TRuntimeClassId* base,
+                                       uint64_t at, const char* where)
+{
+    std::string what;
+    if (qualified == "nullptr")
+        what = "a null object";
+    else
+    {
+        const auto* id = mrpt::rtti::findRegisteredClass(qualified);
+        if (!id || id->derivedFrom(base)) return;
+        what = "a '" + unqualified(qualified) + "'";
+    }
+    size_error_ = "holds " + what + " where " + where + " belongs, at byte " + std::to_string(at);
+    throw RawlogSizeError(size_error_);
 }
 
 std::string GuardedRawlogStream::classAt(uint64_t at)

@@ -1,11 +1,11 @@
 #include "GuardedRawlogStream.h"
 
-#include <mrpt/obs/CAction.h>
 #include <zlib.h>
 
 #include <algorithm>
 #include <array>
 #include <cstring>
+#include <limits>
 
 namespace hymm::io::detail
 {
@@ -198,6 +198,18 @@ void GuardedRawlogStream::checkCount(const Checkpoint& c)
         }
         return;
     }
+    if (c.kind == Checkpoint::Pixels)
+    {
+        // cap pixels of element_bytes each, saturated (a v0 image's channel count is a
+        // uint32 too), and the fixed fields, all from the first dimension on.
+        const uint64_t left = total_ - std::min(total_, c.offset);
+        const uint64_t max = std::numeric_limits<uint64_t>::max();
+        const bool huge = c.element_bytes != 0 && c.cap > (max - c.tail_bytes) / c.element_bytes;
+        const uint64_t need = huge ? max : c.cap * c.element_bytes + c.tail_bytes;
+        const uint64_t reserved = reservedAfter(c.offset);
+        if (huge || need + reserved > left) refuse(c.cap, need, c, left, reserved);
+        return;
+    }
     if (c.kind == Checkpoint::Matrix)
     {
         // Rows then columns, each read on its own; MRPT sizes the matrix after both.
@@ -216,14 +228,15 @@ void GuardedRawlogStream::checkCount(const Checkpoint& c)
     const uint64_t reserved = reservedAfter(start);
     if (need + reserved > left) refuse(n, need, c, left, reserved);
     if (n > 0) claims_.push_back(start + (uint64_t{n} - 1) * c.element_bytes);
-    if (c.then_what)
+    if (c.then[0].what)
     {
-        // A string whose length follows the elements (and then_gap bytes more).
+        // The next count of the chain follows the elements (and `gap` bytes more).
         Checkpoint s;
-        s.offset = c.offset + sizeof(n) + uint64_t{n} * c.element_bytes + c.then_gap;
-        s.element_bytes = c.then_element;
-        s.tail_bytes = c.then_tail;
-        s.what = c.then_what;
+        s.offset = c.offset + sizeof(n) + uint64_t{n} * c.element_bytes + c.then[0].gap;
+        s.element_bytes = c.then[0].element;
+        s.tail_bytes = c.then[0].tail;
+        s.what = c.then[0].what;
+        s.then[0] = c.then[1];
         checkpoints_.push_back(s);
     }
 }
@@ -317,49 +330,6 @@ bool GuardedRawlogStream::trackFrames(size_t count, size_t n, const uint8_t* byt
         open_.pop_back();
     }
     return true;
-}
-
-void GuardedRawlogStream::trackHeader(const std::string& qualified, bool old_format, uint64_t at)
-{
-    const bool null = qualified == "nullptr";
-    // Bytes that only look like a header (a value with the high bit set, then as many
-    // bytes) name no class; a real header naming none is refused by MRPT itself.
-    const mrpt::rtti::TRuntimeClassId* id = null ? nullptr : mrpt::rtti::findRegisteredClass(qualified);
-    if (!null && !id) return;
-    // An abstract class (CPosePDF, CAction, CObservation, ...) has no constructor: MRPT
-    // prints a warning and reads an empty pointer in its place, which its deserialisers
-    // dereference (found by the rawlog fuzz target: a movement's pose PDF named
-    // CPosePDF). No writer can produce one, so it is refused wherever it appears.
-    if (id && !id->ptrCreateObject)
-    {
-        size_error_ = "names the abstract class '" + unqualified(qualified) +
-                      "', which no rawlog can hold, at byte " + std::to_string(at);
-        throw RawlogSizeError(size_error_);
-    }
-    const bool element = !open_.empty() && open_.back().collection;
-    if (element) requireClass(qualified, CLASS_ID(mrpt::obs::CAction), at, kActionSlot);
-    if (old_format) return;  // no end flag to close it (old-format collections: armFor)
-    const Frame f{unqualified(qualified) == "CActionCollection", element};
-    if (null)
-        open_.push_back(f);  // no version byte: its end flag is the next read
-    else
-        pending_ = f;
-}
-
-void GuardedRawlogStream::requireClass(const std::string& qualified, const mrpt::rtti::TRuntimeClassId* base,
-                                       uint64_t at, const char* where)
-{
-    std::string what;
-    if (qualified == "nullptr")
-        what = "a null object";
-    else
-    {
-        const auto* id = mrpt::rtti::findRegisteredClass(qualified);
-        if (!id || id->derivedFrom(base)) return;
-        what = "a '" + unqualified(qualified) + "'";
-    }
-    size_error_ = "holds " + what + " where " + where + " belongs, at byte " + std::to_string(at);
-    throw RawlogSizeError(size_error_);
 }
 
 size_t GuardedRawlogStream::Write(const void*, size_t)

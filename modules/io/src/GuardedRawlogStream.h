@@ -34,7 +34,11 @@
  * CActionRobotMovement2D's motion-model sample count (a fixed cap); CActionRobotMovement3D's
  * velocity flags and velocities; CPosePDFParticles,
  * CPosePDFSOG and CPosePDFGrid element counts; CMatrixF/CMatrixD sizes (covariances,
- * old poses). Not guarded: counts inside any other class (e.g. a CObservation3DRangeScan
+ * old poses). Classes the pipeline does not read but MRPT builds inside frames
+ * (GuardedRawlogSensorLayouts.cpp): comments, ranges, IMUs, GPS labels, battery states and
+ * every CImage. An entry must be an action collection, a frame or an observation, a
+ * frame's element an observation (refused at the class name, before MRPT builds it). Not
+ * guarded: counts inside the other observation classes (e.g. a CObservation3DRangeScan
  * planted in a frame): MRPT's deserialiser allocates what those declare.
  *
  * The file is decompressed once when opened to count its bytes (and to find corrupt gzip
@@ -45,7 +49,9 @@
 #include <mrpt/io/CStream.h>
 #include <mrpt/rtti/CObject.h>
 
+#include <array>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -80,6 +86,7 @@ inline std::string unqualified(const std::string& name)
 
 // What a CActionCollection's elements are, in the refusal of one that is not.
 inline constexpr const char* kActionSlot = "an action of a CActionCollection";
+inline constexpr const char* kObservationSlot = "an observation of a CSensoryFrame";
 
 /** A declared size that does not fit in the rest of the file. */
 struct RawlogSizeError : std::runtime_error
@@ -113,19 +120,26 @@ public:
     /** True once a read found some but not all of its bytes before the end of the data
      *  (refused whole: see Read). */
     bool cutRead() const { return cut_read_; }
+    /** The next object read is a rawlog entry: its class must be an action collection, a
+     *  sensory frame or an observation (refused at its class name, before MRPT builds
+     *  it). */
+    void beginEntry() { entry_start_ = pos_; }
 
 private:
     /** At uncompressed offset `offset` MRPT reads a uint32 count of elements of at least
      *  `element_bytes` serialised bytes each, followed by at least `tail_bytes` more
      *  (Count); or rows and columns of a matrix (Matrix); or a count not backed by bytes
-     *  in the file, which may not exceed `cap` (Cap). */
+     *  in the file, which may not exceed `cap` (Cap); or the first dimension of an image
+     *  of `cap` pixels of `element_bytes` each, whose `tail_bytes` of fixed fields and
+     *  pixel data start at `offset` (Pixels: MRPT sizes the image from its header). */
     struct Checkpoint
     {
         enum Kind
         {
             Count,
             Matrix,
-            Cap
+            Cap,
+            Pixels
         };
         Kind kind = Count;
         uint64_t offset = 0;
@@ -133,13 +147,19 @@ private:
         uint64_t tail_bytes = 0;
         uint64_t cap = 0;
         const char* what = "";
-        // A second count `then_gap` bytes after the counted elements, of elements of
-        // `then_element` bytes (the sensor labels of 2D scans and bearing-range
-        // observations; a 3-D movement's velocities).
-        const char* then_what = nullptr;
-        uint64_t then_gap = 0;
-        uint64_t then_element = 1;
-        uint64_t then_tail = 0;
+        // Counts that follow this one, each `gap` bytes after the previous one's
+        // elements, of elements of `element` bytes and `tail` bytes more (the sensor
+        // labels of 2D scans and bearing-range observations; a 3-D movement's
+        // velocities; an IMU's measurements and label). The first with no `what` ends
+        // the chain.
+        struct Next
+        {
+            const char* what = nullptr;
+            uint64_t gap = 0;
+            uint64_t element = 1;
+            uint64_t tail = 0;
+        };
+        std::array<Next, 2> then{};
     };
     /** A serialised object's header as MRPT writes it (current or pre-0.5.5 format). */
     struct ObjectHeader
@@ -161,6 +181,15 @@ private:
     void armBearingRange(const ObjectHeader& h);
     void armRobotMovement(const ObjectHeader& h);
     void armRobotMovement3D(const ObjectHeader& h);
+    /** armFor for MRPT classes HYMM does not consume but MRPT builds inside sensory frames
+     *  (GuardedRawlogSensorLayouts.cpp); false if `h` is none of them. */
+    bool armSensor(const ObjectHeader& h);
+    void armRange(const ObjectHeader& h);
+    void armImu(const ObjectHeader& h);
+    void armImage(const ObjectHeader& h);
+    void armRawImage(const ObjectHeader& h);
+    /** The byte count of a JPEG image at `at` and the size it decodes to. */
+    void armJpeg(const ObjectHeader& h, uint64_t at);
     /** A count at `at` followed by elements of `element` bytes and `tail` bytes more
      *  (plus the end flag) before the object ends. */
     static Checkpoint countAt(const ObjectHeader& h, uint64_t at, uint64_t element, uint64_t tail,
@@ -186,9 +215,12 @@ private:
     {
         bool collection = false;  // a CActionCollection: its children must be actions
         bool element = false;     // a child of a collection
+        bool sensory_frame = false;  // a CSensoryFrame: its children must be observations
     };
-    /** At a class name MRPT just read (the header started at `at`): refuses a child of an
-     *  open CActionCollection that is not an action, and opens a frame for the object. */
+    /** At a class name MRPT just read (the header started at `at`): refuses an entry that
+     *  is no action collection, sensory frame or observation, a child of an open
+     *  CActionCollection that is not an action and a child of an open CSensoryFrame that
+     *  is not an observation, and opens a frame for the object. */
     void trackHeader(const std::string& qualified, bool old_format, uint64_t at);
     /** Opens and closes frames for a read of `count` bytes that gave `n`, after one whose
      *  single byte was `prev` (-1 if it was wider); true if the read was one byte. */
@@ -205,6 +237,7 @@ private:
     void* gz_ = nullptr;  // gzFile
     uint64_t total_ = 0;
     uint64_t pos_ = 0;
+    uint64_t entry_start_ = std::numeric_limits<uint64_t>::max();
     std::string data_error_;
     std::string size_error_;
     bool cut_read_ = false;

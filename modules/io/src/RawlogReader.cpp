@@ -39,6 +39,7 @@ bool RawlogReader::next(RawlogEntry& entry)
     mrpt::serialization::CSerializable::Ptr obj;
     try
     {
+        stream_->beginEntry();
         obj = arch.ReadObject();
     }
     catch (const mrpt::serialization::CExceptionEOF&)

@@ -1,0 +1,251 @@
+// GuardedRawlogStream: where the counts lie in the serialised objects of MRPT classes that
+// HYMM does not read but MRPT builds inside sensory frames, to count them by class name
+// (comments, beacon and range finders, IMUs, GPS receivers, battery states and every
+// image of a camera or RGB-D observation). Offsets follow MRPT 2.5's serializeFrom() of each class.
+#include "GuardedRawlogStream.h"
+
+#include <mrpt/obs/CObservationIMU.h>
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <string>
+
+namespace hymm::io::detail
+{
+namespace
+{
+// Smallest serialised object (a null pointer: header, "nullptr", end flag).
+constexpr uint64_t kMinObjectBytes = 9;
+// Smallest serialised CPose3D object: a length byte, the unqualified name, the version
+// (2: x y z and a quaternion, 7 doubles) and the end flag.
+constexpr uint64_t kMinPose3DBytes = 1 + 7 + 1 + 7 * 8 + 1;
+// A JPEG decodes to width x height x components bytes whatever its length in the file
+// (MRPT sizes the image from the frame header; libjpeg holds up to twice that again for
+// a progressive one). Cap on the decoded bytes of one image: an 8K x 8K colour image is
+// 201 MB.
+constexpr uint64_t kMaxDecodedImageBytes = uint64_t{1} << 28;
+
+uint64_t bigEndian16(const uint8_t* b) { return (uint64_t{b[0]} << 8) | b[1]; }
+
+// Bytes per pixel of MRPT's PixelDepth (D8U, D8S, D16U, D16S, D32S, D32F, D64F); 8, the
+// widest, for a value MRPT does not define.
+uint64_t pixelDepthBytes(int32_t depth)
+{
+    static constexpr std::array<uint64_t, 7> kBytes{1, 1, 2, 2, 4, 4, 8};
+    return depth >= 0 && depth < 7 ? kBytes[static_cast<size_t>(depth)] : 8;
+}
+}  // namespace
+
+bool GuardedRawlogStream::armSensor(const ObjectHeader& h)
+{
+    const std::string& name = h.name;
+    const int v = h.version;
+    if (name == "CObservationComment" && v == 0)
+        // The text, then the timestamp.
+        checkpoints_.push_back(countAt(h, h.data, 1, 8, "bytes of comment text"));
+    else if (name == "CObservationBeaconRanges" && v <= 3)
+        // 3 floats, the count; per measurement a CPoint3D object, a float, a uint32; then
+        // a pose object (v1+), the label (v2+), the timestamp (v3) (rawlog_fuzz: 47
+        // million, 23 GB).
+        checkpoints_.push_back(countAt(h, h.data + 12, kMinObjectBytes + 8,
+                                       (v >= 1 ? kMinObjectBytes : 0) + (v >= 2 ? 4 : 0) + (v >= 3 ? 8 : 0),
+                                       "beacon measurements"));
+    else if (name == "CObservationRange" && v <= 3)
+        armRange(h);
+    else if (name == "CObservationIMU" && v <= 4)
+        armImu(h);
+    else if (name == "CObservationGPS" && (v == 10 || v == 11))
+        // Two timestamps, the label, the sensor pose (a CPose3D object), from v11 a flag,
+        // then the message count. Messages are read one at a time (nothing is sized by
+        // that count); counts inside the variable-length messages are not checked.
+        checkpoints_.push_back(countAt(h, h.data + 16, 1, kMinPose3DBytes + (v >= 11 ? 1 : 0) + 4,
+                                       "bytes of sensor label"));
+    else if (name == "CObservationBatteryState" && v <= 2)
+    {
+        // Two doubles and two flags, then the other batteries' voltages (count, doubles)
+        // and validity flags (a vector<bool>), the label (v1+), the timestamp (v2+)
+        // (rawlog_fuzz: a frame's observation renamed to this class, 7.8 GB).
+        const uint64_t label = v >= 1 ? 4 : 0;
+        const uint64_t stamp = v >= 2 ? 8 : 0;
+        Checkpoint c = countAt(h, h.data + 18, 8, 4 + label + stamp, "battery voltages");
+        c.then[0] = {"battery validity flags", 0, 1, label + stamp + endFlagBytes(h)};
+        if (v >= 1) c.then[1] = {"bytes of sensor label", 0, 1, stamp + endFlagBytes(h)};
+        checkpoints_.push_back(c);
+    }
+    else if (name == "CImage")
+        armImage(h);
+    else
+        return false;
+    return true;
+}
+
+void GuardedRawlogStream::armRange(const ObjectHeader& h)
+{
+    // Three floats, the count; per measurement (v3+) a uint16 sensor ID, a CPose3D object
+    // and a float; then the label (v1+) and the timestamp (v2+). MRPT holds 64 bytes per
+    // measurement, less than the smallest serialised one.
+    const int v = h.version;
+    const uint64_t at = h.data + 12;
+    const uint64_t id = v >= 3 ? 2 : 0;
+    const uint64_t stamp = v >= 2 ? 8 : 0;
+    uint32_t n = 0;
+    if (!peek(at, &n, 4)) return;  // a short read: MRPT reports it
+    // One writer wrote every pose: the first gives the stride, and with it where the label
+    // lies. Without a pose that parses, the count is checked against the smallest pose
+    // object and the label is left unchecked.
+    const uint64_t first = at + 4 + id;
+    const uint64_t past = n > 0 ? skipObject(first) : 0;
+    const uint64_t pose = past != 0 ? past - first : kMinPose3DBytes;
+    Checkpoint c = countAt(h, at, id + pose + 4, (v >= 1 ? 4 : 0) + stamp, "range measurements");
+    if (v >= 1 && (n == 0 || past != 0)) c.then[0] = {"bytes of sensor label", 0, 1, stamp + endFlagBytes(h)};
+    checkpoints_.push_back(c);
+}
+
+void GuardedRawlogStream::armImu(const ObjectHeader& h)
+{
+    const uint64_t at = skipObject(h.data);  // the sensor pose, a CPose3D object
+    if (at == 0) return;
+    if (h.version == 4)
+    {
+        // Fixed arrays: a presence byte per field, the timestamp, a double per field; then
+        // the label.
+        constexpr uint64_t n = mrpt::obs::COUNT_IMU_DATA_FIELDS;
+        checkpoints_.push_back(countAt(h, at + n + 8 + 8 * n, 1, 0, "bytes of sensor label"));
+        return;
+    }
+    // v0-3: the presence flags (a vector<bool>: count, a byte each; MRPT allocates a byte
+    // and a bit per flag), the timestamp, the measurements (count, then floats in v0,
+    // doubles later), the label.
+    Checkpoint c = countAt(h, at, 1, 8 + 4 + 4, "IMU presence flags");
+    c.then[0] = {"IMU measurements", 8, h.version == 0 ? 4u : 8u, 4 + endFlagBytes(h)};
+    c.then[1] = {"bytes of sensor label", 0, 1, endFlagBytes(h)};
+    checkpoints_.push_back(c);
+}
+
+void GuardedRawlogStream::armImage(const ObjectHeader& h)
+{
+    // CImage, in every camera, stereo and RGB-D observation. v6+ (and v100, written
+    // without OpenCV) start with the external-storage flag; an external image holds only
+    // its file name.
+    const int v = h.version;
+    uint64_t at = h.data;
+    if (v == 100 || (v >= 6 && v <= 9))
+    {
+        uint8_t external = 0;
+        if (!peek(at, &external, 1)) return;
+        if (external)
+        {
+            checkpoints_.push_back(countAt(h, at + 1, 1, 0, "bytes of image file name"));
+            return;
+        }
+        ++at;
+    }
+    if (v == 0) return armRawImage(h);
+    if (v == 1) return armJpeg(h, at);
+    if (v < 2 || v > 9) return;
+    uint8_t color = 0;
+    if (!peek(at, &color, 1)) return;
+    ++at;
+    std::array<int32_t, 5> f{};  // width, height, then origin, size and depth of grey ones
+    if (!color)
+    {
+        // Grey: width, height, origin, size in bytes, the depth (v9), the compression
+        // flag (v5+), the rows. MRPT sizes the image from the first two (and the depth).
+        if (!peek(at, f.data(), v >= 9 ? 20 : 16)) return;
+        Checkpoint c;
+        c.kind = Checkpoint::Pixels;
+        c.offset = at;
+        c.cap = uint64_t{static_cast<uint32_t>(f[0])} * static_cast<uint32_t>(f[1]);
+        c.element_bytes = v >= 9 ? pixelDepthBytes(f[4]) : 1;
+        c.tail_bytes = 16 + (v >= 9 ? 4 : 0) + (v >= 5 ? 1 : 0) + endFlagBytes(h);
+        c.what = "pixels of a grey image";
+        checkpoints_.push_back(c);
+        return;
+    }
+    if (v < 7) return armJpeg(h, at);
+    // Colour from v7: width and height; both positive: a JPEG follows; both negative
+    // (v8): the raw rows, 3 bytes per pixel.
+    if (!peek(at, f.data(), 8)) return;
+    if (f[0] >= 1 && f[1] >= 1) return armJpeg(h, at + 8);
+    if (f[0] >= 0 || f[1] >= 0) return;  // an empty image: nothing sized
+    Checkpoint c;
+    c.kind = Checkpoint::Pixels;
+    c.offset = at;
+    c.cap = uint64_t{static_cast<uint32_t>(-int64_t{f[0]})} * static_cast<uint32_t>(-int64_t{f[1]});
+    c.element_bytes = 3;
+    c.tail_bytes = 8 + endFlagBytes(h);
+    c.what = "pixels of a raw colour image";
+    checkpoints_.push_back(c);
+}
+
+void GuardedRawlogStream::armRawImage(const ObjectHeader& h)
+{
+    // v0: width, height, channels (uint32), origin (a byte), the data length (uint32), the
+    // data. MRPT sizes the image from the first three, then reads the declared length
+    // into it: a length beyond the image would write past its buffer.
+    std::array<uint32_t, 3> f{};
+    uint32_t length = 0;
+    if (!peek(h.data, f.data(), 12) || !peek(h.data + 13, &length, 4)) return;
+    const uint64_t pixels = uint64_t{f[0]} * f[1];
+    const bool fits = f[2] == 0 || pixels <= std::numeric_limits<uint64_t>::max() / f[2];
+    if (fits && length > pixels * f[2])
+    {
+        size_error_ = "declares an image of " + std::to_string(f[0]) + " x " + std::to_string(f[1]) + " x " +
+                      std::to_string(f[2]) + " bytes and " + std::to_string(length) +
+                      " bytes of data for it at byte " + std::to_string(h.data);
+        throw RawlogSizeError(size_error_);
+    }
+    Checkpoint c;
+    c.kind = Checkpoint::Pixels;
+    c.offset = h.data;
+    c.cap = pixels;
+    c.element_bytes = f[2];
+    c.tail_bytes = 17 + endFlagBytes(h);
+    c.what = "pixels of an old-format image";
+    checkpoints_.push_back(c);
+}
+
+void GuardedRawlogStream::armJpeg(const ObjectHeader& h, uint64_t at)
+{
+    // The JPEG's byte count, then its bytes (MRPT copies them into a buffer first).
+    checkpoints_.push_back(countAt(h, at, 1, 0, "bytes of JPEG data"));
+    uint32_t n = 0;
+    std::array<uint8_t, 4> b{};
+    if (!peek(at, &n, 4) || !peek(at + 4, b.data(), 2) || b[0] != 0xFF || b[1] != 0xD8) return;
+    // The frame header (SOF0-15 but DHT, JPG, DAC) gives the size the JPEG decodes to:
+    // walk the marker segments up to it, at most 64 of them.
+    const uint64_t end = at + 4 + n;
+    uint64_t p = at + 6;
+    for (int k = 0; k < 64 && p + 4 <= end && peek(p, b.data(), 4) && b[0] == 0xFF; ++k)
+    {
+        const uint8_t m = b[1];
+        if (m == 0xD9 || m == 0xDA) return;  // end of image, start of scan: no frame header
+        if (m == 0xFF)
+        {
+            ++p;  // fill byte
+            continue;
+        }
+        if (m == 0x01 || (m >= 0xD0 && m <= 0xD7))
+        {
+            p += 2;  // markers without a segment
+            continue;
+        }
+        const bool frame = m >= 0xC0 && m <= 0xCF && m != 0xC4 && m != 0xC8 && m != 0xCC;
+        std::array<uint8_t, 6> sof{};  // precision, height, width, components
+        if (frame && peek(p + 4, sof.data(), 6))
+        {
+            const uint64_t bytes = bigEndian16(&sof[1]) * bigEndian16(&sof[3]) * std::max<uint64_t>(sof[5], 1);
+            if (bytes <= kMaxDecodedImageBytes) return;
+            size_error_ = "holds a JPEG image of " + std::to_string(bigEndian16(&sof[3])) + " x " +
+                          std::to_string(bigEndian16(&sof[1])) + " x " + std::to_string(sof[5]) +
+                          " bytes decoded at byte " + std::to_string(at) + ", more than the " +
+                          std::to_string(kMaxDecodedImageBytes) + " a rawlog image may decode to";
+            throw RawlogSizeError(size_error_);
+        }
+        p += 2 + bigEndian16(&b[2]);
+    }
+}
+
+}  // namespace hymm::io::detail
