@@ -10,11 +10,15 @@
 #include <hymm/io/RawlogReader.h>
 #include <mrpt/img/CImage.h>
 #include <mrpt/io/CFileOutputStream.h>
+#include <mrpt/maps/CSimplePointsMap.h>
+#include <mrpt/obs/CObservation3DRangeScan.h>
 #include <mrpt/obs/CObservationComment.h>
 #include <mrpt/obs/CObservationGPS.h>
 #include <mrpt/obs/CObservationIMU.h>
 #include <mrpt/obs/CObservationImage.h>
+#include <mrpt/obs/CObservationPointCloud.h>
 #include <mrpt/obs/CObservationRange.h>
+#include <mrpt/obs/CObservationVelodyneScan.h>
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/serialization/CArchive.h>
 
@@ -63,13 +67,14 @@ mrpt::obs::CObservationImage::Ptr imageObservation(int w, int h, mrpt::img::TIma
 }
 
 // Frames of the observation classes the pipeline does not read but MRPT builds (comment,
-// range finder, IMU, GPS, grey, raw colour, JPEG and external images), so that the
-// rawlog target mutates the sizes GuardedRawlogStream checks in them. Images are
-// serialised when the frame is written, hence the JPEG switch around that write.
-void sensorSeed(const fs::path& out)
+// range finder, IMU, GPS, grey, raw colour, JPEG and external images; in a second file,
+// under 4 KB each, Velodyne, RGB-D and point-cloud scans), so that the rawlog target
+// mutates the sizes GuardedRawlogStream checks in them. Images are serialised when the
+// frame is written, hence the JPEG switch around that write.
+void sensorSeeds(const fs::path& dir)
 {
     using namespace mrpt::obs;
-    mrpt::io::CFileOutputStream f(out.string());
+    mrpt::io::CFileOutputStream f((dir / "sensors.rawlog").string());
     auto arch = mrpt::serialization::archiveFrom(f);
     CSensoryFrame first;
     auto comment = CObservationComment::Create();
@@ -107,6 +112,30 @@ void sensorSeed(const fs::path& out)
         arch << images;
     }
     mrpt::img::CImage::DISABLE_JPEG_COMPRESSION(raw);
+    mrpt::io::CFileOutputStream f2((dir / "sensor_clouds.rawlog").string());
+    auto arch2 = mrpt::serialization::archiveFrom(f2);
+    CSensoryFrame clouds;
+    auto velodyne = CObservationVelodyneScan::Create();
+    velodyne->point_cloud.x = {1.0f, 2.0f};
+    velodyne->point_cloud.y = {0.5f, 0.5f};
+    velodyne->point_cloud.z = {0.1f, 0.2f};
+    velodyne->point_cloud.intensity = {10, 20};
+    clouds.insert(velodyne);
+    auto rgbd = CObservation3DRangeScan::Create();
+    rgbd->hasPoints3D = true;
+    rgbd->resizePoints3DVectors(3);
+    rgbd->hasRangeImage = true;
+    rgbd->rangeImage_setSize(3, 4);
+    rgbd->rangeImage.setZero();
+    rgbd->cameraParams.ncols = 4;  // the range image's size, as MRPT expects
+    rgbd->cameraParams.nrows = 3;
+    clouds.insert(rgbd);
+    auto cloud = CObservationPointCloud::Create();
+    auto points = mrpt::maps::CSimplePointsMap::Create();
+    points->insertPoint(1, 2, 3);
+    cloud->pointcloud = points;
+    clouds.insert(cloud);
+    arch2 << clouds;
 }
 
 std::string readAll(const fs::path& p)
@@ -203,7 +232,7 @@ int main(int argc, char** argv)
                     fs::copy_file(e.path(),
                                   out / "ini" / (d.filename().string() + "_" + e.path().filename().string()),
                                   fs::copy_options::overwrite_existing);
-        sensorSeed(out / "rawlog" / "sensors.rawlog");
+        sensorSeeds(out / "rawlog");
         importSeeds(out / "import");
     }
     catch (const std::exception& e)

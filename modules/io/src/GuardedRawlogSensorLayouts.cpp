@@ -1,10 +1,12 @@
 // GuardedRawlogStream: where the counts lie in the serialised objects of MRPT classes that
 // HYMM does not read but MRPT builds inside sensory frames, to count them by class name
-// (comments, beacon and range finders, IMUs, GPS receivers, battery states and every
-// image of a camera or RGB-D observation). Offsets follow MRPT 2.5's serializeFrom() of each class.
+// (comments, beacon and range finders, IMUs, GPS receivers, battery states, Velodyne and
+// RGB-D scans, point clouds and every image of a camera or RGB-D observation). Offsets follow MRPT 2.5's serializeFrom() of each class.
 #include "GuardedRawlogStream.h"
 
 #include <mrpt/obs/CObservationIMU.h>
+#include <mrpt/obs/CObservationVelodyneScan.h>
+#include <mrpt/obs/VelodyneCalibration.h>
 
 #include <algorithm>
 #include <array>
@@ -74,6 +76,16 @@ bool GuardedRawlogStream::armSensor(const ObjectHeader& h)
         if (v >= 1) c.then[1] = {"bytes of sensor label", 0, 1, stamp + endFlagBytes(h)};
         checkpoints_.push_back(c);
     }
+    else if (name == "CObservationVelodyneScan" && v <= 2)
+        armVelodyne(h);
+    else if (name == "CObservation3DRangeScan" && v <= 10)
+        arm3DScan(h);
+    else if ((name == "CSimplePointsMap" && v >= 8 && v <= 10) || (name == "CColouredPointsMap" && v >= 8 && v <= 9))
+        // The point count, then x, y and z as floats (a coloured map also sizes three
+        // float colour channels per point: 24 B for 12 in the file), then the options.
+        checkpoints_.push_back(countAt(h, h.data, 12, 0, "points"));
+    else if (name == "CPointsMapXYZI" && v == 0)
+        checkpoints_.push_back(countAt(h, h.data, 16, 0, "points"));
     else if (name == "CImage")
         armImage(h);
     else
@@ -121,6 +133,57 @@ void GuardedRawlogStream::armImu(const ObjectHeader& h)
     Checkpoint c = countAt(h, at, 1, 8 + 4 + 4, "IMU presence flags");
     c.then[0] = {"IMU measurements", 8, h.version == 0 ? 4u : 8u, 4 + endFlagBytes(h)};
     c.then[1] = {"bytes of sensor label", 0, 1, endFlagBytes(h)};
+    checkpoints_.push_back(c);
+}
+
+void GuardedRawlogStream::armVelodyne(const ObjectHeader& h)
+{
+    // The timestamp, the label, minimum and maximum range (doubles), the sensor pose (a
+    // CPose3D object), the raw packets, the per-laser calibration, then the point cloud's
+    // x, y, z (float vectors) and intensities (bytes); later fields are not checked.
+    using Velodyne = mrpt::obs::CObservationVelodyneScan;
+    const uint64_t packet = sizeof(Velodyne::TVelodyneRawPacket);
+    const uint64_t calib = sizeof(mrpt::obs::VelodyneCalibration::PerLaserCalib);
+    checkpoints_.push_back(countAt(h, h.data + 8, 1, 16 + kMinPose3DBytes + 6 * 4, "bytes of sensor label"));
+    uint32_t label = 0;
+    if (!peek(h.data + 8, &label, 4) || label > total_) return;
+    const uint64_t at = skipObject(h.data + 12 + label + 16);
+    if (at == 0) return;
+    Checkpoint c = countAt(h, at, packet, 5 * 4, "Velodyne packets");
+    c.then[0] = {"laser calibrations", 0, calib, 4 * 4};
+    c.then[1] = {"point x coordinates", 0, 4, 3 * 4};
+    c.then[2] = {"point y coordinates", 0, 4, 2 * 4};
+    c.then[3] = {"point z coordinates", 0, 4, 4};
+    c.then[4] = {"point intensities", 0, 1, endFlagBytes(h)};
+    checkpoints_.push_back(c);
+}
+
+void GuardedRawlogStream::arm3DScan(const ObjectHeader& h)
+{
+    // The maximum range (float), the sensor pose (a CPose3D object), the points flag (v1+)
+    // and the points: count, x y z floats (a validity byte each in v0, two uint16 pixel
+    // indices each from v8; MRPT holds 16 B per point); then (v1+) the range-image flag,
+    // (v9+) the range units (float) and the range image: rows and columns of uint16 (older
+    // versions store it as a CMatrixF object, checked as one). The tail holds at least
+    // the two image flags, stdError, the timestamp and the label's length.
+    const int v = h.version;
+    const uint64_t at = skipObject(h.data + 4);
+    if (at == 0) return;
+    uint8_t has_points = 1;
+    if (v >= 1 && !peek(at, &has_points, 1)) return;
+    const uint64_t tail = 2 + 4 + 8 + 4;
+    const uint64_t image_gap = 1 + 4;  // the range-image flag and the units (v9+)
+    const uint64_t points_at = at + (v >= 1 ? 1 : 0);
+    if (!has_points)
+    {
+        if (v < 9) return;
+        Checkpoint c = countAt(h, points_at + image_gap, 2, tail, "range image pixels");
+        c.kind = Checkpoint::Matrix;
+        checkpoints_.push_back(c);
+        return;
+    }
+    Checkpoint c = countAt(h, points_at, 12 + (v == 0 ? 1 : 0) + (v >= 8 ? 4 : 0), tail, "3-D points");
+    if (v >= 9) c.then[0] = {"range image pixels", image_gap, 2, tail + endFlagBytes(h), true};
     checkpoints_.push_back(c);
 }
 

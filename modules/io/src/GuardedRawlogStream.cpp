@@ -14,6 +14,15 @@ namespace
 constexpr size_t kChunk = 1 << 16;
 // MRPT writes an object as: 0x80 | name length, the name, a version byte, the data, 0x88.
 constexpr uint8_t kEndFlag = 0x88;
+
+// n elements of `element` bytes and `tail` bytes more, saturated: rows x columns of a
+// matrix reach 2^64, and a product that wrapped round would pass as small.
+uint64_t bytesFor(uint64_t n, uint64_t element, uint64_t tail)
+{
+    const uint64_t max = std::numeric_limits<uint64_t>::max();
+    if (element != 0 && n > (max - tail) / element) return max;
+    return n * element + tail;
+}
 // The most bytes the stream reads ahead to find where an object's counts lie.
 constexpr uint64_t kMaxPeek = 4096;
 gzFile asGz(void* p) { return static_cast<gzFile>(p); }
@@ -153,7 +162,9 @@ uint64_t GuardedRawlogStream::skipObject(uint64_t at)
     {
         std::array<uint32_t, 2> rc{};
         if (!peek(h.data, rc.data(), 8)) return 0;
-        end = h.data + 8 + uint64_t{rc[0]} * rc[1] * matrixElementBytes(h.name);
+        const uint64_t bytes = bytesFor(uint64_t{rc[0]} * rc[1], matrixElementBytes(h.name), 8);
+        if (bytes > total_) return 0;
+        end = h.data + bytes;
     }
     if (end == 0) return 0;
     if (h.old_format) return end;
@@ -200,14 +211,12 @@ void GuardedRawlogStream::checkCount(const Checkpoint& c)
     }
     if (c.kind == Checkpoint::Pixels)
     {
-        // cap pixels of element_bytes each, saturated (a v0 image's channel count is a
-        // uint32 too), and the fixed fields, all from the first dimension on.
+        // cap pixels of element_bytes each (a v0 image's channel count is a uint32 too),
+        // and the fixed fields, all from the first dimension on.
         const uint64_t left = total_ - std::min(total_, c.offset);
-        const uint64_t max = std::numeric_limits<uint64_t>::max();
-        const bool huge = c.element_bytes != 0 && c.cap > (max - c.tail_bytes) / c.element_bytes;
-        const uint64_t need = huge ? max : c.cap * c.element_bytes + c.tail_bytes;
+        const uint64_t need = bytesFor(c.cap, c.element_bytes, c.tail_bytes);
         const uint64_t reserved = reservedAfter(c.offset);
-        if (huge || need + reserved > left) refuse(c.cap, need, c, left, reserved);
+        if (need > left || need + reserved > left) refuse(c.cap, need, c, left, reserved);
         return;
     }
     if (c.kind == Checkpoint::Matrix)
@@ -217,9 +226,9 @@ void GuardedRawlogStream::checkCount(const Checkpoint& c)
         if (!peek(c.offset + 4, &cols, sizeof(cols))) return;
         const uint64_t left = total_ - std::min(total_, c.offset + 8);
         const uint64_t elements = uint64_t{n} * cols;
-        const uint64_t need = elements * c.element_bytes + c.tail_bytes;
+        const uint64_t need = bytesFor(elements, c.element_bytes, c.tail_bytes);
         const uint64_t reserved = reservedAfter(c.offset + 8);
-        if (need + reserved > left) refuse(elements, need, c, left, reserved);
+        if (need > left || need + reserved > left) refuse(elements, need, c, left, reserved);
         return;
     }
     const uint64_t start = c.offset + sizeof(n);
@@ -236,7 +245,8 @@ void GuardedRawlogStream::checkCount(const Checkpoint& c)
         s.element_bytes = c.then[0].element;
         s.tail_bytes = c.then[0].tail;
         s.what = c.then[0].what;
-        s.then[0] = c.then[1];
+        if (c.then[0].matrix) s.kind = Checkpoint::Matrix;
+        std::copy(c.then.begin() + 1, c.then.end(), s.then.begin());
         checkpoints_.push_back(s);
     }
 }

@@ -35,11 +35,12 @@
  * velocity flags and velocities; CPosePDFParticles,
  * CPosePDFSOG and CPosePDFGrid element counts; CMatrixF/CMatrixD sizes (covariances,
  * old poses). Classes the pipeline does not read but MRPT builds inside frames
- * (GuardedRawlogSensorLayouts.cpp): comments, ranges, IMUs, GPS labels, battery states and
- * every CImage. An entry must be an action collection, a frame or an observation, a
- * frame's element an observation (refused at the class name, before MRPT builds it). Not
- * guarded: counts inside the other observation classes (e.g. a CObservation3DRangeScan
- * planted in a frame): MRPT's deserialiser allocates what those declare.
+ * (GuardedRawlogSensorLayouts.cpp): comments, beacon ranges, ranges, IMUs, GPS labels,
+ * battery states, Velodyne and RGB-D scans, point-cloud maps and every CImage. An entry
+ * must be an action collection, a frame or an observation, a frame's element an
+ * observation (refused at the class name, before MRPT builds it). Not guarded: counts
+ * inside the other observation classes (e.g. a CObservationRotatingScan planted in a
+ * frame): MRPT's deserialiser allocates what those declare.
  *
  * The file is decompressed once when opened to count its bytes (and to find corrupt gzip
  * data, so that it is reported as corrupt rather than as an early end).
@@ -158,8 +159,9 @@ private:
             uint64_t gap = 0;
             uint64_t element = 1;
             uint64_t tail = 0;
+            bool matrix = false;  // rows and columns (Matrix), not a count
         };
-        std::array<Next, 2> then{};
+        std::array<Next, 5> then{};
     };
     /** A serialised object's header as MRPT writes it (current or pre-0.5.5 format). */
     struct ObjectHeader
@@ -186,6 +188,8 @@ private:
     bool armSensor(const ObjectHeader& h);
     void armRange(const ObjectHeader& h);
     void armImu(const ObjectHeader& h);
+    void armVelodyne(const ObjectHeader& h);
+    void arm3DScan(const ObjectHeader& h);
     void armImage(const ObjectHeader& h);
     void armRawImage(const ObjectHeader& h);
     /** The byte count of a JPEG image at `at` and the size it decodes to. */

@@ -12,6 +12,10 @@
 #include <mrpt/obs/CObservationImage.h>
 #include <mrpt/obs/CObservationRange.h>
 #include <mrpt/obs/CObservationRotatingScan.h>
+#include <mrpt/obs/CObservation3DRangeScan.h>
+#include <mrpt/obs/CObservationPointCloud.h>
+#include <mrpt/obs/CObservationVelodyneScan.h>
+#include <mrpt/maps/CSimplePointsMap.h>
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/poses/CPose2D.h>
 
@@ -310,5 +314,83 @@ TEST(RawlogHostileSensorsTest, MrptSampleRawlogsReadThroughTheGuard)
         EXPECT_GT(entries, 0u) << e.path();
     }
     EXPECT_GT(files, 0u);
+}
+}  // namespace
+
+namespace
+{
+size_t afterName(const std::vector<uint8_t>& d, const std::string& qualified)
+{
+    return find(d, std::string(1, static_cast<char>(0x80 | qualified.size())) + qualified) + 1 + qualified.size();
+}
+
+// Offset just past the CPose3D object (version 3: 12 doubles) that starts at `at`.
+size_t pastPose(const std::vector<uint8_t>& d, size_t at)
+{
+    EXPECT_EQ(d[at], 0x80 | 20) << "mrpt::poses::CPose3D";
+    EXPECT_EQ(d[at + 21], 3) << "CPose3D version";
+    return at + 22 + 96 + 1;
+}
+
+TEST(RawlogHostileSensorsTest, HugeVelodynePacketCountIsRefused)
+{
+    mrpt::obs::CObservationVelodyneScan obs;
+    obs.sensorLabel = "velodyne";
+    obs.scan_packets.resize(2);
+    obs.point_cloud.x = {1.0f, 2.0f};
+    obs.point_cloud.y = {0.5f, 0.5f};
+    obs.point_cloud.z = {0.1f, 0.2f};
+    obs.point_cloud.intensity = {10, 20};
+    const auto data = inFrame(obs);
+    expectReads(data);
+    // Version, timestamp, label, two doubles, the sensor pose, then the packet count.
+    const size_t label = afterName(data, "mrpt::obs::CObservationVelodyneScan") + 1 + 8;
+    ASSERT_EQ(getU32(data, label), obs.sensorLabel.size());
+    const size_t packets = pastPose(data, label + 4 + obs.sensorLabel.size() + 16);
+    ASSERT_EQ(getU32(data, packets), 2u);
+    expectRefused(data, packets, 0x00FFFFFFu, "Velodyne packets");
+    const size_t calib = packets + 4 + 2 * sizeof(mrpt::obs::CObservationVelodyneScan::TVelodyneRawPacket);
+    ASSERT_EQ(getU32(data, calib), 0u);
+    expectRefused(data, calib + 4, 0x7FFFFFFFu, "point x coordinates");
+    expectRefused(data, calib + 4 + 4 + 8 + 4 + 8 + 4 + 8, 0xF0000000u, "point intensities");
+}
+
+TEST(RawlogHostileSensorsTest, Huge3DPointCountAndRangeImageAreRefused)
+{
+    mrpt::obs::CObservation3DRangeScan obs;
+    obs.sensorLabel = "rgbd";
+    obs.hasPoints3D = true;
+    obs.resizePoints3DVectors(3);
+    obs.hasRangeImage = true;
+    obs.rangeImage_setSize(4, 5);
+    obs.rangeImage.setZero();
+    obs.cameraParams.ncols = 5;  // the range image's size, as MRPT expects
+    obs.cameraParams.nrows = 4;
+    const auto data = inFrame(obs);
+    expectReads(data);
+    // Version, the maximum range, the sensor pose, the points flag, then the count.
+    const size_t points = pastPose(data, afterName(data, "mrpt::obs::CObservation3DRangeScan") + 1 + 4) + 1;
+    ASSERT_EQ(getU32(data, points), 3u);
+    expectRefused(data, points, 0x40000000u, "3-D points");
+    // Per point three floats and two uint16 indices; the range-image flag, the units.
+    const size_t rows = points + 4 + 3 * 16 + 1 + 4;
+    ASSERT_EQ(getU32(data, rows), 4u);
+    ASSERT_EQ(getU32(data, rows + 4), 5u);
+    expectRefused(data, rows, 0x80000000u, "range image pixels");
+}
+
+TEST(RawlogHostileSensorsTest, HugePointCloudIsRefused)
+{
+    mrpt::obs::CObservationPointCloud obs;
+    obs.sensorLabel = "lidar3d";
+    auto map = mrpt::maps::CSimplePointsMap::Create();
+    map->insertPoint(1, 2, 3);
+    map->insertPoint(4, 5, 6);
+    obs.pointcloud = map;
+    const auto data = inFrame(obs);
+    expectReads(data);
+    const size_t count = afterName(data, "mrpt::maps::CSimplePointsMap") + 1;
+    ASSERT_EQ(getU32(data, count), 2u);
+    expectRefused(data, count, 0x20000000u, "points");
 }
 }  // namespace
