@@ -18,6 +18,7 @@
 #include <mrpt/obs/CObservationImage.h>
 #include <mrpt/obs/CObservationPointCloud.h>
 #include <mrpt/obs/CObservationRange.h>
+#include <mrpt/obs/CObservationRotatingScan.h>
 #include <mrpt/obs/CObservationVelodyneScan.h>
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/serialization/CArchive.h>
@@ -68,7 +69,7 @@ mrpt::obs::CObservationImage::Ptr imageObservation(int w, int h, mrpt::img::TIma
 
 // Frames of the observation classes the pipeline does not read but MRPT builds (comment,
 // range finder, IMU, GPS, grey, raw colour, JPEG and external images; in a second file,
-// under 4 KB each, Velodyne, RGB-D and point-cloud scans), so that the rawlog target
+// under 4 KB each, Velodyne, RGB-D, point-cloud and rotating scans), so that the rawlog target
 // mutates the sizes GuardedRawlogStream checks in them. Images are serialised when the
 // frame is written, hence the JPEG switch around that write.
 void sensorSeeds(const fs::path& dir)
@@ -135,6 +136,12 @@ void sensorSeeds(const fs::path& dir)
     points->insertPoint(1, 2, 3);
     cloud->pointcloud = points;
     clouds.insert(cloud);
+    auto rotating = CObservationRotatingScan::Create();
+    rotating->rowCount = 3;
+    rotating->columnCount = 4;
+    rotating->rangeImage.setZero(3, 4);
+    rotating->intensityImage.setZero(3, 4);
+    clouds.insert(rotating);
     arch2 << clouds;
 }
 

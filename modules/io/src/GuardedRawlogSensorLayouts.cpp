@@ -89,7 +89,7 @@ bool GuardedRawlogStream::armSensor(const ObjectHeader& h)
     else if (name == "CImage")
         armImage(h);
     else
-        return false;
+        return armRare(h);
     return true;
 }
 

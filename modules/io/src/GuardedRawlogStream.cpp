@@ -256,15 +256,15 @@ size_t GuardedRawlogStream::Read(void* buffer, size_t count)
     if (count == 0) return 0;
     if (!checkpoints_.empty())
     {
-        // Counts are read with a single 4-byte read at the offset found when the
-        // object's class name went by; anything else means the layout was not the one
-        // expected, and the checkpoint is dropped unchecked.
+        // Counts are read with a single read (4 bytes, 2 for a uint16) at the offset found
+        // when the object's class name went by; anything else means the layout was not
+        // the one expected, and the checkpoint is dropped unchecked.
         std::vector<Checkpoint> due;
         auto it = std::remove_if(checkpoints_.begin(), checkpoints_.end(),
                                  [&](const Checkpoint& c)
                                  {
                                      if (c.offset > pos_) return false;
-                                     if (c.offset == pos_ && count == 4) due.push_back(c);
+                                     if (c.offset == pos_ && count == c.width) due.push_back(c);
                                      return true;
                                  });
         checkpoints_.erase(it, checkpoints_.end());

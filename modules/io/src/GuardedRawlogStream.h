@@ -36,11 +36,12 @@
  * CPosePDFSOG and CPosePDFGrid element counts; CMatrixF/CMatrixD sizes (covariances,
  * old poses). Classes the pipeline does not read but MRPT builds inside frames
  * (GuardedRawlogSensorLayouts.cpp): comments, beacon ranges, ranges, IMUs, GPS labels,
- * battery states, Velodyne and RGB-D scans, point-cloud maps and every CImage. An entry
+ * battery states, Velodyne, RGB-D and rotating scans, point-cloud maps, every CImage and
+ * the rarer sensors (GuardedRawlogRareLayouts.cpp). An entry
  * must be an action collection, a frame or an observation, a frame's element an
  * observation (refused at the class name, before MRPT builds it). Not guarded: counts
- * inside the other observation classes (e.g. a CObservationRotatingScan planted in a
- * frame): MRPT's deserialiser allocates what those declare.
+ * inside the other observation classes (e.g. a CObservationRawDAQ planted in a frame):
+ * MRPT's deserialiser allocates what those declare.
  *
  * The file is decompressed once when opened to count its bytes (and to find corrupt gzip
  * data, so that it is reported as corrupt rather than as an early end).
@@ -144,6 +145,7 @@ private:
         };
         Kind kind = Count;
         uint64_t offset = 0;
+        size_t width = 4;  // bytes of the read at `offset` that triggers the check
         uint64_t element_bytes = 0;
         uint64_t tail_bytes = 0;
         uint64_t cap = 0;
@@ -189,6 +191,10 @@ private:
     void armRange(const ObjectHeader& h);
     void armImu(const ObjectHeader& h);
     void armVelodyne(const ObjectHeader& h);
+    /** armSensor for the rarer classes (GuardedRawlogRareLayouts.cpp). */
+    bool armRare(const ObjectHeader& h);
+    void armRfid(const ObjectHeader& h);
+    void armRotatingScan(const ObjectHeader& h);
     void arm3DScan(const ObjectHeader& h);
     void armImage(const ObjectHeader& h);
     void armRawImage(const ObjectHeader& h);

@@ -10,7 +10,17 @@
 #include <mrpt/obs/CObservationGPS.h>
 #include <mrpt/obs/CObservationIMU.h>
 #include <mrpt/obs/CObservationImage.h>
+#include <mrpt/obs/CObservation6DFeatures.h>
+#include <mrpt/obs/CObservationCANBusJ1939.h>
+#include <mrpt/obs/CObservationGasSensors.h>
+#include <mrpt/obs/CObservationRFID.h>
 #include <mrpt/obs/CObservationRange.h>
+#include <mrpt/obs/CObservationReflectivity.h>
+#include <mrpt/obs/CObservationRobotPose.h>
+#include <mrpt/obs/CObservationSkeleton.h>
+#include <mrpt/obs/CObservationWindSensor.h>
+#include <mrpt/obs/CObservationWirelessPower.h>
+#include <mrpt/poses/CPose3D.h>
 #include <mrpt/obs/CObservationRotatingScan.h>
 #include <mrpt/obs/CObservation3DRangeScan.h>
 #include <mrpt/obs/CObservationPointCloud.h>
@@ -392,5 +402,121 @@ TEST(RawlogHostileSensorsTest, HugePointCloudIsRefused)
     const size_t count = afterName(data, "mrpt::maps::CSimplePointsMap") + 1;
     ASSERT_EQ(getU32(data, count), 2u);
     expectRefused(data, count, 0x20000000u, "points");
+}
+}  // namespace
+
+namespace
+{
+template <class Obs>
+void expectLabelGuarded(Obs obs, const std::string& label)
+{
+    obs.sensorLabel = label;
+    const auto data = inFrame(obs);
+    expectReads(data);
+    expectRefused(data, lengthOf(data, label), 0xF0000000u, "bytes of sensor label");
+}
+
+TEST(RawlogHostileSensorsTest, LabelsOfTheRarerClassesAreChecked)
+{
+    using namespace mrpt::obs;
+    expectLabelGuarded(CObservationReflectivity(), "reflectivity_sensor");
+    expectLabelGuarded(CObservationWirelessPower(), "wifi_power");
+    expectLabelGuarded(CObservationWindSensor(), "anemometer");
+    expectLabelGuarded(CObservationRobotPose(), "external_pose");
+    expectLabelGuarded(CObservationSkeleton(), "kinect_skeleton");
+    CObservationCANBusJ1939 can;
+    can.m_data = {1, 2, 3};
+    can.m_raw_frame = {'a', 'b'};
+    expectLabelGuarded(can, "can_bus_0");
+    const auto data = [&] { can.sensorLabel = "can_bus_0"; return inFrame(can); }();
+    // PGN, five bytes, then the data count.
+    const size_t count = afterName(data, "mrpt::obs::CObservationCANBusJ1939") + 1 + 7;
+    ASSERT_EQ(getU32(data, count), 3u);
+    expectRefused(data, count, 0x7FFFFFFFu, "CAN data bytes");
+    expectRefused(data, count + 4 + 3, 0x7FFFFFFFu, "CAN raw frame bytes");
+}
+
+TEST(RawlogHostileSensorsTest, CountsOfTheRarerClassesAreChecked)
+{
+    using namespace mrpt::obs;
+    CObservationRFID rfid;
+    rfid.tag_readings.resize(2);
+    auto data = inFrame(rfid);
+    expectReads(data);
+    const size_t tags = afterName(data, "mrpt::obs::CObservationRFID") + 1;
+    ASSERT_EQ(getU32(data, tags), 2u);
+    expectRefused(data, tags, 0x7FFFFFFFu, "RFID tags");
+
+    CObservationGasSensors gas;
+    gas.m_readings.resize(2);
+    data = inFrame(gas);
+    expectReads(data);
+    const size_t readings = afterName(data, "mrpt::obs::CObservationGasSensors") + 1;
+    ASSERT_EQ(getU32(data, readings), 2u);
+    expectRefused(data, readings, 0x7FFFFFFFu, "gas sensor readings");
+
+    CObservation6DFeatures features;
+    features.sensedFeatures.resize(1);
+    data = inFrame(features);
+    expectReads(data);
+    const size_t count = pastPose(data, afterName(data, "mrpt::obs::CObservation6DFeatures") + 1 + 8);
+    ASSERT_EQ(getU32(data, count), 1u);
+    expectRefused(data, count, 0x00FFFFFFu, "6-D features");
+}
+
+// Before version 4 the RFID tag count is decimal text, parsed with atoi into a uint32:
+// "-1" is 4,294,967,295 tags.
+TEST(RawlogHostileSensorsTest, RfidTagCountAsTextIsChecked)
+{
+    const auto rfidV3 = [](const std::string& count)
+    {
+        mrpt::obs::CSensoryFrame sf;
+        auto data = serialised(sf);  // header, version, a zero count, end flag
+        const std::string name = "mrpt::obs::CObservationRFID";
+        const size_t n = afterName(data, "mrpt::obs::CSensoryFrame") + 1;
+        putU32(data, n, 1);
+        std::vector<uint8_t> obs{static_cast<uint8_t>(0x80 | name.size())};
+        obs.insert(obs.end(), name.begin(), name.end());
+        obs.push_back(3);
+        const auto u32 = [&](uint32_t x) { obs.resize(obs.size() + 4); putU32(obs, obs.size() - 4, x); };
+        u32(static_cast<uint32_t>(count.size()));
+        obs.insert(obs.end(), count.begin(), count.end());
+        obs.resize(obs.size() + 8, 0);  // one tag's power
+        u32(0);                         // its EPC
+        u32(0);                         // its antenna port
+        u32(0);                         // the label
+        obs.resize(obs.size() + 8, 0);  // the timestamp
+        const auto pose = serialised(mrpt::poses::CPose3D());
+        obs.insert(obs.end(), pose.begin(), pose.end());
+        obs.push_back(0x88);
+        data.insert(data.begin() + static_cast<std::ptrdiff_t>(n + 4), obs.begin(), obs.end());
+        return data;
+    };
+    expectReads(rfidV3("1"));
+    for (const char* count : {"-1", "2000000000", "99999999999999999999"})
+    {
+        const auto data = rfidV3(count);
+        expectCleanError(writeGz(data), data, "entry 0", "RFID tags");
+    }
+}
+
+TEST(RawlogHostileSensorsTest, RotatingScanImagesAreChecked)
+{
+    mrpt::obs::CObservationRotatingScan obs;
+    obs.sensorLabel = "ouster";
+    obs.lidarModel = "OS1";
+    obs.rowCount = 4;
+    obs.columnCount = 5;
+    obs.rangeImage.setZero(4, 5);
+    obs.intensityImage.setZero(4, 5);
+    const auto data = inFrame(obs);
+    expectReads(data);
+    // After the lidar model: two doubles, the sensor pose, a timestamp and a flag.
+    const size_t dims = pastPose(data, find(data, obs.lidarModel) + obs.lidarModel.size() + 16) + 9;
+    ASSERT_EQ(data[dims], 5);
+    ASSERT_EQ(data[dims + 2], 4);
+    expectRefused(data, dims, 0xFFFFFFFFu, "range image pixels");
+    expectRefused(data, dims + 4 + 2 * 20, 0xFFFFFFFFu, "intensity image pixels");
+    expectRefused(data, lengthOf(data, obs.lidarModel), 0xF0000000u, "bytes of lidar model");
 }
 }  // namespace

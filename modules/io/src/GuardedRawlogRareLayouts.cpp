@@ -1,0 +1,152 @@
+// GuardedRawlogStream: the counts and labels of the rarer MRPT observation classes that
+// MRPT builds inside sensory frames (rotating lidars, reflectivity, wireless power, wind,
+// robot pose, skeleton, CAN bus, RFID, gas sensors, 6-D features). Offsets follow MRPT
+// 2.5's serializeFrom() of each class.
+#include "GuardedRawlogStream.h"
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <cstdlib>
+#include <string>
+
+namespace hymm::io::detail
+{
+namespace
+{
+// Smallest serialised CPose3D object (see GuardedRawlogSensorLayouts.cpp).
+constexpr uint64_t kMinPose3DBytes = 1 + 7 + 1 + 7 * 8 + 1;
+// Smallest serialised 6x6 CMatrixD object: header (length byte, a name of at least one
+// byte, version), rows and columns, 36 doubles, end flag.
+constexpr uint64_t kMin66MatrixBytes = 1 + 1 + 1 + 8 + 36 * 8 + 1;
+}  // namespace
+
+bool GuardedRawlogStream::armRare(const ObjectHeader& h)
+{
+    const std::string& name = h.name;
+    const int v = h.version;
+    const uint64_t data = h.data;
+    const char* label = "bytes of sensor label";
+    if (name == "CObservationRotatingScan" && v == 0)
+        armRotatingScan(h);
+    else if (name == "CObservationReflectivity" && v <= 1)
+    {
+        // The level (float), the channel (int16, v1), the sensor pose, label, timestamp.
+        const uint64_t at = skipObject(data + 4 + (v >= 1 ? 2 : 0));
+        if (at != 0) checkpoints_.push_back(countAt(h, at, 1, 8, label));
+    }
+    else if (name == "CObservationWirelessPower" && v >= 1 && v <= 3)
+        // The power (double), label, timestamp (v2+), sensor pose (v3).
+        checkpoints_.push_back(countAt(h, data + 8, 1, (v >= 2 ? 8 : 0) + (v >= 3 ? kMinPose3DBytes : 0), label));
+    else if (name == "CObservationWindSensor" && v >= 1 && v <= 3)
+        // Speed and direction (doubles), label, timestamp (v2+), sensor pose (v3).
+        checkpoints_.push_back(
+            countAt(h, data + 16, 1, (v >= 2 ? 8 : 0) + (v >= 3 ? kMinPose3DBytes : 0), label));
+    else if (name == "CObservationRobotPose" && v <= 1)
+    {
+        // The pose (a CPose3DPDFGaussian object), label, timestamp, sensor pose (v1).
+        const uint64_t at = skipObject(data);
+        if (at != 0) checkpoints_.push_back(countAt(h, at, 1, 8 + (v >= 1 ? kMinPose3DBytes : 0), label));
+    }
+    else if (name == "CObservationSkeleton" && v <= 2)
+        // 15 joints of x, y, z and a confidence (doubles), label, timestamp, sensor pose (v2).
+        checkpoints_.push_back(countAt(h, data + 15 * 32, 1, 8 + (v >= 2 ? kMinPose3DBytes : 0), label));
+    else if (name == "CObservationCANBusJ1939" && v <= 1)
+    {
+        // PGN (uint16) and five bytes, the data bytes, the raw frame's bytes (one read
+        // each), label, timestamp.
+        Checkpoint c = countAt(h, data + 7, 1, 4 + 4 + 8, "CAN data bytes");
+        c.then[0] = {"CAN raw frame bytes", 0, 1, 4 + 8 + endFlagBytes(h)};
+        c.then[1] = {label, 0, 1, 8 + endFlagBytes(h)};
+        checkpoints_.push_back(c);
+    }
+    else if (name == "CObservationRFID" && v <= 4)
+        armRfid(h);
+    else if (name == "CObservationGasSensors" && v >= 2 && v <= 5)
+        // Per reading: the e-nose pose (a CPose3D object), the voltages (float vector) and
+        // sensor types (int vector), a temperature flag (v3+); then label (v4+), timestamp
+        // (v5). MRPT holds about 104 B per reading.
+        checkpoints_.push_back(countAt(h, data, kMinPose3DBytes + 4 + 4 + (v >= 3 ? 1 : 0),
+                                       (v >= 4 ? 4 : 0) + (v >= 5 ? 8 : 0), "gas sensor readings"));
+    else if (name == "CObservation6DFeatures" && v == 0)
+    {
+        // Two floats, the sensor pose; per feature a CPose3D object, an int32 ID and a 6x6
+        // information matrix (a CMatrixD object); then label, timestamp.
+        const uint64_t at = skipObject(data + 8);
+        if (at != 0)
+            checkpoints_.push_back(
+                countAt(h, at, kMinPose3DBytes + 4 + kMin66MatrixBytes, 4 + 8, "6-D features"));
+    }
+    else
+        return false;
+    return true;
+}
+
+void GuardedRawlogStream::armRfid(const ObjectHeader& h)
+{
+    // Per tag: the power (double), the EPC and the antenna port (strings); MRPT holds
+    // about 72 B per tag. v4 stores the tag count as a uint32, older versions as decimal
+    // text that MRPT parses with atoi() before sizing the tags.
+    constexpr uint64_t kTagBytes = 8 + 4 + 4;
+    const int v = h.version;
+    const uint64_t tail = (v >= 1 ? 4 : 0) + (v >= 2 ? 8 : 0) + (v >= 3 ? kMinPose3DBytes : 0);
+    if (v == 4)
+    {
+        checkpoints_.push_back(countAt(h, h.data, kTagBytes, tail, "RFID tags"));
+        return;
+    }
+    checkpoints_.push_back(countAt(h, h.data, 1, 0, "bytes of the RFID tag count"));
+    uint32_t len = 0;
+    if (!peek(h.data, &len, 4)) return;
+    // atoi stops at the first non-digit and saturates long before 4 KiB of digits.
+    std::string text(std::min<uint32_t>(len, 4096), '\0');
+    if (!peek(h.data + 4, text.data(), text.size())) return;
+    // As MRPT reads it: glibc's atoi is (int) strtol, and the result goes into a uint32
+    // ("-1" is 4294967295 tags).
+    const auto n = static_cast<uint32_t>(static_cast<int>(std::strtol(text.c_str(), nullptr, 10)));
+    const uint64_t left = total_ - std::min(total_, h.data + 4 + len);
+    if (uint64_t{n} * kTagBytes + tail <= left) return;
+    size_error_ = "declares " + std::to_string(n) + " RFID tags (at least " +
+                  std::to_string(uint64_t{n} * kTagBytes + tail) + " bytes) at byte " +
+                  std::to_string(h.data) + " but only " + std::to_string(left) + " bytes follow in the file";
+    throw RawlogSizeError(size_error_);
+}
+
+void GuardedRawlogStream::armRotatingScan(const ObjectHeader& h)
+{
+    // The timestamp, the label, row and column counts (uint16), four doubles, the lidar
+    // model (a string), minimum and maximum range (doubles), the sensor pose, the
+    // original timestamp, a flag; then the range image's columns and rows (uint16; MRPT
+    // sizes it, 2 B per pixel, and reads it), the intensity image's (1 B per pixel), and
+    // the other layers (each the range image's size, read before the next one is sized).
+    checkpoints_.push_back(countAt(h, h.data + 8, 1, 4 + 32 + 4, "bytes of sensor label"));
+    uint32_t label = 0, model = 0;
+    if (!peek(h.data + 8, &label, 4) || label > total_) return;
+    const uint64_t model_at = h.data + 12 + label + 4 + 32;
+    checkpoints_.push_back(countAt(h, model_at, 1, 16 + kMinPose3DBytes + 9 + 4, "bytes of lidar model"));
+    if (!peek(model_at, &model, 4) || model > total_) return;
+    const uint64_t pose = skipObject(model_at + 4 + model + 16);
+    if (pose == 0) return;
+    const uint64_t dims = pose + 9;
+    std::array<uint16_t, 2> range{}, intensity{};  // columns, rows
+    if (!peek(dims, range.data(), 4)) return;
+    const uint64_t pixels = uint64_t{range[0]} * range[1];
+    Checkpoint c;
+    c.kind = Checkpoint::Pixels;
+    c.width = 2;
+    c.offset = dims;
+    c.cap = pixels;
+    c.element_bytes = 2;
+    c.tail_bytes = 4 + 4 + 2 + endFlagBytes(h);
+    c.what = "range image pixels";
+    checkpoints_.push_back(c);
+    if (!peek(dims + 4 + 2 * pixels, intensity.data(), 4)) return;
+    c.offset = dims + 4 + 2 * pixels;
+    c.cap = uint64_t{intensity[0]} * intensity[1];
+    c.element_bytes = 1;
+    c.tail_bytes = 4 + 2 + endFlagBytes(h);
+    c.what = "intensity image pixels";
+    checkpoints_.push_back(c);
+}
+
+}  // namespace hymm::io::detail
