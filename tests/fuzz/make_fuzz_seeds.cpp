@@ -4,7 +4,8 @@
  *        the bundled samples, every .ini under configs/ and rawlogs/, and one small valid
  *        input of each importer format (packed as import_fuzz.cpp unpacks them).
  *
- * Usage: make_fuzz_seeds <source dir> <output dir>  (writes rawlog/, ini/, import/ there)
+ * Usage: make_fuzz_seeds <source dir> <output dir>  (writes rawlog/, rawlog_sensors/, ini/,
+ *        import/ there)
  */
 #include <hymm/datasets/MatFile.h>
 #include <hymm/io/RawlogReader.h>
@@ -239,7 +240,8 @@ int main(int argc, char** argv)
                     fs::copy_file(e.path(),
                                   out / "ini" / (d.filename().string() + "_" + e.path().filename().string()),
                                   fs::copy_options::overwrite_existing);
-        sensorSeeds(out / "rawlog");
+        fs::create_directories(out / "rawlog_sensors");
+        sensorSeeds(out / "rawlog_sensors");
         importSeeds(out / "import");
     }
     catch (const std::exception& e)

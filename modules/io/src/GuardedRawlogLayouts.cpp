@@ -268,7 +268,7 @@ void GuardedRawlogStream::trackHeader(const std::string& qualified, bool old_for
         requireClass(qualified, CLASS_ID(mrpt::obs::CObservation), at, kObservationSlot);
     if (old_format) return;  // no end flag to close it (old-format collections: armFor)
     const std::string name = unqualified(qualified);
-    const Frame f{name == "CActionCollection", element, name == "CSensoryFrame"};
+    const Frame f{name == "CActionCollection", element, name == "CSensoryFrame", name};
     if (null)
         open_.push_back(f);  // no version byte: its end flag is the next read
     else

@@ -86,6 +86,10 @@ bool GuardedRawlogStream::armSensor(const ObjectHeader& h)
         checkpoints_.push_back(countAt(h, h.data, 12, 0, "points"));
     else if (name == "CPointsMapXYZI" && v == 0)
         checkpoints_.push_back(countAt(h, h.data, 16, 0, "points"));
+    else if (name == "TCamera" && v >= 5 && v <= 6)
+        // The focal length, 8 distortion and 4 intrinsic doubles, rows and columns
+        // (uint32), the camera name, the distortion model (v6, a byte).
+        checkpoints_.push_back(countAt(h, h.data + 8 + 64 + 32 + 8, 1, v >= 6 ? 1 : 0, "bytes of camera name"));
     else if (name == "CImage")
         armImage(h);
     else
@@ -189,50 +193,49 @@ void GuardedRawlogStream::arm3DScan(const ObjectHeader& h)
 
 void GuardedRawlogStream::armImage(const ObjectHeader& h)
 {
+    const uint64_t end = armImageData(h);
+    if (end == 0 || open_.empty() || open_.back().name != "CObservationImage") return;
+    // The image of a CObservationImage (v3-4) is followed by the timestamp, in v3 the
+    // focal length (a double), then the label. The observation's end flag is taken to be
+    // in the image's format (one writer wrote both).
+    const int v = open_.back().version;
+    if (v < 3 || v > 4) return;
+    checkpoints_.push_back(countAt(h, end + endFlagBytes(h) + 8 + (v == 3 ? 8 : 0), 1, 0, "bytes of sensor label"));
+}
+
+uint64_t GuardedRawlogStream::armImageData(const ObjectHeader& h)
+{
     // CImage, in every camera, stereo and RGB-D observation. v6+ (and v100, written
     // without OpenCV) start with the external-storage flag; an external image holds only
-    // its file name.
+    // its file name. Returns where the image's data ends (0 if not known).
     const int v = h.version;
     uint64_t at = h.data;
     if (v == 100 || (v >= 6 && v <= 9))
     {
         uint8_t external = 0;
-        if (!peek(at, &external, 1)) return;
+        uint32_t len = 0;
+        if (!peek(at, &external, 1)) return 0;
         if (external)
         {
             checkpoints_.push_back(countAt(h, at + 1, 1, 0, "bytes of image file name"));
-            return;
+            return peek(at + 1, &len, 4) ? at + 5 + len : 0;
         }
         ++at;
     }
     if (v == 0) return armRawImage(h);
     if (v == 1) return armJpeg(h, at);
-    if (v < 2 || v > 9) return;
+    if (v < 2 || v > 9) return 0;
     uint8_t color = 0;
-    if (!peek(at, &color, 1)) return;
+    if (!peek(at, &color, 1)) return 0;
     ++at;
-    std::array<int32_t, 5> f{};  // width, height, then origin, size and depth of grey ones
-    if (!color)
-    {
-        // Grey: width, height, origin, size in bytes, the depth (v9), the compression
-        // flag (v5+), the rows. MRPT sizes the image from the first two (and the depth).
-        if (!peek(at, f.data(), v >= 9 ? 20 : 16)) return;
-        Checkpoint c;
-        c.kind = Checkpoint::Pixels;
-        c.offset = at;
-        c.cap = uint64_t{static_cast<uint32_t>(f[0])} * static_cast<uint32_t>(f[1]);
-        c.element_bytes = v >= 9 ? pixelDepthBytes(f[4]) : 1;
-        c.tail_bytes = 16 + (v >= 9 ? 4 : 0) + (v >= 5 ? 1 : 0) + endFlagBytes(h);
-        c.what = "pixels of a grey image";
-        checkpoints_.push_back(c);
-        return;
-    }
+    if (!color) return armGreyImage(h, at);
     if (v < 7) return armJpeg(h, at);
+    std::array<int32_t, 2> f{};  // width, height
     // Colour from v7: width and height; both positive: a JPEG follows; both negative
     // (v8): the raw rows, 3 bytes per pixel.
-    if (!peek(at, f.data(), 8)) return;
+    if (!peek(at, f.data(), 8)) return 0;
     if (f[0] >= 1 && f[1] >= 1) return armJpeg(h, at + 8);
-    if (f[0] >= 0 || f[1] >= 0) return;  // an empty image: nothing sized
+    if (f[0] >= 0 || f[1] >= 0) return at + 8;  // an empty image: nothing sized
     Checkpoint c;
     c.kind = Checkpoint::Pixels;
     c.offset = at;
@@ -241,16 +244,41 @@ void GuardedRawlogStream::armImage(const ObjectHeader& h)
     c.tail_bytes = 8 + endFlagBytes(h);
     c.what = "pixels of a raw colour image";
     checkpoints_.push_back(c);
+    return at + 8 + 3 * c.cap;
 }
 
-void GuardedRawlogStream::armRawImage(const ObjectHeader& h)
+uint64_t GuardedRawlogStream::armGreyImage(const ObjectHeader& h, uint64_t at)
+{
+    const int v = h.version;
+    std::array<int32_t, 5> f{};  // width, height, origin, size, depth
+    // Grey: width, height, origin, size in bytes, the depth (v9), the compression
+    // flag (v5+), the rows. MRPT sizes the image from the first two (and the depth).
+    if (!peek(at, f.data(), v >= 9 ? 20 : 16)) return 0;
+    const uint64_t fields = 16 + (v >= 9 ? 4 : 0) + (v >= 5 ? 1 : 0);
+    Checkpoint c;
+    c.kind = Checkpoint::Pixels;
+    c.offset = at;
+    c.cap = uint64_t{static_cast<uint32_t>(f[0])} * static_cast<uint32_t>(f[1]);
+    c.element_bytes = v >= 9 ? pixelDepthBytes(f[4]) : 1;
+    c.tail_bytes = fields + endFlagBytes(h);
+    c.what = "pixels of a grey image";
+    checkpoints_.push_back(c);
+    // Raw rows follow unless compressed (v3-4 above 16 KiB, or the v5+ flag): MRPT
+    // refuses compressed ones.
+    uint8_t zip = 0;
+    if (v >= 5 && !peek(at + fields - 1, &zip, 1)) return 0;
+    const bool raw = v == 2 || (v == 4 && static_cast<uint32_t>(f[3]) <= 16 * 1024) || (v >= 5 && !zip);
+    return raw ? at + fields + static_cast<uint32_t>(f[3]) : 0;
+}
+
+uint64_t GuardedRawlogStream::armRawImage(const ObjectHeader& h)
 {
     // v0: width, height, channels (uint32), origin (a byte), the data length (uint32), the
     // data. MRPT sizes the image from the first three, then reads the declared length
     // into it: a length beyond the image would write past its buffer.
     std::array<uint32_t, 3> f{};
     uint32_t length = 0;
-    if (!peek(h.data, f.data(), 12) || !peek(h.data + 13, &length, 4)) return;
+    if (!peek(h.data, f.data(), 12) || !peek(h.data + 13, &length, 4)) return 0;
     const uint64_t pixels = uint64_t{f[0]} * f[1];
     const bool fits = f[2] == 0 || pixels <= std::numeric_limits<uint64_t>::max() / f[2];
     if (fits && length > pixels * f[2])
@@ -268,23 +296,26 @@ void GuardedRawlogStream::armRawImage(const ObjectHeader& h)
     c.tail_bytes = 17 + endFlagBytes(h);
     c.what = "pixels of an old-format image";
     checkpoints_.push_back(c);
+    return h.data + 17 + length;
 }
 
-void GuardedRawlogStream::armJpeg(const ObjectHeader& h, uint64_t at)
+uint64_t GuardedRawlogStream::armJpeg(const ObjectHeader& h, uint64_t at)
 {
     // The JPEG's byte count, then its bytes (MRPT copies them into a buffer first).
+    // Returns where they end (0 if the count cannot be read).
     checkpoints_.push_back(countAt(h, at, 1, 0, "bytes of JPEG data"));
     uint32_t n = 0;
     std::array<uint8_t, 4> b{};
-    if (!peek(at, &n, 4) || !peek(at + 4, b.data(), 2) || b[0] != 0xFF || b[1] != 0xD8) return;
+    if (!peek(at, &n, 4)) return 0;
+    const uint64_t end = at + 4 + n;
+    if (!peek(at + 4, b.data(), 2) || b[0] != 0xFF || b[1] != 0xD8) return end;
     // The frame header (SOF0-15 but DHT, JPG, DAC) gives the size the JPEG decodes to:
     // walk the marker segments up to it, at most 64 of them.
-    const uint64_t end = at + 4 + n;
     uint64_t p = at + 6;
     for (int k = 0; k < 64 && p + 4 <= end && peek(p, b.data(), 4) && b[0] == 0xFF; ++k)
     {
         const uint8_t m = b[1];
-        if (m == 0xD9 || m == 0xDA) return;  // end of image, start of scan: no frame header
+        if (m == 0xD9 || m == 0xDA) return end;  // end of image, start of scan: no frame header
         if (m == 0xFF)
         {
             ++p;  // fill byte
@@ -300,7 +331,7 @@ void GuardedRawlogStream::armJpeg(const ObjectHeader& h, uint64_t at)
         if (frame && peek(p + 4, sof.data(), 6))
         {
             const uint64_t bytes = bigEndian16(&sof[1]) * bigEndian16(&sof[3]) * std::max<uint64_t>(sof[5], 1);
-            if (bytes <= kMaxDecodedImageBytes) return;
+            if (bytes <= kMaxDecodedImageBytes) return end;
             size_error_ = "holds a JPEG image of " + std::to_string(bigEndian16(&sof[3])) + " x " +
                           std::to_string(bigEndian16(&sof[1])) + " x " + std::to_string(sof[5]) +
                           " bytes decoded at byte " + std::to_string(at) + ", more than the " +
@@ -309,6 +340,7 @@ void GuardedRawlogStream::armJpeg(const ObjectHeader& h, uint64_t at)
         }
         p += 2 + bigEndian16(&b[2]);
     }
+    return end;
 }
 
 }  // namespace hymm::io::detail

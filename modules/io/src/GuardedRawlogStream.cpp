@@ -315,6 +315,7 @@ bool GuardedRawlogStream::trackFrames(size_t count, size_t n, const uint8_t* byt
         if (count == 1 && n == 1)
         {
             open_.push_back(*pending_);
+            open_.back().version = bytes[0];
             version_byte = true;
         }
         else if (reopened_ && !open_.empty())

@@ -197,9 +197,12 @@ private:
     void armRotatingScan(const ObjectHeader& h);
     void arm3DScan(const ObjectHeader& h);
     void armImage(const ObjectHeader& h);
-    void armRawImage(const ObjectHeader& h);
+    /** armImage's checks of the image data; where the data ends, 0 if not known. */
+    uint64_t armImageData(const ObjectHeader& h);
+    uint64_t armRawImage(const ObjectHeader& h);
+    uint64_t armGreyImage(const ObjectHeader& h, uint64_t at);
     /** The byte count of a JPEG image at `at` and the size it decodes to. */
-    void armJpeg(const ObjectHeader& h, uint64_t at);
+    uint64_t armJpeg(const ObjectHeader& h, uint64_t at);
     /** A count at `at` followed by elements of `element` bytes and `tail` bytes more
      *  (plus the end flag) before the object ends. */
     static Checkpoint countAt(const ObjectHeader& h, uint64_t at, uint64_t element, uint64_t tail,
@@ -226,6 +229,8 @@ private:
         bool collection = false;  // a CActionCollection: its children must be actions
         bool element = false;     // a child of a collection
         bool sensory_frame = false;  // a CSensoryFrame: its children must be observations
+        std::string name;            // without namespace
+        int version = -1;            // once its version byte was read
     };
     /** At a class name MRPT just read (the header started at `at`): refuses an entry that
      *  is no action collection, sensory frame or observation, a child of an open

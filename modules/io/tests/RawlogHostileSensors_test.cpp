@@ -520,3 +520,30 @@ TEST(RawlogHostileSensorsTest, RotatingScanImagesAreChecked)
     expectRefused(data, lengthOf(data, obs.lidarModel), 0xF0000000u, "bytes of lidar model");
 }
 }  // namespace
+
+namespace
+{
+// The camera's name (TCamera) and the label after the image, whose offset follows from
+// the image's layout (raw grey, raw colour, JPEG, external file).
+TEST(RawlogHostileSensorsTest, CameraNameAndImageObservationLabelAreChecked)
+{
+    const bool raw = mrpt::img::CImage::DISABLE_JPEG_COMPRESSION();
+    for (int variant = 0; variant < 4; ++variant)
+    {
+        mrpt::img::CImage img;
+        if (variant == 0) img = pattern(6, 4, mrpt::img::CH_GRAY);
+        if (variant == 1 || variant == 2) img = pattern(16, 12, mrpt::img::CH_RGB);
+        if (variant == 3) img.setExternalStorage("cam/0001.png");
+        auto obs = imageObservation(img);
+        obs.sensorLabel = "front_camera";
+        obs.cameraParams.cameraName = "left_cam";
+        mrpt::img::CImage::DISABLE_JPEG_COMPRESSION(variant != 2);
+        const auto data = inFrame(obs);
+        mrpt::img::CImage::DISABLE_JPEG_COMPRESSION(raw);
+        SCOPED_TRACE(variant);
+        expectReads(data);
+        expectRefused(data, lengthOf(data, "left_cam"), 0xF0000000u, "bytes of camera name");
+        expectRefused(data, lengthOf(data, "front_camera"), 0xF0000000u, "bytes of sensor label");
+    }
+}
+}  // namespace
