@@ -1,13 +1,18 @@
 // GuardedRawlogStream: the counts and labels of the rarer MRPT observation classes that
 // MRPT builds inside sensory frames (rotating lidars, reflectivity, wireless power, wind,
-// robot pose, skeleton, CAN bus, RFID, gas sensors, 6-D features). Offsets follow MRPT
+// robot pose, skeleton, CAN bus, RFID, gas sensors, 6-D features) and the messages of a
+// GPS observation. Offsets follow MRPT
 // 2.5's serializeFrom() of each class.
 #include "GuardedRawlogStream.h"
+
+#include <mrpt/obs/gnss_messages_novatel.h>
+#include <mrpt/obs/gnss_messages_type_list.h>
 
 #include <algorithm>
 #include <array>
 #include <cstdint>
 #include <cstdlib>
+#include <memory>
 #include <string>
 
 namespace hymm::io::detail
@@ -147,6 +152,61 @@ void GuardedRawlogStream::armRotatingScan(const ObjectHeader& h)
     c.tail_bytes = 4 + 2 + endFlagBytes(h);
     c.what = "intensity image pixels";
     checkpoints_.push_back(c);
+}
+
+void GuardedRawlogStream::armGpsMessages(const ObjectHeader& h)
+{
+    // v10-11: two timestamps, the label, the sensor pose (a CPose3D object), a flag (v11),
+    // the message count, then each message: its type (int32) and its content. MRPT
+    // creates each message with new and reads it (a failed read leaks it: lsan.supp).
+    // Most types are a fixed block behind its byte count (MRPT checks the count before
+    // reading); the NovAtel generic frames size their body from a count and then read 4
+    // bytes into it whatever its size (a heap overflow below 4, and MRPT's own position
+    // afterwards); RANGECMP and VERSION hold at most 2,000 records (MRPT asserts it). The
+    // walk follows MRPT's reads and stops at a type it does not size (Topcon PZS and
+    // SATS, unknown types) or after 1,000 messages.
+    using namespace mrpt::obs::gnss;
+    uint32_t label = 0, count = 0;
+    if (!peek(h.data + 16, &label, 4) || label > total_) return;
+    uint64_t p = skipObject(h.data + 20 + label);
+    if (p == 0) return;
+    p += h.version >= 11 ? 1 : 0;
+    if (!peek(p, &count, 4)) return;
+    p += 4;
+    for (uint32_t i = 0; i < std::min<uint32_t>(count, 1000); ++i)
+    {
+        int32_t type = 0;
+        uint32_t n = 0;
+        if (!peek(p, &type, 4)) return;
+        p += 4;
+        if (type == NV_OEM6_GENERIC_FRAME || type == NV_OEM6_GENERIC_SHORT_FRAME)
+        {
+            p += type == NV_OEM6_GENERIC_FRAME ? sizeof(nv_oem6_header_t) : sizeof(nv_oem6_short_header_t);
+            if (!peek(p, &n, 4)) return;
+            if (n > 0 && n < 4)
+            {
+                size_error_ = "holds a NovAtel frame of " + std::to_string(n) + " bytes at byte " +
+                              std::to_string(p) + ", into which MRPT reads 4";
+                throw RawlogSizeError(size_error_);
+            }
+            checkpoints_.push_back(countAt(h, p, 1, 0, "bytes of a NovAtel frame"));
+            p += 4 + (n > 0 ? 4 : 0);
+            continue;
+        }
+        if (type == NV_OEM6_RANGECMP || type == NV_OEM6_VERSION)
+        {
+            const uint64_t record = type == NV_OEM6_RANGECMP ? sizeof(Message_NV_OEM6_RANGECMP::TCompressedRangeLog)
+                                                             : sizeof(Message_NV_OEM6_VERSION::TComponentVersion);
+            p += 4 + sizeof(nv_oem6_header_t);
+            if (!peek(p, &n, 4) || n >= 2000) return;
+            p += 4 + n * record;
+            continue;
+        }
+        if (type == TOPCON_PZS || type == TOPCON_SATS || !peek(p, &n, 4)) return;
+        std::unique_ptr<gnss_message> known(gnss_message::Factory(static_cast<gnss_message_type_t>(type)));
+        if (!known) return;  // MRPT refuses an unknown type
+        p += 4 + uint64_t{n};
+    }
 }
 
 }  // namespace hymm::io::detail

@@ -59,11 +59,14 @@ bool GuardedRawlogStream::armSensor(const ObjectHeader& h)
     else if (name == "CObservationIMU" && v <= 4)
         armImu(h);
     else if (name == "CObservationGPS" && (v == 10 || v == 11))
+    {
         // Two timestamps, the label, the sensor pose (a CPose3D object), from v11 a flag,
         // then the message count. Messages are read one at a time (nothing is sized by
-        // that count); counts inside the variable-length messages are not checked.
+        // that count); their contents: armGpsMessages.
         checkpoints_.push_back(countAt(h, h.data + 16, 1, kMinPose3DBytes + (v >= 11 ? 1 : 0) + 4,
                                        "bytes of sensor label"));
+        armGpsMessages(h);
+    }
     else if (name == "CObservationBatteryState" && v <= 2)
     {
         // Two doubles and two flags, then the other batteries' voltages (count, doubles)

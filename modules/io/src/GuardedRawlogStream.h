@@ -195,6 +195,7 @@ private:
     bool armRare(const ObjectHeader& h);
     void armRfid(const ObjectHeader& h);
     void armRotatingScan(const ObjectHeader& h);
+    void armGpsMessages(const ObjectHeader& h);
     void arm3DScan(const ObjectHeader& h);
     void armImage(const ObjectHeader& h);
     /** armImage's checks of the image data; where the data ends, 0 if not known. */

@@ -8,6 +8,7 @@
 #include <mrpt/obs/CObservationBatteryState.h>
 #include <mrpt/obs/CObservationComment.h>
 #include <mrpt/obs/CObservationGPS.h>
+#include <mrpt/obs/gnss_messages_novatel.h>
 #include <mrpt/obs/CObservationIMU.h>
 #include <mrpt/obs/CObservationImage.h>
 #include <mrpt/obs/CObservation6DFeatures.h>
@@ -545,5 +546,46 @@ TEST(RawlogHostileSensorsTest, CameraNameAndImageObservationLabelAreChecked)
         expectRefused(data, lengthOf(data, "left_cam"), 0xF0000000u, "bytes of camera name");
         expectRefused(data, lengthOf(data, "front_camera"), 0xF0000000u, "bytes of sensor label");
     }
+}
+}  // namespace
+
+namespace
+{
+// A GPS observation's messages are walked as MRPT reads them: a NovAtel generic frame
+// sizes its body from a count, then MRPT reads 4 bytes into it whatever its size. The
+// frame comes after a GGA, a BESTPOS and a RANGECMP message of two records, which the
+// walk must step over to find it. (The RANGECMP is spliced in as bytes: MRPT's class is
+// packed, and constructing one is undefined behaviour that UBSan reports.)
+TEST(RawlogHostileSensorsTest, NovatelFrameBehindOtherGpsMessagesIsChecked)
+{
+    using namespace mrpt::obs;
+    CObservationGPS obs;
+    obs.sensorLabel = "novatel";
+    gnss::Message_NMEA_GGA gga;
+    gga.fields.fix_quality = 4;
+    obs.setMsg(gga);
+    obs.setMsg(gnss::Message_NV_OEM6_BESTPOS());
+    gnss::Message_NV_OEM6_GENERIC_FRAME frame;
+    frame.msg_body = {0xAB, 0xCD, 0xEF, 0x12};
+    obs.messages[gnss::NV_OEM6_GENERIC_FRAME].set(new gnss::Message_NV_OEM6_GENERIC_FRAME(frame));
+    auto data = inFrame(obs);
+    expectReads(data);
+    // The message count (3) before the GGA's type (10).
+    const size_t messages = find(data, std::string("\x03\0\0\0\x0A\0\0\0", 8));
+    putU32(data, messages, 4);
+    // RANGECMP: its type, the expected length, the header, two records.
+    std::vector<uint8_t> rangecmp(4 + 4 + sizeof(gnss::nv_oem6_header_t) + 4, 0);
+    putU32(rangecmp, 0, gnss::NV_OEM6_RANGECMP);
+    putU32(rangecmp, rangecmp.size() - 4, 2);
+    rangecmp.resize(rangecmp.size() + 2 * sizeof(gnss::Message_NV_OEM6_RANGECMP::TCompressedRangeLog), 0);
+    const size_t body = find(data, std::string("\xAB\xCD\xEF\x12", 4));
+    const size_t frame_type = body - 4 - sizeof(gnss::nv_oem6_header_t) - 4;
+    ASSERT_EQ(getU32(data, frame_type), static_cast<uint32_t>(gnss::NV_OEM6_GENERIC_FRAME));
+    data.insert(data.begin() + static_cast<std::ptrdiff_t>(frame_type), rangecmp.begin(), rangecmp.end());
+    expectReads(data);
+    const size_t count = body + rangecmp.size() - 4;
+    ASSERT_EQ(getU32(data, count), 4u);
+    expectRefused(data, count, 2, "into which MRPT reads 4");
+    expectRefused(data, count, 0x7FFFFFFFu, "bytes of a NovAtel frame");
 }
 }  // namespace
