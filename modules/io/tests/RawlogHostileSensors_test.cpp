@@ -76,6 +76,15 @@ void expectRefused(std::vector<uint8_t> data, size_t at, uint32_t value, const s
     expectCleanError(writeGz(data), data, "entry 0", what);
 }
 
+template <class Obs>
+void expectLabelGuarded(Obs obs, const std::string& label)
+{
+    obs.sensorLabel = label;
+    const auto data = inFrame(obs);
+    expectReads(data);
+    expectRefused(data, lengthOf(data, label), 0xF0000000u, "bytes of sensor label");
+}
+
 TEST(RawlogHostileSensorsTest, HugeCommentLengthIsRefused)
 {
     mrpt::obs::CObservationComment obs;
@@ -109,24 +118,18 @@ TEST(RawlogHostileSensorsTest, HugeRangeCountAndLabelAreRefused)
 TEST(RawlogHostileSensorsTest, HugeImuLabelIsRefused)
 {
     mrpt::obs::CObservationIMU obs;
-    obs.sensorLabel = "xsens_imu";
     obs.set(mrpt::obs::IMU_WZ, 0.25);
-    const auto data = inFrame(obs);
-    expectReads(data);
-    expectRefused(data, lengthOf(data, obs.sensorLabel), 0xF0000000u, "bytes of sensor label");
+    expectLabelGuarded(obs, "xsens_imu");
 }
 
 TEST(RawlogHostileSensorsTest, HugeGpsLabelIsRefused)
 {
     mrpt::obs::CObservationGPS obs;
-    obs.sensorLabel = "gnss_receiver";
     mrpt::obs::gnss::Message_NMEA_GGA gga;
     gga.fields.latitude_degrees = 36.7;
     gga.fields.fix_quality = 1;
     obs.setMsg(gga);
-    const auto data = inFrame(obs);
-    expectReads(data);
-    expectRefused(data, lengthOf(data, obs.sensorLabel), 0xF0000000u, "bytes of sensor label");
+    expectLabelGuarded(obs, "gnss_receiver");
 }
 
 mrpt::obs::CObservationImage imageObservation(const mrpt::img::CImage& img)
@@ -408,15 +411,6 @@ TEST(RawlogHostileSensorsTest, HugePointCloudIsRefused)
 
 namespace
 {
-template <class Obs>
-void expectLabelGuarded(Obs obs, const std::string& label)
-{
-    obs.sensorLabel = label;
-    const auto data = inFrame(obs);
-    expectReads(data);
-    expectRefused(data, lengthOf(data, label), 0xF0000000u, "bytes of sensor label");
-}
-
 TEST(RawlogHostileSensorsTest, LabelsOfTheRarerClassesAreChecked)
 {
     using namespace mrpt::obs;
@@ -437,28 +431,30 @@ TEST(RawlogHostileSensorsTest, LabelsOfTheRarerClassesAreChecked)
     expectRefused(data, count + 4 + 3, 0x7FFFFFFFu, "CAN raw frame bytes");
 }
 
+// A class whose serialised data starts with its count (after the version byte).
+template <class Obs>
+void expectLeadingCountGuarded(const Obs& obs, const std::string& qualified, uint32_t n, const std::string& what)
+{
+    const auto data = inFrame(obs);
+    expectReads(data);
+    const size_t count = afterName(data, qualified) + 1;
+    ASSERT_EQ(getU32(data, count), n);
+    expectRefused(data, count, 0x7FFFFFFFu, what);
+}
+
 TEST(RawlogHostileSensorsTest, CountsOfTheRarerClassesAreChecked)
 {
     using namespace mrpt::obs;
     CObservationRFID rfid;
     rfid.tag_readings.resize(2);
-    auto data = inFrame(rfid);
-    expectReads(data);
-    const size_t tags = afterName(data, "mrpt::obs::CObservationRFID") + 1;
-    ASSERT_EQ(getU32(data, tags), 2u);
-    expectRefused(data, tags, 0x7FFFFFFFu, "RFID tags");
-
+    expectLeadingCountGuarded(rfid, "mrpt::obs::CObservationRFID", 2, "RFID tags");
     CObservationGasSensors gas;
     gas.m_readings.resize(2);
-    data = inFrame(gas);
-    expectReads(data);
-    const size_t readings = afterName(data, "mrpt::obs::CObservationGasSensors") + 1;
-    ASSERT_EQ(getU32(data, readings), 2u);
-    expectRefused(data, readings, 0x7FFFFFFFu, "gas sensor readings");
+    expectLeadingCountGuarded(gas, "mrpt::obs::CObservationGasSensors", 2, "gas sensor readings");
 
     CObservation6DFeatures features;
     features.sensedFeatures.resize(1);
-    data = inFrame(features);
+    const auto data = inFrame(features);
     expectReads(data);
     const size_t count = pastPose(data, afterName(data, "mrpt::obs::CObservation6DFeatures") + 1 + 8);
     ASSERT_EQ(getU32(data, count), 1u);
