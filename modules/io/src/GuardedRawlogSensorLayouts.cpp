@@ -28,6 +28,8 @@ constexpr uint64_t kMinPose3DBytes = 1 + 7 + 1 + 7 * 8 + 1;
 // a progressive one). Cap on the decoded bytes of one image: an 8K x 8K colour image is
 // 201 MB.
 constexpr uint64_t kMaxDecodedImageBytes = uint64_t{1} << 28;
+// Largest JPEG decoded before MRPT decodes it (checkJpegDecodes).
+constexpr uint32_t kMaxJpegCheckBytes = 64u << 20;
 
 uint64_t bigEndian16(const uint8_t* b) { return (uint64_t{b[0]} << 8) | b[1]; }
 
@@ -302,6 +304,23 @@ uint64_t GuardedRawlogStream::armRawImage(const ObjectHeader& h)
     return h.data + 17 + length;
 }
 
+void GuardedRawlogStream::checkJpegDecodes(uint64_t at, uint32_t n)
+{
+    // MRPT decodes the JPEG with libjpeg's standard error handler, which ends the process
+    // on a corrupt one (exit(1), no exception): decoded here first with one that returns.
+    // The frame-header cap (armJpeg) comes first, so that this decode stays bounded; a
+    // JPEG beyond kMaxJpegCheckBytes or beyond the file is not decoded here (the count
+    // check refuses the latter).
+    if (n == 0 || n > kMaxJpegCheckBytes || at + 4 + uint64_t{n} > total_) return;
+    std::vector<uint8_t> jpeg(n);
+    if (!peek(at + 4, jpeg.data(), n, uint64_t{kMaxJpegCheckBytes} + 4096)) return;
+    const std::string why = jpegDecodeError(jpeg.data(), n);
+    if (why.empty()) return;
+    size_error_ = "holds a JPEG image at byte " + std::to_string(at) + " that libjpeg cannot decode (" + why +
+                  "; MRPT's decoder would end the program)";
+    throw RawlogSizeError(size_error_);
+}
+
 uint64_t GuardedRawlogStream::armJpeg(const ObjectHeader& h, uint64_t at)
 {
     // The JPEG's byte count, then its bytes (MRPT copies them into a buffer first).
@@ -311,14 +330,16 @@ uint64_t GuardedRawlogStream::armJpeg(const ObjectHeader& h, uint64_t at)
     std::array<uint8_t, 4> b{};
     if (!peek(at, &n, 4)) return 0;
     const uint64_t end = at + 4 + n;
-    if (!peek(at + 4, b.data(), 2) || b[0] != 0xFF || b[1] != 0xD8) return end;
+    // Decoded once the size its frame header declares is known to be within the cap.
+    const auto decoded = [&] { checkJpegDecodes(at, n); return end; };
+    if (!peek(at + 4, b.data(), 2) || b[0] != 0xFF || b[1] != 0xD8) return decoded();
     // The frame header (SOF0-15 but DHT, JPG, DAC) gives the size the JPEG decodes to:
     // walk the marker segments up to it, at most 64 of them.
     uint64_t p = at + 6;
     for (int k = 0; k < 64 && p + 4 <= end && peek(p, b.data(), 4) && b[0] == 0xFF; ++k)
     {
         const uint8_t m = b[1];
-        if (m == 0xD9 || m == 0xDA) return end;  // end of image, start of scan: no frame header
+        if (m == 0xD9 || m == 0xDA) return decoded();  // end of image, start of scan: no frame header
         if (m == 0xFF)
         {
             ++p;  // fill byte
@@ -334,7 +355,7 @@ uint64_t GuardedRawlogStream::armJpeg(const ObjectHeader& h, uint64_t at)
         if (frame && peek(p + 4, sof.data(), 6))
         {
             const uint64_t bytes = bigEndian16(&sof[1]) * bigEndian16(&sof[3]) * std::max<uint64_t>(sof[5], 1);
-            if (bytes <= kMaxDecodedImageBytes) return end;
+            if (bytes <= kMaxDecodedImageBytes) return decoded();
             size_error_ = "holds a JPEG image of " + std::to_string(bigEndian16(&sof[3])) + " x " +
                           std::to_string(bigEndian16(&sof[1])) + " x " + std::to_string(sof[5]) +
                           " bytes decoded at byte " + std::to_string(at) + ", more than the " +
@@ -343,7 +364,7 @@ uint64_t GuardedRawlogStream::armJpeg(const ObjectHeader& h, uint64_t at)
         }
         p += 2 + bigEndian16(&b[2]);
     }
-    return end;
+    return decoded();
 }
 
 }  // namespace hymm::io::detail

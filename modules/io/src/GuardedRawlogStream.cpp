@@ -84,9 +84,11 @@ size_t GuardedRawlogStream::rawRead(void* buffer, size_t count)
     return done;
 }
 
-bool GuardedRawlogStream::peek(uint64_t offset, void* out, size_t n)
+bool GuardedRawlogStream::peek(uint64_t offset, void* out, size_t n) { return peek(offset, out, n, kMaxPeek); }
+
+bool GuardedRawlogStream::peek(uint64_t offset, void* out, size_t n, uint64_t max_ahead)
 {
-    if (offset < pos_ || offset + n > total_ || offset + n - pos_ > kMaxPeek) return false;
+    if (offset < pos_ || offset + n > total_ || offset + n - pos_ > max_ahead) return false;
     const size_t need = static_cast<size_t>(offset + n - pos_);
     while (ahead_.size() < need)
     {

@@ -90,6 +90,9 @@ inline std::string unqualified(const std::string& name)
 inline constexpr const char* kActionSlot = "an action of a CActionCollection";
 inline constexpr const char* kObservationSlot = "an observation of a CSensoryFrame";
 
+/** Why libjpeg cannot decode the `n` bytes at `data` (JpegCheck.cpp); empty if it can. */
+std::string jpegDecodeError(const uint8_t* data, size_t n);
+
 /** A declared size that does not fit in the rest of the file. */
 struct RawlogSizeError : std::runtime_error
 {
@@ -176,6 +179,9 @@ private:
 
     size_t rawRead(void* buffer, size_t count);
     bool peek(uint64_t offset, void* out, size_t n);
+    /** peek() up to `max_ahead` bytes beyond the current position instead of 4 KiB (a
+     *  JPEG's bytes, decoded before MRPT decodes them). */
+    bool peek(uint64_t offset, void* out, size_t n, uint64_t max_ahead);
     void armFor(const std::string& class_name, bool old_format);
     /** The version and first data byte of the object whose class name was just read
      *  (pos_ is past the name); false on a short read or an impossible version. */
@@ -202,6 +208,8 @@ private:
     uint64_t armImageData(const ObjectHeader& h);
     uint64_t armRawImage(const ObjectHeader& h);
     uint64_t armGreyImage(const ObjectHeader& h, uint64_t at);
+    /** Refuses the JPEG of `n` bytes after the count at `at` if libjpeg cannot decode it. */
+    void checkJpegDecodes(uint64_t at, uint32_t n);
     /** The byte count of a JPEG image at `at` and the size it decodes to. */
     uint64_t armJpeg(const ObjectHeader& h, uint64_t at);
     /** A count at `at` followed by elements of `element` bytes and `tail` bytes more

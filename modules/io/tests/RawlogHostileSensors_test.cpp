@@ -585,3 +585,29 @@ TEST(RawlogHostileSensorsTest, NovatelFrameBehindOtherGpsMessagesIsChecked)
     expectRefused(data, count, 0x7FFFFFFFu, "bytes of a NovAtel frame");
 }
 }  // namespace
+
+namespace
+{
+// MRPT decodes a JPEG with libjpeg's standard error handler, which calls exit(): a corrupt
+// JPEG in a rawlog ended the reading program without an error (found by rawlog_fuzz:
+// regressions/rawlog/exit_corrupt_jpeg). The guard decodes it first. Without the check
+// the child exits with 1, which readInChild reports as "read without error".
+TEST(RawlogHostileSensorsTest, CorruptJpegIsRefusedInsteadOfEndingTheProgram)
+{
+    const bool raw = mrpt::img::CImage::DISABLE_JPEG_COMPRESSION();
+    mrpt::img::CImage::DISABLE_JPEG_COMPRESSION(false);
+    const auto data = inFrame(imageObservation(pattern(32, 24, mrpt::img::CH_RGB)));
+    mrpt::img::CImage::DISABLE_JPEG_COMPRESSION(raw);
+    expectReads(data);
+    const size_t soi = find(data, std::string("\xFF\xD8\xFF", 3));
+    // A second start-of-image marker where the quantisation table's marker was.
+    auto twoSoi = data;
+    const size_t dqt = find(data, std::string("\xFF\xDB", 2), soi);
+    twoSoi[dqt + 1] = 0xD8;
+    expectCleanError(writeGz(twoSoi), twoSoi, "entry 0", "that libjpeg cannot decode");
+    // Not a JPEG at all.
+    auto notJpeg = data;
+    notJpeg[soi] = 0x12;
+    expectCleanError(writeGz(notJpeg), notJpeg, "entry 0", "that libjpeg cannot decode");
+}
+}  // namespace

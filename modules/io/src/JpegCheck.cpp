@@ -1,0 +1,65 @@
+// Decodes a JPEG held in memory with libjpeg, as MRPT's CImage::loadFromStreamAsJPEG does,
+// but with an error handler that returns instead of ending the process: MRPT installs
+// libjpeg's standard handler, whose error_exit calls exit(), so a corrupt JPEG in a rawlog
+// ended any program reading it (found by rawlog_fuzz).
+#include <cstddef>
+#include <csetjmp>
+#include <cstdint>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+// jpeglib.h needs FILE and size_t declared first.
+#include <jpeglib.h>
+
+#include "GuardedRawlogStream.h"
+
+namespace hymm::io::detail
+{
+namespace
+{
+struct ErrorManager
+{
+    jpeg_error_mgr base;  // first: libjpeg sees a jpeg_error_mgr*
+    std::jmp_buf jump;
+    char message[JMSG_LENGTH_MAX];
+};
+
+[[noreturn]] void onError(j_common_ptr cinfo)
+{
+    auto* err = reinterpret_cast<ErrorManager*>(cinfo->err);
+    (*cinfo->err->format_message)(cinfo, err->message);
+    std::longjmp(err->jump, 1);
+}
+
+void onMessage(j_common_ptr, int) {}  // warnings (corrupt entropy data) are not errors
+
+// No C++ object with a destructor lives across the setjmp: a longjmp skips destructors.
+bool decode(jpeg_decompress_struct& cinfo, ErrorManager& err, const uint8_t* data, size_t n)
+{
+    if (setjmp(err.jump)) return false;
+    jpeg_create_decompress(&cinfo);
+    jpeg_mem_src(&cinfo, data, static_cast<unsigned long>(n));
+    jpeg_read_header(&cinfo, TRUE);
+    jpeg_start_decompress(&cinfo);
+    const auto stride = static_cast<JDIMENSION>(cinfo.output_width * cinfo.output_components);
+    JSAMPARRAY row = (*cinfo.mem->alloc_sarray)(reinterpret_cast<j_common_ptr>(&cinfo), JPOOL_IMAGE, stride, 1);
+    while (cinfo.output_scanline < cinfo.output_height) jpeg_read_scanlines(&cinfo, row, 1);
+    jpeg_finish_decompress(&cinfo);
+    return true;
+}
+}  // namespace
+
+std::string jpegDecodeError(const uint8_t* data, size_t n)
+{
+    jpeg_decompress_struct cinfo{};
+    ErrorManager err{};
+    cinfo.err = jpeg_std_error(&err.base);
+    err.base.error_exit = onError;
+    err.base.emit_message = onMessage;
+    const bool ok = decode(cinfo, err, data, n);
+    jpeg_destroy_decompress(&cinfo);
+    return ok ? std::string() : std::string(err.message);
+}
+
+}  // namespace hymm::io::detail
