@@ -21,6 +21,9 @@ namespace
 {
 // Smallest serialised CPose3D object (see GuardedRawlogSensorLayouts.cpp).
 constexpr uint64_t kMinPose3DBytes = 1 + 7 + 1 + 7 * 8 + 1;
+// How far ahead the walks of a GPS observation's messages and of an RFID count's text may
+// look (the 4 KiB of peek() cut them short).
+constexpr uint64_t kWalkWindow = 16u << 20;
 // Smallest serialised 6x6 CMatrixD object: header (length byte, a name of at least one
 // byte, version), rows and columns, 36 doubles, end flag.
 constexpr uint64_t kMin66MatrixBytes = 1 + 1 + 1 + 8 + 36 * 8 + 1;
@@ -105,7 +108,7 @@ void GuardedRawlogStream::armRfid(const ObjectHeader& h)
     if (!peek(h.data, &len, 4)) return;
     // atoi stops at the first non-digit and saturates long before 4 KiB of digits.
     std::string text(std::min<uint32_t>(len, 4096), '\0');
-    if (!peek(h.data + 4, text.data(), text.size())) return;
+    if (!peek(h.data + 4, text.data(), text.size(), kWalkWindow)) return;
     // As MRPT reads it: glibc's atoi is (int) strtol, and the result goes into a uint32
     // ("-1" is 4294967295 tags).
     const auto n = static_cast<uint32_t>(static_cast<int>(std::strtol(text.c_str(), nullptr, 10)));
@@ -167,22 +170,22 @@ void GuardedRawlogStream::armGpsMessages(const ObjectHeader& h)
     // SATS, unknown types) or after 1,000 messages.
     using namespace mrpt::obs::gnss;
     uint32_t label = 0, count = 0;
-    if (!peek(h.data + 16, &label, 4) || label > total_) return;
+    if (!peek(h.data + 16, &label, 4, kWalkWindow) || label > total_) return;
     uint64_t p = skipObject(h.data + 20 + label);
     if (p == 0) return;
     p += h.version >= 11 ? 1 : 0;
-    if (!peek(p, &count, 4)) return;
+    if (!peek(p, &count, 4, kWalkWindow)) return;
     p += 4;
     for (uint32_t i = 0; i < std::min<uint32_t>(count, 1000); ++i)
     {
         int32_t type = 0;
         uint32_t n = 0;
-        if (!peek(p, &type, 4)) return;
+        if (!peek(p, &type, 4, kWalkWindow)) return;
         p += 4;
         if (type == NV_OEM6_GENERIC_FRAME || type == NV_OEM6_GENERIC_SHORT_FRAME)
         {
             p += type == NV_OEM6_GENERIC_FRAME ? sizeof(nv_oem6_header_t) : sizeof(nv_oem6_short_header_t);
-            if (!peek(p, &n, 4)) return;
+            if (!peek(p, &n, 4, kWalkWindow)) return;
             if (n > 0 && n < 4)
             {
                 size_error_ = "holds a NovAtel frame of " + std::to_string(n) + " bytes at byte " +
@@ -198,11 +201,11 @@ void GuardedRawlogStream::armGpsMessages(const ObjectHeader& h)
             const uint64_t record = type == NV_OEM6_RANGECMP ? sizeof(Message_NV_OEM6_RANGECMP::TCompressedRangeLog)
                                                              : sizeof(Message_NV_OEM6_VERSION::TComponentVersion);
             p += 4 + sizeof(nv_oem6_header_t);
-            if (!peek(p, &n, 4) || n >= 2000) return;
+            if (!peek(p, &n, 4, kWalkWindow) || n >= 2000) return;
             p += 4 + n * record;
             continue;
         }
-        if (type == TOPCON_PZS || type == TOPCON_SATS || !peek(p, &n, 4)) return;
+        if (type == TOPCON_PZS || type == TOPCON_SATS || !peek(p, &n, 4, kWalkWindow)) return;
         std::unique_ptr<gnss_message> known(gnss_message::Factory(static_cast<gnss_message_type_t>(type)));
         if (!known) return;  // MRPT refuses an unknown type
         p += 4 + uint64_t{n};

@@ -28,17 +28,19 @@ constexpr uint64_t kMinPose3DBytes = 1 + 7 + 1 + 7 * 8 + 1;
 // a progressive one). Cap on the decoded bytes of one image: an 8K x 8K colour image is
 // 201 MB.
 constexpr uint64_t kMaxDecodedImageBytes = uint64_t{1} << 28;
-// Largest JPEG decoded before MRPT decodes it (checkJpegDecodes).
-constexpr uint32_t kMaxJpegCheckBytes = 64u << 20;
+// Largest JPEG a rawlog may hold (it is decoded before MRPT decodes it:
+// checkJpegDecodes), and how far ahead its bytes may be looked at.
+constexpr uint32_t kMaxJpegBytes = 64u << 20;
+constexpr uint64_t kJpegWindow = uint64_t{kMaxJpegBytes} + 4096;
 
 uint64_t bigEndian16(const uint8_t* b) { return (uint64_t{b[0]} << 8) | b[1]; }
 
-// Bytes per pixel of MRPT's PixelDepth (D8U, D8S, D16U, D16S, D32S, D32F, D64F); 8, the
-// widest, for a value MRPT does not define.
+// Bytes per pixel of MRPT's PixelDepth (D8U, D8S, D16U, D16S, D32S, D32F, D64F; other
+// values are refused before this is asked).
 uint64_t pixelDepthBytes(int32_t depth)
 {
     static constexpr std::array<uint64_t, 7> kBytes{1, 1, 2, 2, 4, 4, 8};
-    return depth >= 0 && depth < 7 ? kBytes[static_cast<size_t>(depth)] : 8;
+    return kBytes[static_cast<size_t>(std::clamp(depth, 0, 6))];
 }
 }  // namespace
 
@@ -174,13 +176,13 @@ void GuardedRawlogStream::arm3DScan(const ObjectHeader& h)
     // indices each from v8; MRPT holds 16 B per point); then (v1+) the range-image flag,
     // (v9+) the range units (float) and the range image: rows and columns of uint16 (older
     // versions store it as a CMatrixF object, checked as one). The tail holds at least
-    // the two image flags, stdError, the timestamp and the label's length.
+    // the two image flags (v1+), stdError, the timestamp and the label's length.
     const int v = h.version;
     const uint64_t at = skipObject(h.data + 4);
     if (at == 0) return;
     uint8_t has_points = 1;
     if (v >= 1 && !peek(at, &has_points, 1)) return;
-    const uint64_t tail = 2 + 4 + 8 + 4;
+    const uint64_t tail = (v >= 1 ? 2 : 0) + 4 + 8 + 4;
     const uint64_t image_gap = 1 + 4;  // the range-image flag and the units (v9+)
     const uint64_t points_at = at + (v >= 1 ? 1 : 0);
     if (!has_points)
@@ -259,6 +261,14 @@ uint64_t GuardedRawlogStream::armGreyImage(const ObjectHeader& h, uint64_t at)
     // Grey: width, height, origin, size in bytes, the depth (v9), the compression
     // flag (v5+), the rows. MRPT sizes the image from the first two (and the depth).
     if (!peek(at, f.data(), v >= 9 ? 20 : 16)) return 0;
+    if (v >= 9 && (f[4] < 0 || f[4] > 6))
+    {
+        // MRPT maps a depth it does not define to a type OpenCV reads as 1,024 bytes a
+        // pixel; no writer produces one.
+        size_error_ = "declares a grey image of pixel depth " + std::to_string(f[4]) +
+                      ", which MRPT does not define, at byte " + std::to_string(at + 16);
+        throw RawlogSizeError(size_error_);
+    }
     const uint64_t fields = 16 + (v >= 9 ? 4 : 0) + (v >= 5 ? 1 : 0);
     Checkpoint c;
     c.kind = Checkpoint::Pixels;
@@ -285,11 +295,12 @@ uint64_t GuardedRawlogStream::armRawImage(const ObjectHeader& h)
     uint32_t length = 0;
     if (!peek(h.data, f.data(), 12) || !peek(h.data + 13, &length, 4)) return 0;
     const uint64_t pixels = uint64_t{f[0]} * f[1];
-    const bool fits = f[2] == 0 || pixels <= std::numeric_limits<uint64_t>::max() / f[2];
-    if (fits && length > pixels * f[2])
+    // MRPT casts the channel count to a byte, and OpenCV reads 0 channels as 512.
+    const uint64_t channels = (f[2] & 0xFF) != 0 ? (f[2] & 0xFF) : 512;
+    if (pixels <= std::numeric_limits<uint64_t>::max() / channels && length > pixels * channels)
     {
         size_error_ = "declares an image of " + std::to_string(f[0]) + " x " + std::to_string(f[1]) + " x " +
-                      std::to_string(f[2]) + " bytes and " + std::to_string(length) +
+                      std::to_string(channels) + " bytes and " + std::to_string(length) +
                       " bytes of data for it at byte " + std::to_string(h.data);
         throw RawlogSizeError(size_error_);
     }
@@ -297,7 +308,7 @@ uint64_t GuardedRawlogStream::armRawImage(const ObjectHeader& h)
     c.kind = Checkpoint::Pixels;
     c.offset = h.data;
     c.cap = pixels;
-    c.element_bytes = f[2];
+    c.element_bytes = channels;
     c.tail_bytes = 17 + endFlagBytes(h);
     c.what = "pixels of an old-format image";
     checkpoints_.push_back(c);
@@ -309,12 +320,18 @@ void GuardedRawlogStream::checkJpegDecodes(uint64_t at, uint32_t n)
     // MRPT decodes the JPEG with libjpeg's standard error handler, which ends the process
     // on a corrupt one (exit(1), no exception): decoded here first with one that returns.
     // The frame-header cap (armJpeg) comes first, so that this decode stays bounded; a
-    // JPEG beyond kMaxJpegCheckBytes or beyond the file is not decoded here (the count
-    // check refuses the latter).
-    if (n == 0 || n > kMaxJpegCheckBytes || at + 4 + uint64_t{n} > total_) return;
+    // JPEG beyond kMaxJpegBytes is refused; the decode also refuses a frame header the
+    // walk did not reach that declares more than kMaxDecodedImageBytes.
+    if (n == 0 || at + 4 + uint64_t{n} > total_) return;  // the count check refuses the latter
+    if (n > kMaxJpegBytes)
+    {
+        size_error_ = "holds a JPEG image of " + std::to_string(n) + " bytes at byte " + std::to_string(at) +
+                      ", more than the " + std::to_string(kMaxJpegBytes) + " a rawlog image may hold";
+        throw RawlogSizeError(size_error_);
+    }
     std::vector<uint8_t> jpeg(n);
-    if (!peek(at + 4, jpeg.data(), n, uint64_t{kMaxJpegCheckBytes} + 4096)) return;
-    const std::string why = jpegDecodeError(jpeg.data(), n);
+    if (!peek(at + 4, jpeg.data(), n, kJpegWindow)) return;
+    const std::string why = jpegDecodeError(jpeg.data(), n, kMaxDecodedImageBytes);
     if (why.empty()) return;
     size_error_ = "holds a JPEG image at byte " + std::to_string(at) + " that libjpeg cannot decode (" + why +
                   "; MRPT's decoder would end the program)";
@@ -332,11 +349,11 @@ uint64_t GuardedRawlogStream::armJpeg(const ObjectHeader& h, uint64_t at)
     const uint64_t end = at + 4 + n;
     // Decoded once the size its frame header declares is known to be within the cap.
     const auto decoded = [&] { checkJpegDecodes(at, n); return end; };
-    if (!peek(at + 4, b.data(), 2) || b[0] != 0xFF || b[1] != 0xD8) return decoded();
+    if (!peek(at + 4, b.data(), 2, kJpegWindow) || b[0] != 0xFF || b[1] != 0xD8) return decoded();
     // The frame header (SOF0-15 but DHT, JPG, DAC) gives the size the JPEG decodes to:
     // walk the marker segments up to it, at most 64 of them.
     uint64_t p = at + 6;
-    for (int k = 0; k < 64 && p + 4 <= end && peek(p, b.data(), 4) && b[0] == 0xFF; ++k)
+    for (int k = 0; k < 64 && p + 4 <= end && peek(p, b.data(), 4, kJpegWindow) && b[0] == 0xFF; ++k)
     {
         const uint8_t m = b[1];
         if (m == 0xD9 || m == 0xDA) return decoded();  // end of image, start of scan: no frame header
@@ -352,7 +369,7 @@ uint64_t GuardedRawlogStream::armJpeg(const ObjectHeader& h, uint64_t at)
         }
         const bool frame = m >= 0xC0 && m <= 0xCF && m != 0xC4 && m != 0xC8 && m != 0xCC;
         std::array<uint8_t, 6> sof{};  // precision, height, width, components
-        if (frame && peek(p + 4, sof.data(), 6))
+        if (frame && peek(p + 4, sof.data(), 6, kJpegWindow))
         {
             const uint64_t bytes = bigEndian16(&sof[1]) * bigEndian16(&sof[3]) * std::max<uint64_t>(sof[5], 1);
             if (bytes <= kMaxDecodedImageBytes) return decoded();

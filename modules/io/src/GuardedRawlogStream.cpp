@@ -341,8 +341,27 @@ bool GuardedRawlogStream::trackFrames(size_t count, size_t n, const uint8_t* byt
     {
         popped_ = open_.back();
         open_.pop_back();
+        // The end of a frame's observation is followed by the next observation's header
+        // or by the frame's own end flag. A uint8 field of value 0x88 inside an
+        // observation (a Topcon status byte, a CAN data byte) is followed by neither; taken
+        // for a close it would have the observation's nested objects checked as frame
+        // elements, and a valid file refused.
+        if (!open_.empty() && open_.back().sensory_frame && !elementBoundaryAt(pos_))
+        {
+            open_.push_back(*popped_);
+            popped_.reset();
+        }
     }
     return true;
+}
+
+bool GuardedRawlogStream::elementBoundaryAt(uint64_t at)
+{
+    uint8_t b = 0;
+    if (!peek(at, &b, 1)) return true;  // the end of the data: nothing left to check
+    if (b == kEndFlag) return true;
+    const std::string cls = classAt(at);
+    return cls == "nullptr" || (!cls.empty() && mrpt::rtti::findRegisteredClass(cls) != nullptr);
 }
 
 size_t GuardedRawlogStream::Write(const void*, size_t)

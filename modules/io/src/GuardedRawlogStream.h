@@ -90,8 +90,9 @@ inline std::string unqualified(const std::string& name)
 inline constexpr const char* kActionSlot = "an action of a CActionCollection";
 inline constexpr const char* kObservationSlot = "an observation of a CSensoryFrame";
 
-/** Why libjpeg cannot decode the `n` bytes at `data` (JpegCheck.cpp); empty if it can. */
-std::string jpegDecodeError(const uint8_t* data, size_t n);
+/** Why libjpeg cannot decode the `n` bytes at `data` to at most `max_bytes` (JpegCheck.cpp);
+ *  empty if it can. */
+std::string jpegDecodeError(const uint8_t* data, size_t n, uint64_t max_bytes);
 
 /** A declared size that does not fit in the rest of the file. */
 struct RawlogSizeError : std::runtime_error
@@ -249,6 +250,10 @@ private:
     /** Opens and closes frames for a read of `count` bytes that gave `n`, after one whose
      *  single byte was `prev` (-1 if it was wider); true if the read was one byte. */
     bool trackFrames(size_t count, size_t n, const uint8_t* bytes, int prev);
+    /** True if at `at` there is a serialised header of a registered class (or a null
+     *  object), an end flag or the end of the data: what follows the end of a frame's
+     *  element. */
+    bool elementBoundaryAt(uint64_t at);
     /** armFor for a CActionCollection (old format: its single action's class). */
     void armCollection(const ObjectHeader& h);
     /** For a polymorphic slot MRPT reads without a null check (`where`, at byte `at`):

@@ -35,12 +35,21 @@ struct ErrorManager
 void onMessage(j_common_ptr, int) {}  // warnings (corrupt entropy data) are not errors
 
 // No C++ object with a destructor lives across the setjmp: a longjmp skips destructors.
-bool decode(jpeg_decompress_struct& cinfo, ErrorManager& err, const uint8_t* data, size_t n)
+bool decode(jpeg_decompress_struct& cinfo, ErrorManager& err, const uint8_t* data, size_t n, uint64_t max_bytes)
 {
     if (setjmp(err.jump)) return false;
     jpeg_create_decompress(&cinfo);
     jpeg_mem_src(&cinfo, data, static_cast<unsigned long>(n));
     jpeg_read_header(&cinfo, TRUE);
+    // MRPT sizes the image from the header, and a progressive JPEG makes libjpeg hold
+    // the whole image's coefficients: refused before either.
+    const uint64_t bytes = uint64_t{cinfo.image_width} * cinfo.image_height * static_cast<uint64_t>(cinfo.num_components);
+    if (bytes > max_bytes)
+    {
+        std::snprintf(err.message, sizeof(err.message), "it decodes to %llu bytes, more than %llu",
+                      static_cast<unsigned long long>(bytes), static_cast<unsigned long long>(max_bytes));
+        return false;
+    }
     jpeg_start_decompress(&cinfo);
     const auto stride = static_cast<JDIMENSION>(cinfo.output_width * cinfo.output_components);
     JSAMPARRAY row = (*cinfo.mem->alloc_sarray)(reinterpret_cast<j_common_ptr>(&cinfo), JPOOL_IMAGE, stride, 1);
@@ -50,14 +59,14 @@ bool decode(jpeg_decompress_struct& cinfo, ErrorManager& err, const uint8_t* dat
 }
 }  // namespace
 
-std::string jpegDecodeError(const uint8_t* data, size_t n)
+std::string jpegDecodeError(const uint8_t* data, size_t n, uint64_t max_bytes)
 {
     jpeg_decompress_struct cinfo{};
     ErrorManager err{};
     cinfo.err = jpeg_std_error(&err.base);
     err.base.error_exit = onError;
     err.base.emit_message = onMessage;
-    const bool ok = decode(cinfo, err, data, n);
+    const bool ok = decode(cinfo, err, data, n, max_bytes);
     jpeg_destroy_decompress(&cinfo);
     return ok ? std::string() : std::string(err.message);
 }

@@ -9,6 +9,7 @@
 #include <mrpt/obs/CObservationComment.h>
 #include <mrpt/obs/CObservationGPS.h>
 #include <mrpt/obs/gnss_messages_novatel.h>
+#include <mrpt/obs/gnss_messages_topcon.h>
 #include <mrpt/obs/CObservationIMU.h>
 #include <mrpt/obs/CObservationImage.h>
 #include <mrpt/obs/CObservation6DFeatures.h>
@@ -226,11 +227,11 @@ TEST(RawlogHostileSensorsTest, OldImageDataLongerThanItsImageIsRefused)
     // v9 grey: flags (2), width, height, origin, size, depth (20), no-zip flag, 8 bytes.
     const size_t end = v + 1 + 2 + 20 + 1 + 8;
     ASSERT_EQ(grey[end], 0x88) << "end flag of the image";
-    const auto withV0 = [&](uint32_t length, size_t bytes)
+    const auto withV0 = [&](uint32_t length, size_t bytes, uint32_t channels = 1)
     {
         std::vector<uint8_t> d(grey.begin(), grey.begin() + static_cast<std::ptrdiff_t>(v));
         d.push_back(0);  // version 0
-        for (const uint32_t x : {4u, 2u, 1u})
+        for (const uint32_t x : {4u, 2u, channels})
         {
             d.resize(d.size() + 4);
             putU32(d, d.size() - 4, x);
@@ -247,6 +248,48 @@ TEST(RawlogHostileSensorsTest, OldImageDataLongerThanItsImageIsRefused)
     expectCleanError(writeGz(over), over, "entry 0", "4096 bytes of data for it");
     const auto wide = withV0(8, 8);
     expectRefused(wide, v + 1, 0x7FFFFFFFu, "pixels of an old-format image");
+    // MRPT casts the channel count to a byte (257 is 1 channel: 8 bytes, not 2,056), and
+    // OpenCV reads 0 channels as 512.
+    const auto cast = withV0(2056, 2056, 257);
+    expectCleanError(writeGz(cast), cast, "entry 0", "2056 bytes of data for it");
+    const auto none = withV0(8, 8, 0);
+    expectCleanError(writeGz(none), none, "entry 0", "pixels of an old-format image");
+}
+
+// A grey image's depth (v9) that MRPT does not define: MRPT maps it to a type OpenCV reads
+// as 1,024 bytes a pixel.
+TEST(RawlogHostileSensorsTest, UndefinedGreyImageDepthIsRefused)
+{
+    const auto data = inFrame(imageObservation(pattern(6, 4, mrpt::img::CH_GRAY)));
+    // Flags, width, height, origin, size, then the depth.
+    const size_t depth = imageData(data) + 2 + 16;
+    ASSERT_EQ(getU32(data, depth), 0u) << "8-bit unsigned";
+    expectRefused(data, depth, 7, "pixel depth 7, which MRPT does not define");
+}
+
+// The frame header of a JPEG 5 KB in, behind an application segment: beyond the 4 KiB
+// the stream looks ahead by default, so the walk to it uses a wider window.
+TEST(RawlogHostileSensorsTest, JpegFrameHeaderBehindALargeSegmentIsChecked)
+{
+    const bool raw = mrpt::img::CImage::DISABLE_JPEG_COMPRESSION();
+    mrpt::img::CImage::DISABLE_JPEG_COMPRESSION(false);
+    auto data = inFrame(imageObservation(pattern(64, 48, mrpt::img::CH_RGB)));
+    mrpt::img::CImage::DISABLE_JPEG_COMPRESSION(raw);
+    const size_t count = imageData(data) + 2 + 8;
+    const size_t soi = count + 4;
+    ASSERT_EQ(data[soi + 1], 0xD8);
+    std::vector<uint8_t> app{0xFF, 0xE1, 5000 >> 8, 5000 & 0xFF};
+    app.resize(2 + 5000, 'x');
+    data.insert(data.begin() + static_cast<std::ptrdiff_t>(soi + 2), app.begin(), app.end());
+    putU32(data, count, getU32(data, count) + static_cast<uint32_t>(app.size()));
+    expectReads(data);
+    const size_t sof = find(data, std::string("\xFF\xC0", 2), soi + 2 + app.size());
+    for (const size_t at : {sof + 5, sof + 7})
+    {
+        data[at] = 0xFD;  // 65,000
+        data[at + 1] = 0xE8;
+    }
+    expectCleanError(writeGz(data), data, "entry 0", "a rawlog image may decode to");
 }
 
 }  // namespace
@@ -609,5 +652,81 @@ TEST(RawlogHostileSensorsTest, CorruptJpegIsRefusedInsteadOfEndingTheProgram)
     auto notJpeg = data;
     notJpeg[soi] = 0x12;
     expectCleanError(writeGz(notJpeg), notJpeg, "entry 0", "that libjpeg cannot decode");
+}
+}  // namespace
+
+namespace
+{
+// A uint8 field of value 0x88 inside a frame's observation looks like an end flag. A
+// Topcon PZS message reads five status bytes and then a CMatrixF object: taking 0x88 for
+// the GPS observation's end had that matrix checked as a frame element and the valid file
+// refused. A CAN observation's data bytes (read one at a time) could, the other way, end
+// the frame's checks early and let a planted map through.
+TEST(RawlogHostileSensorsTest, ValueBytesLikeAnEndFlagDoNotEndAFrameElement)
+{
+    using namespace mrpt::obs;
+    CObservationGPS gps;
+    gps.sensorLabel = "topcon";
+    gnss::Message_TOPCON_PZS pzs;
+    pzs.Fix = 0x88;
+    gps.setMsg(pzs);
+    expectReads(inFrame(gps));
+
+    CObservationCANBusJ1939 can;
+    can.m_data = {0x88, 0x01};
+    CSensoryFrame sf;
+    sf.insert(CObservationCANBusJ1939::Create(can));
+    auto comment = CObservationComment::Create();
+    comment->text = "after the CAN frame";
+    sf.insert(comment);
+    const auto data = serialised(sf);
+    expectReads(data);
+    // The comment renamed to a points map (a name of the same length is not at hand, so
+    // the map's name and a null payload replace the comment and the frame's end).
+    const std::string map = "mrpt::maps::CSimplePointsMap";
+    const size_t at = find(data, "mrpt::obs::CObservationComment") - 1;
+    std::vector<uint8_t> planted(data.begin(), data.begin() + static_cast<std::ptrdiff_t>(at));
+    planted.push_back(static_cast<uint8_t>(0x80 | map.size()));
+    planted.insert(planted.end(), map.begin(), map.end());
+    planted.push_back(10);  // version
+    planted.resize(planted.size() + 4, 0);  // no points
+    planted.push_back(0x88);
+    planted.push_back(0x88);
+    expectCleanError(writeGz(planted), planted, "entry 0",
+                     "holds a 'CSimplePointsMap' where an observation of a CSensoryFrame belongs");
+}
+}  // namespace
+
+namespace
+{
+// A version-0 RGB-D scan: no points flag, no image flags, a validity byte per point. The
+// last entry of a file, with an empty label, ends exactly where the minimum tail ends.
+TEST(RawlogHostileSensorsTest, OldestRgbdScanReadsAndItsCountIsChecked)
+{
+    const auto scanV0 = [](uint32_t declared)
+    {
+        const std::string name = "mrpt::obs::CObservation3DRangeScan";
+        std::vector<uint8_t> obs{static_cast<uint8_t>(0x80 | name.size())};
+        obs.insert(obs.end(), name.begin(), name.end());
+        obs.push_back(0);               // version 0
+        obs.resize(obs.size() + 4, 0);  // maximum range
+        const auto pose = serialised(mrpt::poses::CPose3D());
+        obs.insert(obs.end(), pose.begin(), pose.end());
+        const auto u32 = [&](uint32_t x) { obs.resize(obs.size() + 4); putU32(obs, obs.size() - 4, x); };
+        u32(declared);
+        obs.resize(obs.size() + 2 * 13, 0);  // two points: x, y, z and a validity byte each
+        obs.resize(obs.size() + 4 + 8, 0);   // stdError, timestamp
+        u32(0);                              // an empty label
+        obs.push_back(0x88);
+        mrpt::obs::CSensoryFrame sf;
+        auto data = serialised(sf);
+        const size_t n = afterName(data, "mrpt::obs::CSensoryFrame") + 1;
+        putU32(data, n, 1);
+        data.insert(data.begin() + static_cast<std::ptrdiff_t>(n + 4), obs.begin(), obs.end());
+        return data;
+    };
+    expectReads(scanV0(2));
+    const auto huge = scanV0(0x10000000);
+    expectCleanError(writeGz(huge), huge, "entry 0", "3-D points");
 }
 }  // namespace
