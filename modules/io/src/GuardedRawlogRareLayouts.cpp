@@ -1,7 +1,7 @@
 // GuardedRawlogStream: the counts and labels of the rarer MRPT observation classes that
 // MRPT builds inside sensory frames (rotating lidars, reflectivity, wireless power, wind,
-// robot pose, skeleton, CAN bus, RFID, gas sensors, 6-D features) and the messages of a
-// GPS observation. Offsets follow MRPT
+// robot pose, skeleton, CAN bus, RFID, gas sensors, 6-D features, point clouds) and the
+// messages of a GPS observation. Offsets follow MRPT
 // 2.5's serializeFrom() of each class.
 #include "GuardedRawlogStream.h"
 
@@ -63,10 +63,9 @@ bool GuardedRawlogStream::armRare(const ObjectHeader& h)
     {
         // PGN (uint16) and five bytes, the data bytes, the raw frame's bytes (one read
         // each), label, timestamp.
-        Checkpoint c = countAt(h, data + 7, 1, 4 + 4 + 8, "CAN data bytes");
-        c.then[0] = {"CAN raw frame bytes", 0, 1, 4 + 8 + endFlagBytes(h)};
-        c.then[1] = {label, 0, 1, 8 + endFlagBytes(h)};
-        checkpoints_.push_back(c);
+        checkpoints_.push_back(countAt(h, data + 7, 1, 4 + 4 + 8, "CAN data bytes"));
+        checkpoints_.back().then = {{{"CAN raw frame bytes", 0, 1, 4 + 8 + endFlagBytes(h)},
+                                     {label, 0, 1, 8 + endFlagBytes(h)}}};
     }
     else if (name == "CObservationRFID" && v <= 4)
         armRfid(h);
@@ -88,6 +87,29 @@ bool GuardedRawlogStream::armRare(const ObjectHeader& h)
     else
         return false;
     return true;
+}
+
+void GuardedRawlogStream::armPointCloud(const ObjectHeader& h)
+{
+    // The label, the timestamp, the sensor pose, the storage format (a byte); then the
+    // external file's name, or the cloud: an object MRPT reads through a points-map
+    // pointer (any registered class is built first, then cast), which must be a points
+    // map or null. Its point count: armSensor (CSimplePointsMap, ...).
+    checkpoints_.push_back(countAt(h, h.data, 1, 8 + kMinPose3DBytes + 1, "bytes of sensor label"));
+    uint32_t label = 0;
+    uint8_t external = 0;
+    if (!peek(h.data, &label, 4) || label > total_) return;
+    const uint64_t at = skipObject(h.data + 4 + label + 8);
+    if (at == 0 || !peek(at, &external, 1)) return;
+    if (external)
+    {
+        checkpoints_.push_back(countAt(h, at + 1, 1, 0, "bytes of point cloud file name"));
+        return;
+    }
+    const std::string cls = classAt(at + 1);
+    const auto* points_map = mrpt::rtti::findRegisteredClass("mrpt::maps::CPointsMap");
+    if (!cls.empty() && cls != "nullptr" && points_map)
+        requireClass(cls, points_map, at + 1, "the cloud of a CObservationPointCloud");
 }
 
 void GuardedRawlogStream::armRfid(const ObjectHeader& h)

@@ -76,12 +76,10 @@ bool GuardedRawlogStream::armSensor(const ObjectHeader& h)
         // Two doubles and two flags, then the other batteries' voltages (count, doubles)
         // and validity flags (a vector<bool>), the label (v1+), the timestamp (v2+)
         // (rawlog_fuzz: a frame's observation renamed to this class, 7.8 GB).
-        const uint64_t label = v >= 1 ? 4 : 0;
-        const uint64_t stamp = v >= 2 ? 8 : 0;
-        Checkpoint c = countAt(h, h.data + 18, 8, 4 + label + stamp, "battery voltages");
-        c.then[0] = {"battery validity flags", 0, 1, label + stamp + endFlagBytes(h)};
-        if (v >= 1) c.then[1] = {"bytes of sensor label", 0, 1, stamp + endFlagBytes(h)};
-        checkpoints_.push_back(c);
+        const uint64_t label = v >= 1 ? 4 : 0, stamp = v >= 2 ? 8 : 0;
+        checkpoints_.push_back(countAt(h, h.data + 18, 8, 4 + label + stamp, "battery voltages"));
+        checkpoints_.back().then = {{{"battery validity flags", 0, 1, label + stamp + endFlagBytes(h)},
+                                     {v >= 1 ? "bytes of sensor label" : nullptr, 0, 1, stamp + endFlagBytes(h)}}};
     }
     else if (name == "CObservationVelodyneScan" && v <= 2)
         armVelodyne(h);
@@ -91,6 +89,8 @@ bool GuardedRawlogStream::armSensor(const ObjectHeader& h)
         // The point count, then x, y and z as floats (a coloured map also sizes three
         // float colour channels per point: 24 B for 12 in the file), then the options.
         checkpoints_.push_back(countAt(h, h.data, 12, 0, "points"));
+    else if (name == "CObservationPointCloud" && v == 0)
+        armPointCloud(h);
     else if (name == "CPointsMapXYZI" && v == 0)
         checkpoints_.push_back(countAt(h, h.data, 16, 0, "points"));
     else if (name == "TCamera" && v >= 5 && v <= 6)

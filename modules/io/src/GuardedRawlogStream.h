@@ -201,6 +201,7 @@ private:
     /** armSensor for the rarer classes (GuardedRawlogRareLayouts.cpp). */
     bool armRare(const ObjectHeader& h);
     void armRfid(const ObjectHeader& h);
+    void armPointCloud(const ObjectHeader& h);
     void armRotatingScan(const ObjectHeader& h);
     void armGpsMessages(const ObjectHeader& h);
     void arm3DScan(const ObjectHeader& h);

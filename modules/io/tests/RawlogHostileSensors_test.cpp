@@ -730,3 +730,38 @@ TEST(RawlogHostileSensorsTest, OldestRgbdScanReadsAndItsCountIsChecked)
     expectCleanError(writeGz(huge), huge, "entry 0", "3-D points");
 }
 }  // namespace
+
+namespace
+{
+// A point-cloud observation's label and external file name are checked, and its cloud
+// (read through a points-map pointer, built before the cast) must be a points map.
+TEST(RawlogHostileSensorsTest, PointCloudLabelFileAndCloudClassAreChecked)
+{
+    mrpt::obs::CObservationPointCloud obs;
+    auto map = mrpt::maps::CSimplePointsMap::Create();
+    map->insertPoint(1, 2, 3);
+    obs.pointcloud = map;
+    expectLabelGuarded(obs, "velodyne_cloud");
+
+    obs.sensorLabel = "velodyne_cloud";
+    const auto data = inFrame(obs);
+    const std::string from = "mrpt::maps::CSimplePointsMap";
+    const std::string to = "mrpt::poses::CPose2D";  // planted: built, then cast to null
+    const size_t at = find(data, from) - 1;
+    std::vector<uint8_t> planted(data.begin(), data.begin() + static_cast<std::ptrdiff_t>(at));
+    planted.push_back(static_cast<uint8_t>(0x80 | to.size()));
+    planted.insert(planted.end(), to.begin(), to.end());
+    planted.push_back(1);
+    planted.resize(planted.size() + 24, 0);
+    planted.insert(planted.end(), {0x88, 0x88, 0x88});  // the pose's, the observation's and the frame's end
+    expectCleanError(writeGz(planted), planted, "entry 0",
+                     "holds a 'CPose2D' where the cloud of a CObservationPointCloud belongs");
+
+    mrpt::obs::CObservationPointCloud external;
+    external.sensorLabel = "lidar";
+    external.setAsExternalStorage("clouds/0001.bin", mrpt::obs::CObservationPointCloud::ExternalStorageFormat::KittiBinFile);
+    const auto ext = inFrame(external);
+    expectReads(ext);
+    expectRefused(ext, lengthOf(ext, "clouds/0001.bin"), 0xF0000000u, "bytes of point cloud file name");
+}
+}  // namespace
