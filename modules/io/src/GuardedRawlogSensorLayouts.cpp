@@ -150,8 +150,11 @@ void GuardedRawlogStream::armImu(const ObjectHeader& h)
 void GuardedRawlogStream::armVelodyne(const ObjectHeader& h)
 {
     // The timestamp, the label, minimum and maximum range (doubles), the sensor pose (a
-    // CPose3D object), the raw packets, the per-laser calibration, then the point cloud's
-    // x, y, z (float vectors) and intensities (bytes); later fields are not checked.
+    // CPose3D object), the raw packets, the per-laser calibration, the point cloud's x, y,
+    // z (float vectors) and intensities (bytes); from v1 a flag, from v2 the per-point
+    // timestamps (a generic std::vector: its "std::vector" and type-name strings, then
+    // the count, 8 B each), azimuths (floats) and laser ids (int16), and the points per
+    // laser (a generic vector of generic vectors, at least 12 B each).
     using Velodyne = mrpt::obs::CObservationVelodyneScan;
     const uint64_t packet = sizeof(Velodyne::TVelodyneRawPacket);
     const uint64_t calib = sizeof(mrpt::obs::VelodyneCalibration::PerLaserCalib);
@@ -160,12 +163,26 @@ void GuardedRawlogStream::armVelodyne(const ObjectHeader& h)
     if (!peek(h.data + 8, &label, 4) || label > total_) return;
     const uint64_t at = skipObject(h.data + 12 + label + 16);
     if (at == 0) return;
-    Checkpoint c = countAt(h, at, packet, 5 * 4, "Velodyne packets");
-    c.then[0] = {"laser calibrations", 0, calib, 4 * 4};
-    c.then[1] = {"point x coordinates", 0, 4, 3 * 4};
-    c.then[2] = {"point y coordinates", 0, 4, 2 * 4};
-    c.then[3] = {"point z coordinates", 0, 4, 4};
-    c.then[4] = {"point intensities", 0, 1, endFlagBytes(h)};
+    const uint64_t end = endFlagBytes(h);
+    const uint64_t v1 = h.version >= 1 ? 1 : 0;
+    const uint64_t v2 = h.version >= 2 ? 8 * 4 : 0;  // the counts and lengths that follow
+    Checkpoint c = countAt(h, at, packet, 5 * 4 + v1 + v2, "Velodyne packets");
+    c.then = {{{"laser calibrations", 0, calib, 4 * 4 + v1 + v2},
+               {"point x coordinates", 0, 4, 3 * 4 + v1 + v2},
+               {"point y coordinates", 0, 4, 2 * 4 + v1 + v2},
+               {"point z coordinates", 0, 4, 4 + v1 + v2},
+               {"point intensities", 0, 1, v1 + v2 + end}}};
+    if (h.version >= 2)
+    {
+        c.then[5] = {"bytes of a container name", 1, 1, 7 * 4 + end};
+        c.then[6] = {"bytes of a container type", 0, 1, 6 * 4 + end};
+        c.then[7] = {"point timestamps", 0, 8, 5 * 4 + end};
+        c.then[8] = {"point azimuths", 0, 4, 4 * 4 + end};
+        c.then[9] = {"point laser ids", 0, 2, 3 * 4 + end};
+        c.then[10] = {"bytes of a container name", 0, 1, 2 * 4 + end};
+        c.then[11] = {"bytes of a container type", 0, 1, 4 + end};
+        c.then[12] = {"lasers' point lists", 0, 12, end};
+    }
     checkpoints_.push_back(c);
 }
 

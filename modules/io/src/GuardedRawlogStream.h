@@ -167,7 +167,7 @@ private:
             uint64_t tail = 0;
             bool matrix = false;  // rows and columns (Matrix), not a count
         };
-        std::array<Next, 5> then{};
+        std::array<Next, 13> then{};
     };
     /** A serialised object's header as MRPT writes it (current or pre-0.5.5 format). */
     struct ObjectHeader

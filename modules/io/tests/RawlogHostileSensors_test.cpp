@@ -765,3 +765,39 @@ TEST(RawlogHostileSensorsTest, PointCloudLabelFileAndCloudClassAreChecked)
     expectRefused(ext, lengthOf(ext, "clouds/0001.bin"), 0xF0000000u, "bytes of point cloud file name");
 }
 }  // namespace
+
+namespace
+{
+// Version 2 of a Velodyne scan adds per-point vectors, two of them written as generic
+// containers (a "std::vector" string and a type-name string before the count): the
+// per-point timestamps were a 29 GB allocation found by rawlog_fuzz within 60 s.
+TEST(RawlogHostileSensorsTest, VelodynePerPointVectorsAreChecked)
+{
+    mrpt::obs::CObservationVelodyneScan obs;
+    obs.sensorLabel = "vlp16";
+    obs.point_cloud.x = {1.0f, 2.0f};
+    obs.point_cloud.y = {0.5f, 0.5f};
+    obs.point_cloud.z = {0.1f, 0.2f};
+    obs.point_cloud.intensity = {10, 20};
+    obs.point_cloud.timestamp = {mrpt::Clock::now(), mrpt::Clock::now()};
+    obs.point_cloud.azimuth = {0.1f, 0.2f};
+    obs.point_cloud.laser_id = {3, 4};
+    obs.point_cloud.pointsForLaserID = {{0}, {1}};
+    const auto data = inFrame(obs);
+    expectReads(data);
+    const size_t name = find(data, "std::vector") - 4;
+    ASSERT_EQ(getU32(data, name), 11u);
+    const size_t type = name + 4 + 11;
+    const size_t stamps = type + 4 + getU32(data, type);
+    ASSERT_EQ(getU32(data, stamps), 2u);
+    expectRefused(data, name, 0x7FFFFFF0u, "bytes of a container name");
+    expectRefused(data, stamps, 0x40000000u, "point timestamps");
+    const size_t azimuths = stamps + 4 + 2 * 8;
+    ASSERT_EQ(getU32(data, azimuths), 2u);
+    expectRefused(data, azimuths + 4 + 2 * 4, 0x7FFFFFFFu, "point laser ids");
+    const size_t outer = find(data, "std::vector", azimuths) - 4;
+    const size_t lists = outer + 4 + 11 + 4 + getU32(data, outer + 4 + 11);
+    ASSERT_EQ(getU32(data, lists), 2u);
+    expectRefused(data, lists, 0x7FFFFFFFu, "lasers' point lists");
+}
+}  // namespace
