@@ -23,15 +23,6 @@ constexpr uint64_t kMinObjectBytes = 9;
 // Smallest serialised CPose3D object: a length byte, the unqualified name, the version
 // (2: x y z and a quaternion, 7 doubles) and the end flag.
 constexpr uint64_t kMinPose3DBytes = 1 + 7 + 1 + 7 * 8 + 1;
-// A JPEG decodes to width x height x components bytes whatever its length in the file
-// (MRPT sizes the image from the frame header; libjpeg holds up to twice that again for
-// a progressive one). Cap on the decoded bytes of one image: an 8K x 8K colour image is
-// 201 MB.
-constexpr uint64_t kMaxDecodedImageBytes = uint64_t{1} << 28;
-// Largest JPEG a rawlog may hold (it is decoded before MRPT decodes it:
-// checkJpegDecodes), and how far ahead its bytes may be looked at.
-constexpr uint32_t kMaxJpegBytes = 64u << 20;
-constexpr uint64_t kJpegWindow = uint64_t{kMaxJpegBytes} + 4096;
 
 uint64_t bigEndian16(const uint8_t* b) { return (uint64_t{b[0]} << 8) | b[1]; }
 
@@ -330,29 +321,6 @@ uint64_t GuardedRawlogStream::armRawImage(const ObjectHeader& h)
     c.what = "pixels of an old-format image";
     checkpoints_.push_back(c);
     return h.data + 17 + length;
-}
-
-void GuardedRawlogStream::checkJpegDecodes(uint64_t at, uint32_t n)
-{
-    // MRPT decodes the JPEG with libjpeg's standard error handler, which ends the process
-    // on a corrupt one (exit(1), no exception): decoded here first with one that returns.
-    // The frame-header cap (armJpeg) comes first, so that this decode stays bounded; a
-    // JPEG beyond kMaxJpegBytes is refused; the decode also refuses a frame header the
-    // walk did not reach that declares more than kMaxDecodedImageBytes.
-    if (n == 0 || at + 4 + uint64_t{n} > total_) return;  // the count check refuses the latter
-    if (n > kMaxJpegBytes)
-    {
-        size_error_ = "holds a JPEG image of " + std::to_string(n) + " bytes at byte " + std::to_string(at) +
-                      ", more than the " + std::to_string(kMaxJpegBytes) + " a rawlog image may hold";
-        throw RawlogSizeError(size_error_);
-    }
-    std::vector<uint8_t> jpeg(n);
-    if (!peek(at + 4, jpeg.data(), n, kJpegWindow)) return;
-    const std::string why = jpegDecodeError(jpeg.data(), n, kMaxDecodedImageBytes);
-    if (why.empty()) return;
-    size_error_ = "holds a JPEG image at byte " + std::to_string(at) + " that libjpeg cannot decode (" + why +
-                  "; MRPT's decoder would end the program)";
-    throw RawlogSizeError(size_error_);
 }
 
 uint64_t GuardedRawlogStream::armJpeg(const ObjectHeader& h, uint64_t at)

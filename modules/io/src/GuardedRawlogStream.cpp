@@ -70,9 +70,21 @@ size_t GuardedRawlogStream::rawRead(void* buffer, size_t count)
 {
     count = static_cast<size_t>(std::min<uint64_t>(count, total_ - pos_));
     auto* out = static_cast<uint8_t*>(buffer);
-    size_t done = std::min(count, ahead_.size());
-    std::copy_n(ahead_.begin(), done, out);
-    ahead_.erase(ahead_.begin(), ahead_.begin() + static_cast<std::ptrdiff_t>(done));
+    // Consumed look-ahead bytes are dropped in bulk: erasing them at every read shifted
+    // the whole window (up to 64 MiB for a JPEG) once per read.
+    size_t done = std::min(count, ahead_.size() - ahead_head_);
+    std::copy_n(ahead_.begin() + static_cast<std::ptrdiff_t>(ahead_head_), done, out);
+    ahead_head_ += done;
+    if (ahead_head_ == ahead_.size())
+    {
+        ahead_.clear();
+        ahead_head_ = 0;
+    }
+    else if (ahead_head_ > (64u << 10) && 2 * ahead_head_ > ahead_.size())
+    {
+        ahead_.erase(ahead_.begin(), ahead_.begin() + static_cast<std::ptrdiff_t>(ahead_head_));
+        ahead_head_ = 0;
+    }
     while (done < count)
     {
         const size_t want = std::min<size_t>(count - done, 1u << 30);
@@ -90,15 +102,15 @@ bool GuardedRawlogStream::peek(uint64_t offset, void* out, size_t n, uint64_t ma
 {
     if (offset < pos_ || offset + n > total_ || offset + n - pos_ > max_ahead) return false;
     const size_t need = static_cast<size_t>(offset + n - pos_);
-    while (ahead_.size() < need)
+    while (ahead_.size() - ahead_head_ < need)
     {
         std::array<uint8_t, 1024> tmp{};
-        const size_t want = std::min(tmp.size(), need - ahead_.size());
+        const size_t want = std::min(tmp.size(), need - (ahead_.size() - ahead_head_));
         const int got = gzread(asGz(gz_), tmp.data(), static_cast<unsigned>(want));
         if (got <= 0) return false;
         ahead_.insert(ahead_.end(), tmp.begin(), tmp.begin() + got);
     }
-    std::memcpy(out, ahead_.data() + (offset - pos_), n);
+    std::memcpy(out, ahead_.data() + ahead_head_ + (offset - pos_), n);
     return true;
 }
 

@@ -90,6 +90,16 @@ inline std::string unqualified(const std::string& name)
 inline constexpr const char* kActionSlot = "an action of a CActionCollection";
 inline constexpr const char* kObservationSlot = "an observation of a CSensoryFrame";
 
+// A JPEG decodes to width x height x components bytes whatever its length in the file
+// (MRPT sizes the image from the frame header; libjpeg holds up to twice that again for
+// a progressive one). Cap on the decoded bytes of one image: an 8K x 8K colour image is
+// 201 MB.
+inline constexpr uint64_t kMaxDecodedImageBytes = uint64_t{1} << 28;
+// Largest JPEG a rawlog may hold (it is decoded before MRPT decodes it:
+// checkJpegDecodes), and how far ahead its bytes may be looked at.
+inline constexpr uint32_t kMaxJpegBytes = 64u << 20;
+inline constexpr uint64_t kJpegWindow = uint64_t{kMaxJpegBytes} + 4096;
+
 /** Why libjpeg cannot decode the `n` bytes at `data` to at most `max_bytes` (JpegCheck.cpp);
  *  empty if it can. */
 std::string jpegDecodeError(const uint8_t* data, size_t n, uint64_t max_bytes);
@@ -271,7 +281,8 @@ private:
     std::string data_error_;
     std::string size_error_;
     bool cut_read_ = false;
-    std::vector<uint8_t> ahead_;  // bytes read from zlib but not yet consumed, from pos_
+    std::vector<uint8_t> ahead_;  // bytes read from zlib, the unconsumed ones from ahead_head_ (at pos_)
+    size_t ahead_head_ = 0;
     std::vector<Checkpoint> checkpoints_;
     // Per accepted count of n elements of at least e bytes starting at s: s + (n - 1) e.
     // Read up to any p inside element k (p >= s + (k - 1) e), the elements after it still

@@ -42,7 +42,8 @@ bool decode(jpeg_decompress_struct& cinfo, ErrorManager& err, const uint8_t* dat
     jpeg_mem_src(&cinfo, data, static_cast<unsigned long>(n));
     jpeg_read_header(&cinfo, TRUE);
     // MRPT sizes the image from the header, and a progressive JPEG makes libjpeg hold
-    // the whole image's coefficients: refused before either.
+    // the whole image's coefficients (2 bytes a sample): refused before either, so this
+    // decode holds at most about twice the cap, as MRPT's own does.
     const uint64_t bytes = uint64_t{cinfo.image_width} * cinfo.image_height * static_cast<uint64_t>(cinfo.num_components);
     if (bytes > max_bytes)
     {
@@ -51,6 +52,13 @@ bool decode(jpeg_decompress_struct& cinfo, ErrorManager& err, const uint8_t* dat
         return false;
     }
     jpeg_start_decompress(&cinfo);
+    // MRPT copies 3 bytes a pixel out of libjpeg's row whenever it is not grey: a
+    // 2-component JPEG (which libjpeg decodes) would be read past its row buffer.
+    if (cinfo.output_components == 2)
+    {
+        std::snprintf(err.message, sizeof(err.message), "2 colour components, which MRPT reads as 3");
+        return false;
+    }
     const auto stride = static_cast<JDIMENSION>(cinfo.output_width * cinfo.output_components);
     JSAMPARRAY row = (*cinfo.mem->alloc_sarray)(reinterpret_cast<j_common_ptr>(&cinfo), JPOOL_IMAGE, stride, 1);
     while (cinfo.output_scanline < cinfo.output_height) jpeg_read_scanlines(&cinfo, row, 1);
@@ -69,6 +77,29 @@ std::string jpegDecodeError(const uint8_t* data, size_t n, uint64_t max_bytes)
     const bool ok = decode(cinfo, err, data, n, max_bytes);
     jpeg_destroy_decompress(&cinfo);
     return ok ? std::string() : std::string(err.message);
+}
+
+void GuardedRawlogStream::checkJpegDecodes(uint64_t at, uint32_t n)
+{
+    // MRPT decodes the JPEG with libjpeg's standard error handler, which ends the process
+    // on a corrupt one (exit(1), no exception): decoded here first with one that returns.
+    // The frame-header cap (armJpeg) comes first, so that this decode stays bounded; a
+    // JPEG beyond kMaxJpegBytes is refused; the decode also refuses a frame header the
+    // walk did not reach that declares more than kMaxDecodedImageBytes.
+    if (n == 0 || at + 4 + uint64_t{n} > total_) return;  // the count check refuses the latter
+    if (n > kMaxJpegBytes)
+    {
+        size_error_ = "holds a JPEG image of " + std::to_string(n) + " bytes at byte " + std::to_string(at) +
+                      ", more than the " + std::to_string(kMaxJpegBytes) + " a rawlog image may hold";
+        throw RawlogSizeError(size_error_);
+    }
+    std::vector<uint8_t> jpeg(n);
+    if (!peek(at + 4, jpeg.data(), n, kJpegWindow)) return;
+    const std::string why = jpegDecodeError(jpeg.data(), n, kMaxDecodedImageBytes);
+    if (why.empty()) return;
+    size_error_ = "holds a JPEG image at byte " + std::to_string(at) + " that libjpeg cannot decode (" + why +
+                  "; MRPT's decoder would end the program)";
+    throw RawlogSizeError(size_error_);
 }
 
 }  // namespace hymm::io::detail

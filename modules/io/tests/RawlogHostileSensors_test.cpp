@@ -3,6 +3,11 @@
 // Each case writes one valid observation, checks it reads, then mutates one size.
 #include "rawlog_hostile_support.h"
 
+// jpeglib.h needs FILE and size_t declared first.
+#include <cstddef>
+#include <cstdio>
+#include <jpeglib.h>
+
 #include <gtest/gtest.h>
 #include <mrpt/img/CImage.h>
 #include <mrpt/obs/CObservationBatteryState.h>
@@ -32,6 +37,8 @@
 #include <mrpt/poses/CPose2D.h>
 
 #include <algorithm>
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -799,5 +806,55 @@ TEST(RawlogHostileSensorsTest, VelodynePerPointVectorsAreChecked)
     const size_t lists = outer + 4 + 11 + 4 + getU32(data, outer + 4 + 11);
     ASSERT_EQ(getU32(data, lists), 2u);
     expectRefused(data, lists, 0x7FFFFFFFu, "lasers' point lists");
+}
+}  // namespace
+
+namespace
+{
+// A JPEG of 2 components, which libjpeg encodes and decodes (an "unknown" colour space):
+// MRPT sizes a colour image and copies 3 bytes a pixel out of libjpeg's 2-byte pixels.
+std::vector<uint8_t> twoComponentJpeg(int w, int h)
+{
+    jpeg_compress_struct cinfo{};
+    jpeg_error_mgr jerr{};
+    cinfo.err = jpeg_std_error(&jerr);
+    jpeg_create_compress(&cinfo);
+    unsigned char* buf = nullptr;
+    unsigned long size = 0;
+    jpeg_mem_dest(&cinfo, &buf, &size);
+    cinfo.image_width = static_cast<JDIMENSION>(w);
+    cinfo.image_height = static_cast<JDIMENSION>(h);
+    cinfo.input_components = 2;
+    cinfo.in_color_space = JCS_UNKNOWN;
+    jpeg_set_defaults(&cinfo);
+    jpeg_start_compress(&cinfo, TRUE);
+    std::vector<uint8_t> row(static_cast<size_t>(2 * w), 100);
+    while (cinfo.next_scanline < cinfo.image_height)
+    {
+        JSAMPROW r = row.data();
+        jpeg_write_scanlines(&cinfo, &r, 1);
+    }
+    jpeg_finish_compress(&cinfo);
+    std::vector<uint8_t> out(buf, buf + size);
+    jpeg_destroy_compress(&cinfo);
+    std::free(buf);
+    return out;
+}
+
+TEST(RawlogHostileSensorsTest, TwoComponentJpegIsRefused)
+{
+    const bool raw = mrpt::img::CImage::DISABLE_JPEG_COMPRESSION();
+    mrpt::img::CImage::DISABLE_JPEG_COMPRESSION(false);
+    const auto data = inFrame(imageObservation(pattern(16, 12, mrpt::img::CH_RGB)));
+    mrpt::img::CImage::DISABLE_JPEG_COMPRESSION(raw);
+    const size_t count = imageData(data) + 2 + 8;
+    const uint32_t n = getU32(data, count);
+    const auto jpeg = twoComponentJpeg(16, 12);
+    std::vector<uint8_t> swapped(data.begin(), data.begin() + static_cast<std::ptrdiff_t>(count));
+    swapped.resize(swapped.size() + 4);
+    putU32(swapped, count, static_cast<uint32_t>(jpeg.size()));
+    swapped.insert(swapped.end(), jpeg.begin(), jpeg.end());
+    swapped.insert(swapped.end(), data.begin() + static_cast<std::ptrdiff_t>(count + 4 + n), data.end());
+    expectCleanError(writeGz(swapped), swapped, "entry 0", "2 colour components, which MRPT reads as 3");
 }
 }  // namespace
