@@ -1,7 +1,7 @@
 // GuardedRawlogStream: the counts and labels of the rarer MRPT observation classes that
 // MRPT builds inside sensory frames (rotating lidars, reflectivity, wireless power, wind,
-// robot pose, skeleton, CAN bus, RFID, gas sensors, 6-D features, point clouds) and the
-// messages of a GPS observation. Offsets follow MRPT
+// robot pose, skeleton, CAN bus, RFID, raw DAQ, gas sensors, 6-D features, point clouds)
+// and the messages of a GPS observation. Offsets follow MRPT
 // 2.5's serializeFrom() of each class.
 #include "GuardedRawlogStream.h"
 
@@ -69,6 +69,8 @@ bool GuardedRawlogStream::armRare(const ObjectHeader& h)
     }
     else if (name == "CObservationRFID" && v <= 4)
         armRfid(h);
+    else if (name == "CObservationRawDAQ" && v == 0)
+        armRawDaq(h);
     else if (name == "CObservationGasSensors" && v >= 2 && v <= 5)
         // Per reading: the e-nose pose (a CPose3D object), the voltages (float vector) and
         // sensor types (int vector), a temperature flag (v3+); then label (v4+), timestamp
@@ -110,6 +112,22 @@ void GuardedRawlogStream::armPointCloud(const ObjectHeader& h)
     const auto* points_map = mrpt::rtti::findRegisteredClass("mrpt::maps::CPointsMap");
     if (!cls.empty() && cls != "nullptr" && points_map)
         requireClass(cls, points_map, at + 1, "the cloud of a CObservationPointCloud");
+}
+
+void GuardedRawlogStream::armRawDaq(const ObjectHeader& h)
+{
+    // The label, the timestamp and sample rate (8 B each), then 13 vectors (count, then
+    // elements of 1, 2, 4 or 8 B) with the channel count (uint16) and the interleaving
+    // flag between the 5th and the 6th.
+    static constexpr std::array<uint64_t, 13> kElement{1, 2, 4, 4, 8, 1, 2, 4, 8, 1, 1, 4, 8};
+    const uint64_t end = endFlagBytes(h);
+    Checkpoint c = countAt(h, h.data, 1, 16 + 13 * 4 + 3, "bytes of sensor label");
+    for (size_t i = 0; i < kElement.size(); ++i)
+    {
+        const uint64_t later = (kElement.size() - 1 - i) * 4 + (i < 5 ? 3 : 0);
+        c.then[i] = {"DAQ samples", i == 0 ? 16u : i == 5 ? 3u : 0u, kElement[i], later + end};
+    }
+    checkpoints_.push_back(c);
 }
 
 void GuardedRawlogStream::armRfid(const ObjectHeader& h)

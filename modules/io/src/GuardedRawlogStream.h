@@ -35,13 +35,13 @@
  * velocity flags and velocities; CPosePDFParticles,
  * CPosePDFSOG and CPosePDFGrid element counts; CMatrixF/CMatrixD sizes (covariances,
  * old poses). Classes the pipeline does not read but MRPT builds inside frames
- * (GuardedRawlogSensorLayouts.cpp): comments, beacon ranges, ranges, IMUs, GPS labels,
- * battery states, Velodyne, RGB-D and rotating scans, point-cloud maps, every CImage and
- * the rarer sensors (GuardedRawlogRareLayouts.cpp). An entry
- * must be an action collection, a frame or an observation, a frame's element an
- * observation (refused at the class name, before MRPT builds it). Not guarded: counts
- * inside the other observation classes (e.g. a CObservationRawDAQ planted in a frame):
- * MRPT's deserialiser allocates what those declare.
+ * (GuardedRawlogSensorLayouts.cpp): comments, beacon ranges, ranges, IMUs, GPS labels and
+ * messages, battery states, Velodyne, RGB-D and rotating scans, point clouds, every CImage
+ * (decoded first if a JPEG: JpegCheck.cpp) and the rarer sensors
+ * (GuardedRawlogRareLayouts.cpp). An entry must be an action collection, a frame or an
+ * observation, a frame's element an observation (refused at the class name, before MRPT
+ * builds it). Not guarded: the fields modules/io/README.md lists (e.g. an RGB-D scan's
+ * label and layer names, stereo observations' labels): MRPT allocates what they declare.
  *
  * The file is decompressed once when opened to count its bytes (and to find corrupt gzip
  * data, so that it is reported as corrupt rather than as an early end).
@@ -212,6 +212,7 @@ private:
     bool armRare(const ObjectHeader& h);
     void armRfid(const ObjectHeader& h);
     void armPointCloud(const ObjectHeader& h);
+    void armRawDaq(const ObjectHeader& h);
     void armRotatingScan(const ObjectHeader& h);
     void armGpsMessages(const ObjectHeader& h);
     void arm3DScan(const ObjectHeader& h);

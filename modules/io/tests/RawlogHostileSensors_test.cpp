@@ -21,6 +21,7 @@
 #include <mrpt/obs/CObservationCANBusJ1939.h>
 #include <mrpt/obs/CObservationGasSensors.h>
 #include <mrpt/obs/CObservationRFID.h>
+#include <mrpt/obs/CObservationRawDAQ.h>
 #include <mrpt/obs/CObservationRange.h>
 #include <mrpt/obs/CObservationReflectivity.h>
 #include <mrpt/obs/CObservationRobotPose.h>
@@ -856,5 +857,35 @@ TEST(RawlogHostileSensorsTest, TwoComponentJpegIsRefused)
     swapped.insert(swapped.end(), jpeg.begin(), jpeg.end());
     swapped.insert(swapped.end(), data.begin() + static_cast<std::ptrdiff_t>(count + 4 + n), data.end());
     expectCleanError(writeGz(swapped), swapped, "entry 0", "2 colour components, which MRPT reads as 3");
+}
+}  // namespace
+
+namespace
+{
+// A raw DAQ observation: the label and 13 sample vectors, the channel count and the
+// interleaving flag between the 5th and the 6th.
+TEST(RawlogHostileSensorsTest, RawDaqVectorsAreChecked)
+{
+    mrpt::obs::CObservationRawDAQ obs;
+    obs.AIN_8bits = {1, 2};
+    obs.AIN_double = {0.5, 1.5, 2.5};
+    obs.AOUT_8bits = {7};
+    obs.CNTRIN_double = {3.0, 4.0};
+    expectLabelGuarded(obs, "daq_board");
+    obs.sensorLabel = "daq_board";
+    const auto data = inFrame(obs);
+    // After the label, the timestamp and the sample rate: the 8-bit inputs.
+    const size_t ain8 = lengthOf(data, "daq_board") + 4 + 9 + 16;
+    ASSERT_EQ(getU32(data, ain8), 2u);
+    expectRefused(data, ain8, 0x7FFFFFFFu, "DAQ samples");
+    // AIN_16bits, AIN_32bits, AIN_float are empty; then AIN_double's count.
+    const size_t ain_double = ain8 + 4 + 2 + 3 * 4;
+    ASSERT_EQ(getU32(data, ain_double), 3u);
+    const size_t aout8 = ain_double + 4 + 3 * 8 + 3;
+    ASSERT_EQ(getU32(data, aout8), 1u);
+    expectRefused(data, aout8, 0x7FFFFFFFu, "DAQ samples");
+    const size_t cntrin_double = aout8 + 4 + 1 + 6 * 4;
+    ASSERT_EQ(getU32(data, cntrin_double), 2u);
+    expectRefused(data, cntrin_double, 0x10000000u, "DAQ samples");
 }
 }  // namespace
