@@ -43,13 +43,10 @@ bool GuardedRawlogStream::armRare(const ObjectHeader& h)
         const uint64_t at = skipObject(data + 4 + (v >= 1 ? 2 : 0));
         if (at != 0) checkpoints_.push_back(countAt(h, at, 1, 8, label));
     }
-    else if (name == "CObservationWirelessPower" && v >= 1 && v <= 3)
-        // The power (double), label, timestamp (v2+), sensor pose (v3).
-        checkpoints_.push_back(countAt(h, data + 8, 1, (v >= 2 ? 8 : 0) + (v >= 3 ? kMinPose3DBytes : 0), label));
-    else if (name == "CObservationWindSensor" && v >= 1 && v <= 3)
-        // Speed and direction (doubles), label, timestamp (v2+), sensor pose (v3).
-        checkpoints_.push_back(
-            countAt(h, data + 16, 1, (v >= 2 ? 8 : 0) + (v >= 3 ? kMinPose3DBytes : 0), label));
+    else if ((name == "CObservationWirelessPower" || name == "CObservationWindSensor") && v >= 1 && v <= 3)
+        // The power, or speed and direction (doubles); label, timestamp (v2+), pose (v3).
+        checkpoints_.push_back(countAt(h, data + (name == "CObservationWindSensor" ? 16 : 8), 1,
+                                       (v >= 2 ? 8 : 0) + (v >= 3 ? kMinPose3DBytes : 0), label));
     else if (name == "CObservationRobotPose" && v <= 1)
     {
         // The pose (a CPose3DPDFGaussian object), label, timestamp, sensor pose (v1).
