@@ -16,8 +16,6 @@ namespace hymm::io::detail
 {
 namespace
 {
-// Smallest serialised object (a null pointer: header, "nullptr", end flag).
-constexpr uint64_t kMinObjectBytes = 9;
 // CActionRobotMovement2D's Thrun motion model draws this many samples at most (MRPT's
 // default is 300); each costs about 64 bytes, so the cap bounds that draw to 64 MiB.
 constexpr uint32_t kMaxMotionModelParticles = 1000000;
@@ -302,6 +300,19 @@ std::string GuardedRawlogStream::classAt(uint64_t at)
     std::array<uint8_t, 128> name{};
     if (len == 0 || len > 120 || !peek(at + 1 + (old_format ? 3 : 0), name.data(), len)) return "";
     return classNameOf(name.data(), len);
+}
+
+GuardedRawlogStream::Checkpoint GuardedRawlogStream::pixelsAt(const ObjectHeader& h, uint64_t at, uint64_t pixels,
+                                                              uint64_t bytes, uint64_t fields, const char* what)
+{
+    Checkpoint c;
+    c.kind = Checkpoint::Pixels;
+    c.offset = at;
+    c.cap = pixels;
+    c.element_bytes = bytes;
+    c.tail_bytes = fields + endFlagBytes(h);
+    c.what = what;
+    return c;
 }
 
 GuardedRawlogStream::Checkpoint GuardedRawlogStream::countAt(

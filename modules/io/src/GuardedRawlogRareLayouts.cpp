@@ -19,8 +19,6 @@ namespace hymm::io::detail
 {
 namespace
 {
-// Smallest serialised CPose3D object (see GuardedRawlogSensorLayouts.cpp).
-constexpr uint64_t kMinPose3DBytes = 1 + 7 + 1 + 7 * 8 + 1;
 // How far ahead the walks of a GPS observation's messages and of an RFID count's text may
 // look (the 4 KiB of peek() cut them short).
 constexpr uint64_t kWalkWindow = 16u << 20;
@@ -176,22 +174,13 @@ void GuardedRawlogStream::armRotatingScan(const ObjectHeader& h)
     std::array<uint16_t, 2> range{}, intensity{};  // columns, rows
     if (!peek(dims, range.data(), 4)) return;
     const uint64_t pixels = uint64_t{range[0]} * range[1];
-    Checkpoint c;
-    c.kind = Checkpoint::Pixels;
-    c.width = 2;
-    c.offset = dims;
-    c.cap = pixels;
-    c.element_bytes = 2;
-    c.tail_bytes = 4 + 4 + 2 + endFlagBytes(h);
-    c.what = "range image pixels";
-    checkpoints_.push_back(c);
+    // Columns and rows are uint16 reads: the check fires on a 2-byte read.
+    checkpoints_.push_back(pixelsAt(h, dims, pixels, 2, 4 + 4 + 2, "range image pixels"));
+    checkpoints_.back().width = 2;
     if (!peek(dims + 4 + 2 * pixels, intensity.data(), 4)) return;
-    c.offset = dims + 4 + 2 * pixels;
-    c.cap = uint64_t{intensity[0]} * intensity[1];
-    c.element_bytes = 1;
-    c.tail_bytes = 4 + 2 + endFlagBytes(h);
-    c.what = "intensity image pixels";
-    checkpoints_.push_back(c);
+    checkpoints_.push_back(pixelsAt(h, dims + 4 + 2 * pixels, uint64_t{intensity[0]} * intensity[1], 1, 4 + 2,
+                                    "intensity image pixels"));
+    checkpoints_.back().width = 2;
 }
 
 void GuardedRawlogStream::armGpsMessages(const ObjectHeader& h)

@@ -18,11 +18,6 @@ namespace hymm::io::detail
 {
 namespace
 {
-// Smallest serialised object (a null pointer: header, "nullptr", end flag).
-constexpr uint64_t kMinObjectBytes = 9;
-// Smallest serialised CPose3D object: a length byte, the unqualified name, the version
-// (2: x y z and a quaternion, 7 doubles) and the end flag.
-constexpr uint64_t kMinPose3DBytes = 1 + 7 + 1 + 7 * 8 + 1;
 
 uint64_t bigEndian16(const uint8_t* b) { return (uint64_t{b[0]} << 8) | b[1]; }
 
@@ -251,15 +246,9 @@ uint64_t GuardedRawlogStream::armImageData(const ObjectHeader& h)
     if (!peek(at, f.data(), 8)) return 0;
     if (f[0] >= 1 && f[1] >= 1) return armJpeg(h, at + 8);
     if (f[0] >= 0 || f[1] >= 0) return at + 8;  // an empty image: nothing sized
-    Checkpoint c;
-    c.kind = Checkpoint::Pixels;
-    c.offset = at;
-    c.cap = uint64_t{static_cast<uint32_t>(-int64_t{f[0]})} * static_cast<uint32_t>(-int64_t{f[1]});
-    c.element_bytes = 3;
-    c.tail_bytes = 8 + endFlagBytes(h);
-    c.what = "pixels of a raw colour image";
-    checkpoints_.push_back(c);
-    return at + 8 + 3 * c.cap;
+    const uint64_t pixels = uint64_t{static_cast<uint32_t>(-int64_t{f[0]})} * static_cast<uint32_t>(-int64_t{f[1]});
+    checkpoints_.push_back(pixelsAt(h, at, pixels, 3, 8, "pixels of a raw colour image"));
+    return at + 8 + 3 * pixels;
 }
 
 uint64_t GuardedRawlogStream::armGreyImage(const ObjectHeader& h, uint64_t at)
@@ -278,14 +267,8 @@ uint64_t GuardedRawlogStream::armGreyImage(const ObjectHeader& h, uint64_t at)
         throw RawlogSizeError(size_error_);
     }
     const uint64_t fields = 16 + (v >= 9 ? 4 : 0) + (v >= 5 ? 1 : 0);
-    Checkpoint c;
-    c.kind = Checkpoint::Pixels;
-    c.offset = at;
-    c.cap = uint64_t{static_cast<uint32_t>(f[0])} * static_cast<uint32_t>(f[1]);
-    c.element_bytes = v >= 9 ? pixelDepthBytes(f[4]) : 1;
-    c.tail_bytes = fields + endFlagBytes(h);
-    c.what = "pixels of a grey image";
-    checkpoints_.push_back(c);
+    checkpoints_.push_back(pixelsAt(h, at, uint64_t{static_cast<uint32_t>(f[0])} * static_cast<uint32_t>(f[1]),
+                                    v >= 9 ? pixelDepthBytes(f[4]) : 1, fields, "pixels of a grey image"));
     // Raw rows follow unless compressed (v3-4 above 16 KiB, or the v5+ flag): MRPT
     // refuses compressed ones.
     uint8_t zip = 0;
@@ -312,14 +295,7 @@ uint64_t GuardedRawlogStream::armRawImage(const ObjectHeader& h)
                       " bytes of data for it at byte " + std::to_string(h.data);
         throw RawlogSizeError(size_error_);
     }
-    Checkpoint c;
-    c.kind = Checkpoint::Pixels;
-    c.offset = h.data;
-    c.cap = pixels;
-    c.element_bytes = channels;
-    c.tail_bytes = 17 + endFlagBytes(h);
-    c.what = "pixels of an old-format image";
-    checkpoints_.push_back(c);
+    checkpoints_.push_back(pixelsAt(h, h.data, pixels, channels, 17, "pixels of an old-format image"));
     return h.data + 17 + length;
 }
 

@@ -100,6 +100,12 @@ inline constexpr uint64_t kMaxDecodedImageBytes = uint64_t{1} << 28;
 inline constexpr uint32_t kMaxJpegBytes = 64u << 20;
 inline constexpr uint64_t kJpegWindow = uint64_t{kMaxJpegBytes} + 4096;
 
+// Smallest serialised object (a null pointer: header, "nullptr", end flag).
+inline constexpr uint64_t kMinObjectBytes = 9;
+// Smallest serialised CPose3D object: a length byte, the unqualified name, the version
+// (2: x y z and a quaternion, 7 doubles) and the end flag.
+inline constexpr uint64_t kMinPose3DBytes = 1 + 7 + 1 + 7 * 8 + 1;
+
 /** Why libjpeg cannot decode the `n` bytes at `data` to at most `max_bytes` (JpegCheck.cpp);
  *  empty if it can. */
 std::string jpegDecodeError(const uint8_t* data, size_t n, uint64_t max_bytes);
@@ -229,6 +235,10 @@ private:
      *  (plus the end flag) before the object ends. */
     static Checkpoint countAt(const ObjectHeader& h, uint64_t at, uint64_t element, uint64_t tail,
                               const char* what);
+    /** An image whose first dimension is read at `at`: `pixels` of `bytes` each, `fields`
+     *  bytes of its own fields (from `at` on) and the end flag (Checkpoint::Pixels). */
+    static Checkpoint pixelsAt(const ObjectHeader& h, uint64_t at, uint64_t pixels, uint64_t bytes,
+                               uint64_t fields, const char* what);
     static uint64_t endFlagBytes(const ObjectHeader& h) { return h.old_format ? 0 : 1; }
     /** The class name MRPT will look up for the object serialised at `at`, with its
      *  namespace if written with one ("nullptr" for a null pointer); empty if the bytes

@@ -166,6 +166,17 @@ size_t imageData(const std::vector<uint8_t>& d)
     return at + 1;
 }
 
+// An image observation in a frame, its colour image written as a JPEG or raw (MRPT 2.5
+// writes colour images raw unless told otherwise; images are serialised with the frame).
+std::vector<uint8_t> imageFrame(const mrpt::obs::CObservationImage& obs, bool jpeg)
+{
+    const bool raw = mrpt::img::CImage::DISABLE_JPEG_COMPRESSION();
+    mrpt::img::CImage::DISABLE_JPEG_COMPRESSION(!jpeg);
+    auto data = inFrame(obs);
+    mrpt::img::CImage::DISABLE_JPEG_COMPRESSION(raw);
+    return data;
+}
+
 TEST(RawlogHostileSensorsTest, HugeGreyImageIsRefusedBeforeMrptSizesIt)
 {
     const auto data = inFrame(imageObservation(pattern(40, 30, mrpt::img::CH_GRAY)));
@@ -179,11 +190,7 @@ TEST(RawlogHostileSensorsTest, HugeGreyImageIsRefusedBeforeMrptSizesIt)
 
 TEST(RawlogHostileSensorsTest, JpegByteCountAndDecodedSizeAreChecked)
 {
-    // MRPT 2.5 writes colour images raw unless told otherwise.
-    const bool raw = mrpt::img::CImage::DISABLE_JPEG_COMPRESSION();
-    mrpt::img::CImage::DISABLE_JPEG_COMPRESSION(false);
-    const auto data = inFrame(imageObservation(pattern(64, 48, mrpt::img::CH_RGB)));
-    mrpt::img::CImage::DISABLE_JPEG_COMPRESSION(raw);
+    const auto data = imageFrame(imageObservation(pattern(64, 48, mrpt::img::CH_RGB)), true);
     expectReads(data);
     // External-storage flag, colour flag, width, height, the JPEG's byte count.
     const size_t count = imageData(data) + 2 + 8;
@@ -206,10 +213,7 @@ TEST(RawlogHostileSensorsTest, JpegByteCountAndDecodedSizeAreChecked)
 
 TEST(RawlogHostileSensorsTest, HugeRawColourImageIsRefused)
 {
-    const bool raw = mrpt::img::CImage::DISABLE_JPEG_COMPRESSION();
-    mrpt::img::CImage::DISABLE_JPEG_COMPRESSION(true);
-    const auto data = inFrame(imageObservation(pattern(16, 12, mrpt::img::CH_RGB)));
-    mrpt::img::CImage::DISABLE_JPEG_COMPRESSION(raw);
+    const auto data = imageFrame(imageObservation(pattern(16, 12, mrpt::img::CH_RGB)), false);
     expectReads(data);
     // Negative width and height mark the raw rows.
     const size_t width = imageData(data) + 2;
@@ -279,10 +283,7 @@ TEST(RawlogHostileSensorsTest, UndefinedGreyImageDepthIsRefused)
 // the stream looks ahead by default, so the walk to it uses a wider window.
 TEST(RawlogHostileSensorsTest, JpegFrameHeaderBehindALargeSegmentIsChecked)
 {
-    const bool raw = mrpt::img::CImage::DISABLE_JPEG_COMPRESSION();
-    mrpt::img::CImage::DISABLE_JPEG_COMPRESSION(false);
-    auto data = inFrame(imageObservation(pattern(64, 48, mrpt::img::CH_RGB)));
-    mrpt::img::CImage::DISABLE_JPEG_COMPRESSION(raw);
+    auto data = imageFrame(imageObservation(pattern(64, 48, mrpt::img::CH_RGB)), true);
     const size_t count = imageData(data) + 2 + 8;
     const size_t soi = count + 4;
     ASSERT_EQ(data[soi + 1], 0xD8);
@@ -575,7 +576,6 @@ namespace
 // the image's layout (raw grey, raw colour, JPEG, external file).
 TEST(RawlogHostileSensorsTest, CameraNameAndImageObservationLabelAreChecked)
 {
-    const bool raw = mrpt::img::CImage::DISABLE_JPEG_COMPRESSION();
     for (int variant = 0; variant < 4; ++variant)
     {
         mrpt::img::CImage img;
@@ -585,9 +585,7 @@ TEST(RawlogHostileSensorsTest, CameraNameAndImageObservationLabelAreChecked)
         auto obs = imageObservation(img);
         obs.sensorLabel = "front_camera";
         obs.cameraParams.cameraName = "left_cam";
-        mrpt::img::CImage::DISABLE_JPEG_COMPRESSION(variant != 2);
-        const auto data = inFrame(obs);
-        mrpt::img::CImage::DISABLE_JPEG_COMPRESSION(raw);
+        const auto data = imageFrame(obs, variant == 2);
         SCOPED_TRACE(variant);
         expectReads(data);
         expectRefused(data, lengthOf(data, "left_cam"), 0xF0000000u, "bytes of camera name");
@@ -645,10 +643,7 @@ namespace
 // the child exits with 1, which readInChild reports as "read without error".
 TEST(RawlogHostileSensorsTest, CorruptJpegIsRefusedInsteadOfEndingTheProgram)
 {
-    const bool raw = mrpt::img::CImage::DISABLE_JPEG_COMPRESSION();
-    mrpt::img::CImage::DISABLE_JPEG_COMPRESSION(false);
-    const auto data = inFrame(imageObservation(pattern(32, 24, mrpt::img::CH_RGB)));
-    mrpt::img::CImage::DISABLE_JPEG_COMPRESSION(raw);
+    const auto data = imageFrame(imageObservation(pattern(32, 24, mrpt::img::CH_RGB)), true);
     expectReads(data);
     const size_t soi = find(data, std::string("\xFF\xD8\xFF", 3));
     // A second start-of-image marker where the quantisation table's marker was.
@@ -844,10 +839,7 @@ std::vector<uint8_t> twoComponentJpeg(int w, int h)
 
 TEST(RawlogHostileSensorsTest, TwoComponentJpegIsRefused)
 {
-    const bool raw = mrpt::img::CImage::DISABLE_JPEG_COMPRESSION();
-    mrpt::img::CImage::DISABLE_JPEG_COMPRESSION(false);
-    const auto data = inFrame(imageObservation(pattern(16, 12, mrpt::img::CH_RGB)));
-    mrpt::img::CImage::DISABLE_JPEG_COMPRESSION(raw);
+    const auto data = imageFrame(imageObservation(pattern(16, 12, mrpt::img::CH_RGB)), true);
     const size_t count = imageData(data) + 2 + 8;
     const uint32_t n = getU32(data, count);
     const auto jpeg = twoComponentJpeg(16, 12);
