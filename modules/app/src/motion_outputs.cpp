@@ -2,6 +2,7 @@
 
 #include <hymm/dense/ScalarField.h>
 #include <hymm/dense/geometry.h>
+#include <hymm/dense/OccupancyLayer.h>
 #include <hymm/dense/map_images.h>
 #include <hymm/sim/motion_truth.h>
 
@@ -78,10 +79,7 @@ MotionRaster rasterMotionLayer(const DenseSlam& slam, MotionKind kind, double re
     MotionRaster r;
     r.covered = eval::CellMask::like(grid);
     const auto& p = *slam.partition();
-    for (long id : slam.hybridMap()->regionIds())
-    {
-        if (!p.has(id)) continue;
-        const auto& cur = p.region(id).current;
+    const auto cover = [&](const ltr::TriangleFrame::Vertices& cur) {
         Eigen::Vector2d lo = cur[0].cwiseMin(cur[1]).cwiseMin(cur[2]), hi = cur[0].cwiseMax(cur[1]).cwiseMax(cur[2]);
         int x0, y0, x1, y1;
         r.covered.cellOf(lo, x0, y0);
@@ -89,6 +87,20 @@ MotionRaster rasterMotionLayer(const DenseSlam& slam, MotionKind kind, double re
         for (int iy = std::max(0, y0); iy <= std::min(r.covered.ny - 1, y1); ++iy)
             for (int ix = std::max(0, x0); ix <= std::min(r.covered.nx - 1, x1); ++ix)
                 if (dense::triangleContains(cur, r.covered.centre(ix, iy), 1e-9)) r.covered.set(ix, iy);
+    };
+    for (long id : slam.hybridMap()->regionIds())
+        if (p.has(id)) cover(p.region(id).current);
+    // The fallback tiles that hold occupancy are differenced too (MotionDetector).
+    const auto& hybrid = *slam.hybridMap();
+    for (const auto& key : hybrid.fallbackTileKeys())
+    {
+        const auto* tile = hybrid.fallbackMap(key);
+        if (!tile || !tile->layer(dense::OccupancyLayer::kKind)) continue;
+        const auto to_current = dense::usableReferenceToCurrent(p, key.anchor);
+        if (!to_current) continue;
+        auto cur = dense::fallbackTileTriangle(key, hybrid.options().fallback_tile_m);
+        for (auto& v : cur) v = to_current->mapPoint(v);
+        cover(cur);
     }
     // The layer alone: a blank grid of the same geometry, marked cells at 1.
     mrpt::maps::COccupancyGridMap2D layer(grid.getXMin(), grid.getXMax(), grid.getYMin(), grid.getYMax(),

@@ -249,6 +249,51 @@ const LocalDenseMap* HybridMetricMap::localMap(long region_id) const
     return it == maps_.end() ? nullptr : it->second.get();
 }
 
+const LocalDenseMap* HybridMetricMap::fallbackMap(const FallbackTileKey& key) const
+{
+    const auto it = fallback_.find(key);
+    return it == fallback_.end() ? nullptr : it->second.get();
+}
+
+std::vector<FallbackTileKey> HybridMetricMap::fallbackTileKeys() const
+{
+    std::vector<FallbackTileKey> out;
+    out.reserve(fallback_.size());
+    for (const auto& kv : fallback_) out.push_back(kv.first);
+    return out;
+}
+
+std::vector<FallbackTileKey> HybridMetricMap::fallbackTilesInBox(
+    const RegionPartition& partition, const Eigen::Vector2d& lo, const Eigen::Vector2d& hi) const
+{
+    std::vector<FallbackTileKey> out;
+    if (fallback_.empty()) return out;
+    // A tile lies within fallback_max_distance_m of its anchor's triangle when a return
+    // made it, plus its own diagonal; twice that leaves room for the anchor's later moves.
+    const double reach = 2.0 * (options_.fallback_max_distance_m + std::sqrt(2.0) * options_.fallback_tile_m);
+    const Eigen::Vector2d pad = Eigen::Vector2d::Constant(reach);
+    for (const long anchor : partition.regionsInBox(lo - pad, hi + pad))
+    {
+        auto it = fallback_.lower_bound(FallbackTileKey{anchor, std::numeric_limits<int>::min(), 0, 0});
+        if (it == fallback_.end() || it->first.anchor != anchor) continue;
+        const auto to_current = usableReferenceToCurrent(partition, anchor);
+        if (!to_current) continue;
+        for (; it != fallback_.end() && it->first.anchor == anchor; ++it)
+        {
+            Eigen::Vector2d tlo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
+            Eigen::Vector2d thi = -tlo;
+            for (const auto& v : fallbackTileTriangle(it->first, options_.fallback_tile_m))
+            {
+                const Eigen::Vector2d c = to_current->mapPoint(v);
+                tlo = tlo.cwiseMin(c);
+                thi = thi.cwiseMax(c);
+            }
+            if ((tlo.array() <= hi.array()).all() && (thi.array() >= lo.array()).all()) out.push_back(it->first);
+        }
+    }
+    return out;
+}
+
 std::vector<long> HybridMetricMap::regionIds() const
 {
     std::vector<long> out;

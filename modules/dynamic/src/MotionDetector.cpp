@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace hymm::dynamic
@@ -33,6 +34,8 @@ hymm::core::OptionTable MotionDetector::Options::table()
               "fast layer: the same (0: off)");
     t.integer("slow_max_regions_per_call", slow_max_regions_per_call, "", 1, 1000000,
               "slow differencings per call at most (the rest wait for the next calls)");
+    t.flag("fallback_tiles", fallback_tiles,
+           "difference the fallback tiles too (returns no region holds; [HybridMetricMap] fallback_max_distance_m > 0)");
     return t;
 }
 
@@ -105,7 +108,9 @@ size_t MotionDetector::differenceRegion(long id, const dense::OccupancyLayer& oc
     differenceOccupancy(*ref, now, sigmaCells(now.cell_size), options_.threshold, d, min_cluster_cells,
                         shift_tolerance_cells);
     const size_t marked = d.marked();
+    const bool had_marks = isTile(id) && hasMarks(id);
     layer.orMask(now.origin, now.cell_size, now.nx, now.ny, d.mask);
+    if (isTile(id)) noteTileMarks(id, had_marks, hasMarks(id));
     if (marked > 0)
     {
         last.region = id;
@@ -116,15 +121,6 @@ size_t MotionDetector::differenceRegion(long id, const dense::OccupancyLayer& oc
     std::swap(*ref, now);
     return marked;
 }
-
-namespace
-{
-const dense::OccupancyLayer* occupancyOf(const dense::HybridMetricMap& map, long id)
-{
-    const auto* local = map.localMap(id);
-    return local ? local->layerAs<dense::OccupancyLayer>(dense::OccupancyLayer::kKind) : nullptr;
-}
-}  // namespace
 
 MotionDetector::StepReport MotionDetector::step(
     const dense::HybridMetricMap& map, const std::vector<long>& regions_in_view, double t)
@@ -201,32 +197,47 @@ void MotionDetector::stepSlow(const dense::HybridMetricMap& map, std::uint64_t c
     if (!slow_due_.empty() && slow_due_.top().first <= t + 1e-9) rep.slow_pending = 1;
 }
 
+void MotionDetector::eraseUnit(long id)
+{
+    if (const auto st = regions_.find(id); st != regions_.end())
+    {
+        if (isTile(id)) noteTileMarks(id, hasMarks(id), false);
+        keepSpare(st->second);
+        regions_.erase(st);
+    }
+    const auto it = std::lower_bound(in_view_.begin(), in_view_.end(), id);
+    if (it != in_view_.end() && *it == id) in_view_.erase(it);
+    tile_keys_.erase(id);
+}
+
 void MotionDetector::removeRegions(const std::vector<long>& region_ids)
 {
     for (long id : region_ids)
     {
-        if (const auto st = regions_.find(id); st != regions_.end())
-        {
-            keepSpare(st->second);
-            regions_.erase(st);
-        }
-        const auto it = std::lower_bound(in_view_.begin(), in_view_.end(), id);
-        if (it != in_view_.end() && *it == id) in_view_.erase(it);
+        eraseUnit(id);
+        // A tile hangs off its anchor's frame and goes with it (HybridMetricMap drops it).
+        const auto first = tile_ids_.lower_bound(dense::FallbackTileKey{id, std::numeric_limits<int>::min(), 0, 0});
+        auto last = first;
+        for (; last != tile_ids_.end() && last->first.anchor == id; ++last) eraseUnit(last->second);
+        tile_ids_.erase(first, last);
     }
-    // Queue entries of removed regions are skipped when they come due.
+    // Queue entries of removed regions and tiles are skipped when they come due.
 }
 
 void MotionDetector::removeStaleRegions(const dense::HybridMetricMap& map)
 {
-    for (auto it = regions_.begin(); it != regions_.end();)
-        if (map.localMap(it->first))
-            ++it;
-        else
-        {
-            keepSpare(it->second);
-            it = regions_.erase(it);
-        }
-    // Queue entries of removed regions are skipped when they come due.
+    std::vector<long> gone;
+    for (const auto& kv : regions_)
+    {
+        const long id = kv.first;
+        if (isTile(id) ? !map.fallbackMap(tile_keys_.at(id)) : !map.localMap(id)) gone.push_back(id);
+    }
+    for (const long id : gone)
+    {
+        if (isTile(id)) tile_ids_.erase(tile_keys_.at(id));
+        eraseUnit(id);
+    }
+    // Queue entries of removed regions and tiles are skipped when they come due.
 }
 
 const MotionLayer* MotionDetector::layer(MotionKind kind, long region_id) const
@@ -252,6 +263,7 @@ size_t MotionDetector::markedCells(MotionKind kind) const
 bool MotionDetector::isDynamic(MotionKind kind, const ltr::RegionPartition& partition,
                                const Eigen::Vector2d& p) const
 {
+    if (tileMarked(partition, p, kind == MotionKind::Slow, kind == MotionKind::Fast)) return true;
     for (long id : partition.findRegions(p))
     {
         const auto* l = layer(kind, id);
@@ -271,6 +283,7 @@ bool MotionDetector::isDynamic(MotionKind kind, const ltr::RegionPartition& part
 bool MotionDetector::isDynamic(const ltr::RegionPartition& partition, const Eigen::Vector2d& p) const
 {
     // isDynamic(Slow) || isDynamic(Fast), with one look-up of the regions holding p.
+    if (tileMarked(partition, p, true, true)) return true;
     for (long id : partition.findRegions(p))
     {
         const auto it = regions_.find(id);
@@ -295,21 +308,13 @@ void MotionDetector::paint(const std::vector<MotionKind>& kinds, const ltr::Regi
 {
     for (const auto& [id, st] : regions_)
     {
-        if (!partition.has(id)) continue;
         std::vector<const MotionLayer*> layers;
         for (auto k : kinds)
             if (const auto* l = layer(k, id); l && l->count() > 0) layers.push_back(l);
         if (layers.empty()) continue;
-        ltr::AffineRegionMap ref_to_cur;
-        try
-        {
-            ref_to_cur = partition.referenceToCurrent(id);
-        }
-        catch (const std::exception&)
-        {
-            continue;  // folded triangle: not drawn
-        }
-        const auto& cur = partition.region(id).current;
+        const auto frame = frameOf(id, partition);
+        if (!frame) continue;  // gone, or a folded triangle: not drawn
+        const auto& [cur, ref_to_cur] = *frame;
         Eigen::Vector2d lo = cur[0], hi = cur[0];
         for (const auto& v : cur)
         {

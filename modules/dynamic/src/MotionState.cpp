@@ -135,6 +135,17 @@ void MotionDetector::saveState(mrpt::serialization::CArchive& out) const
         out << last->t_then << last->t_now;
         writeDifference(out, last->diff);
     }
+    // The fallback tiles' ids (their state is in the regions' table above).
+    writeSize(out, tile_ids_.size());
+    for (const auto& [key, id] : tile_ids_)
+    {
+        writeLong(out, key.anchor);
+        out << static_cast<std::int32_t>(key.ix) << static_cast<std::int32_t>(key.iy)
+            << static_cast<std::int32_t>(key.half);
+        writeLong(out, id);
+    }
+    writeLong(out, next_tile_id_);
+    out << tile_m_ << tile_reach_m_;
     writeTag(out, "MotionDetector end");
 }
 
@@ -169,6 +180,32 @@ void MotionDetector::loadState(mrpt::serialization::CArchive& in)
         last->region = readLong(in);
         in >> last->t_then >> last->t_now;
         readDifference(in, last->diff);
+    }
+    tile_ids_.clear();
+    tile_keys_.clear();
+    marked_tile_anchors_.clear();
+    const size_t nt = readSize(in, "motion tile");
+    for (size_t i = 0; i < nt; ++i)
+    {
+        dense::FallbackTileKey key;
+        key.anchor = readLong(in);
+        std::int32_t ix = 0, iy = 0, half = 0;
+        in >> ix >> iy >> half;
+        key.ix = ix;
+        key.iy = iy;
+        key.half = half;
+        const long id = readLong(in);
+        if (!isTile(id) || !tile_keys_.emplace(id, key).second || !tile_ids_.emplace(key, id).second)
+            throw std::runtime_error("corrupt state: motion tile id " + std::to_string(id));
+    }
+    next_tile_id_ = readLong(in);
+    in >> tile_m_ >> tile_reach_m_;
+    for (const auto& [id, st] : regions_)
+    {
+        if (!isTile(id)) continue;
+        if (!tile_keys_.count(id) || id >= next_tile_id_)
+            throw std::runtime_error("corrupt state: motion state of unknown tile id " + std::to_string(id));
+        noteTileMarks(id, false, hasMarks(id));
     }
     expectTag(in, "MotionDetector end");
 }

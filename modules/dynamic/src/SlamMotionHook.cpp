@@ -137,6 +137,20 @@ std::optional<std::pair<Eigen::Vector2d, Eigen::Vector2d>> SlamMotionHook::marke
             box->second = box->second.cwiseMax(q);
         }
     }
+    // The same for the fallback tiles: isDynamic(p) reads the tiles of the anchors the
+    // grid lists within the tiles' reach of p.
+    if (detector_.tiles() > 0)
+    {
+        const Eigen::Vector2d reach = pad + Eigen::Vector2d::Constant(detector_.tileReach());
+        for (const auto& tri : detector_.markedTileTriangles(
+                 partition, partition.regionsInBox(vehicle - reach, vehicle + reach)))
+            for (const auto& q : tri)
+            {
+                if (!box) box.emplace(q, q);
+                box->first = box->first.cwiseMin(q);
+                box->second = box->second.cwiseMax(q);
+            }
+    }
     if (box)
     {
         box->first.array() -= c + 1.0;
@@ -173,7 +187,12 @@ std::vector<long> SlamMotionHook::afterFrame(const dense::HybridMetricMap& map,
 {
     const Eigen::Vector3d v = ekf.vehiclePose();
     const Eigen::Vector2d r = Eigen::Vector2d::Constant(options_.view_range_m);
-    const auto rep = detector_.step(map, partition.regionsInBox(v.head<2>() - r, v.head<2>() + r), t);
+    const Eigen::Vector2d lo = v.head<2>() - r, hi = v.head<2>() + r;
+    const auto rep = detector_.step(map, partition.regionsInBox(lo, hi),
+                                    detector_.options().fallback_tiles && map.options().fallback_max_distance_m > 0
+                                        ? map.fallbackTilesInBox(partition, lo, hi)
+                                        : std::vector<dense::FallbackTileKey>{},
+                                    t);
     stats_.fast_differencings += rep.fast_differenced;
     stats_.slow_differencings += rep.slow_differenced;
     std::vector<long> removed;

@@ -7,10 +7,13 @@
 #include <hymm/dense/HybridMetricMap.h>
 #include <hymm/dynamic/MotionDetector.h>
 #include <mrpt/config/CConfigFileMemory.h>
+#include <mrpt/io/CMemoryStream.h>
+#include <mrpt/serialization/CArchive.h>
 #include <mrpt/random/RandomGenerators.h>
 
 #include <cmath>
 #include <limits>
+#include <map>
 #include <optional>
 #include <stdexcept>
 #include <utility>
@@ -538,6 +541,118 @@ TEST(MotionDetector, RegionsRemovedByIdLeaveTheDetectorAsTheWalkDoes)
     }
     // Its queued slow entry is skipped when due.
     EXPECT_NO_THROW(by_ids.step(sc.map, {}, 1000.0));
+}
+
+/** The slow scene of SlowMotionFindsARemovedObjectAmortised with the container beyond
+ *  every region (above the lattice, y > 15, before a wall), where only the fallback keeps
+ *  its returns. */
+struct TileScene
+{
+    WallWorld w;
+    HybridMetricMap map{[] {
+        auto o = mapOptions();
+        o.fallback_max_distance_m = 10.0;
+        o.fallback_tile_m = 10.0;
+        return o;
+    }()};
+    mrpt::random::CRandomGenerator rng{5};
+    const Box container{{6.0, 17.0}, {9.0, 19.0}};
+    const Box back_wall{{2.0, 22.0}, {16.0, 22.4}};  // what the beams meet once it is gone
+    double t = 0;
+    /** A pass of 30 scans with or without the container, then 30 s away. `tiles`: the
+     *  detector is given the fallback tiles in view. */
+    void run(MotionDetector& det, bool tiles)
+    {
+        const Eigen::Vector2d lo(1.0 - 24, 7.5 - 24), hi(1.0 + 24, 7.5 + 24);
+        for (const bool present : {true, false})
+        {
+            for (int k = 0; k < 30; ++k, t += 0.1)
+            {
+                map.insertScan(scanOf(present ? std::vector<Box>{container, back_wall} : std::vector<Box>{back_wall},
+                                      0.05, rng),
+                               kSensorPose, w.partition);
+                if (tiles)
+                    det.step(map, inView(w.partition), map.fallbackTilesInBox(w.partition, lo, hi), t);
+                else
+                    det.step(map, inView(w.partition), t);
+            }
+            for (const double until = t + 30.0; t < until; t += 0.1) det.step(map, {}, {}, t);
+        }
+    }
+    /** Marked cells of the rendered slow layer near the container / elsewhere. */
+    std::pair<size_t, size_t> marks(const MotionDetector& det) const
+    {
+        mrpt::maps::COccupancyGridMap2D g(-5.0f, 25.0f, -5.0f, 30.0f, 0.1f);
+        det.renderInto(MotionKind::Slow, w.partition, g);
+        size_t on = 0, off = 0;
+        for (unsigned cy = 0; cy < g.getSizeY(); ++cy)
+            for (unsigned cx = 0; cx < g.getSizeX(); ++cx)
+                if (g.getCell(cx, cy) > 0.9f)
+                    ++(container.contains(Eigen::Vector2d(g.idx2x(cx), g.idx2y(cy)), 0.4) ? on : off);
+        return {on, off};
+    }
+    /** A point of the container's near faces that isDynamic() reports, if any. */
+    std::optional<Eigen::Vector2d> markedPoint(const MotionDetector& det) const
+    {
+        for (double y = 16.6; y < 19.4; y += 0.05)
+            for (double x = 5.6; x < 9.4; x += 0.05)
+                if (det.isDynamic(MotionKind::Slow, w.partition, Eigen::Vector2d(x, y))) return Eigen::Vector2d(x, y);
+        return std::nullopt;
+    }
+};
+
+TEST(MotionDetector, ObjectsBeyondEveryRegionAreFoundInTheFallbackTiles)
+{
+    MotionDetector::Options o;
+    o.enable_fast = false;
+    o.slow_period_s = 20.0;
+    TileScene with_tiles, regions_only;
+    MotionDetector det(o), det_regions(o);
+    with_tiles.run(det, true);
+    regions_only.run(det_regions, false);
+    ASSERT_GT(with_tiles.map.fallbackTiles(), 0u);
+    EXPECT_GT(det.tiles(), 0u);
+    EXPECT_EQ(det_regions.tiles(), 0u);
+    // No region holds the container: without the tiles nothing marks it.
+    EXPECT_EQ(regions_only.marks(det_regions).first, 0u);
+    EXPECT_FALSE(regions_only.markedPoint(det_regions).has_value());
+    const auto [on, off] = with_tiles.marks(det);
+    EXPECT_GT(on, 10u);
+    EXPECT_EQ(off, 0u);
+    const auto marked = with_tiles.markedPoint(det);
+    ASSERT_TRUE(marked.has_value());
+    EXPECT_TRUE(det.isDynamic(with_tiles.w.partition, *marked));
+    EXPECT_FALSE(det.isDynamic(with_tiles.w.partition, Eigen::Vector2d(17.0, 7.5)));  // the wall
+
+    // The marks live in the anchors' frames: a rigid correction of the landmarks moves them.
+    std::map<long, Eigen::Vector2d> moved = with_tiles.w.lattice.landmarks();
+    for (auto& [id, p] : moved) p += Eigen::Vector2d(3.0, -2.0);
+    with_tiles.w.partition.updateVertexPositions(makeDenseView(moved, Eigen::Vector3d::Zero()));
+    const Eigen::Vector2d shifted = *marked + Eigen::Vector2d(3.0, -2.0);
+    EXPECT_TRUE(det.isDynamic(MotionKind::Slow, with_tiles.w.partition, shifted));
+    EXPECT_FALSE(det.isDynamic(MotionKind::Slow, with_tiles.w.partition, *marked + Eigen::Vector2d(0.0, 5.0)));
+
+    // A saved and reloaded detector reads the same marks.
+    mrpt::io::CMemoryStream mem;
+    auto ar = mrpt::serialization::archiveFrom(mem);
+    det.saveState(ar);
+    mem.Seek(0);
+    MotionDetector loaded(o);
+    loaded.loadState(ar);
+    EXPECT_EQ(loaded.tiles(), det.tiles());
+    EXPECT_EQ(loaded.markedCells(MotionKind::Slow), det.markedCells(MotionKind::Slow));
+    EXPECT_TRUE(loaded.isDynamic(MotionKind::Slow, with_tiles.w.partition, shifted));
+
+    // Tiles go with their anchor region.
+    std::vector<long> anchors;
+    for (const auto& key : with_tiles.map.fallbackTileKeys()) anchors.push_back(key.anchor);
+    with_tiles.map.removeRegions(anchors);
+    det.removeRegions(anchors);
+    EXPECT_EQ(det.tiles(), 0u);
+    EXPECT_FALSE(det.isDynamic(MotionKind::Slow, with_tiles.w.partition, shifted));
+    loaded.removeStaleRegions(with_tiles.map);
+    EXPECT_EQ(loaded.tiles(), 0u);
+    EXPECT_EQ(loaded.markedCells(MotionKind::Slow), det.markedCells(MotionKind::Slow));
 }
 
 TEST(MotionDetectorOptions, ReadsValidatesAndRejectsUnknownKeys)

@@ -8,7 +8,8 @@
  * simulator's World (tests) or from its `_gt_objects.txt` records (hymm-slam).
  *
  * Scoring (scoreMotionLayer), on a global grid at the current landmark estimates, only
- * over the cells a region with an occupancy layer covers (no layer can mark elsewhere):
+ * over the cells a region or fallback tile with an occupancy layer covers (no layer can
+ * mark elsewhere):
  *  - precision: marked cells within `tolerance` cells of a non-static footprint;
  *  - recall: footprint cells within `tolerance` of a marked cell. A footprint's far side
  *    is never seen by the sensor, so this recall is bounded below 1 by visibility;

@@ -271,6 +271,16 @@ public:
     size_t size() const { return maps_.size(); }
     /** Fallback triangles holding content (FallbackTiles.h). */
     size_t fallbackTiles() const { return fallback_.size(); }
+    /** The content of fallback triangle `key`, or nullptr. */
+    const LocalDenseMap* fallbackMap(const FallbackTileKey& key) const;
+    /** Keys of every fallback triangle, ordered by anchor. */
+    std::vector<FallbackTileKey> fallbackTileKeys() const;
+    /** Keys of the fallback triangles whose current position (through the anchor's
+     *  reference -> current map) meets the box [lo, hi]. Only anchors the partition's
+     *  lookup grid lists near the box are visited, so the cost depends on the content
+     *  near the box, not on the map's size. */
+    std::vector<FallbackTileKey> fallbackTilesInBox(
+        const hymm::ltr::RegionPartition& partition, const Eigen::Vector2d& lo, const Eigen::Vector2d& hi) const;
     /** nullptr if the region has no dense content yet. */
     const LocalDenseMap* localMap(long region_id) const;
     std::vector<long> regionIds() const;

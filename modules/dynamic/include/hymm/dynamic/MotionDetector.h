@@ -40,6 +40,12 @@
  * creation); from then on it is due every slow_period_s. Due regions wait in a queue
  * ordered by due time and at most slow_max_regions_per_call are processed per call,
  * so the slow work is amortised over calls and does not grow with map size per call.
+ *
+ * Fallback tiles (HybridMetricMap's fallback, dense/FallbackTiles.h: returns that no
+ * region holds, kept in the frame of the nearest region) are differenced the same way,
+ * each in its anchor's reference frame, so their marks move with the anchor's landmarks
+ * too. Without them an object beyond every landmark triangle (a car parked off the road,
+ * past the outer row of landmarks) cannot be marked by any layer.
  */
 #pragma once
 
@@ -53,6 +59,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <queue>
 #include <string>
@@ -151,6 +158,9 @@ public:
         int fast_shift_tolerance_cells = 0;
         /** Slow differencings per call at most (the rest wait for the next calls). */
         int slow_max_regions_per_call = 4;
+        /** Difference the fallback tiles too, where the map keeps returns no region holds
+         *  ([HybridMetricMap] fallback_max_distance_m > 0). */
+        bool fallback_tiles = true;
 
         /** Every ini key, declared once: loader, saver and README table come from it. */
         hymm::core::OptionTable table();
@@ -181,9 +191,13 @@ public:
      *  the current scan covers (any order, duplicates allowed). Reads only. */
     StepReport step(const dense::HybridMetricMap& map, const std::vector<long>& regions_in_view,
                     double t);
+    /** The same with the fallback tiles in view (HybridMetricMap::fallbackTilesInBox):
+     *  each tile is differenced like a region (the counts of StepReport include them). */
+    StepReport step(const dense::HybridMetricMap& map, const std::vector<long>& regions_in_view,
+                    const std::vector<dense::FallbackTileKey>& tiles_in_view, double t);
 
     /** Drops the layers and snapshots of the regions `region_ids` (those the partition
-     *  just removed; unknown ids are ignored). O(removed * regions in view): the pipeline
+     *  just removed; unknown ids are ignored) and of the fallback tiles anchored on them. O(removed * regions in view): the pipeline
      *  calls it every step, so it must not walk the map. Their due-queue entries are
      *  skipped when they come due. */
     void removeRegions(const std::vector<long>& region_ids);
@@ -193,23 +207,37 @@ public:
 
     /** The layer of a region, or nullptr. */
     const MotionLayer* layer(MotionKind kind, long region_id) const;
-    /** Regions holding motion state. */
+    /** The layer of a fallback tile, or nullptr. */
+    const MotionLayer* layer(MotionKind kind, const dense::FallbackTileKey& tile) const;
+    /** Regions and fallback tiles holding motion state. */
     size_t size() const { return regions_.size(); }
+    /** Fallback tiles holding motion state. */
+    size_t tiles() const { return tile_ids_.size(); }
+    /** Current triangles of the fallback tiles with a marked cell whose anchor is one
+     *  of `anchors`: isDynamic() is false at every point outside the regions with
+     *  hasMarks() and these triangles. */
+    std::vector<ltr::TriangleFrame::Vertices> markedTileTriangles(
+        const ltr::RegionPartition& partition, const std::vector<long>& anchors) const;
+    /** [m] how far from its anchor's current triangle a fallback tile can lie (from the
+     *  map's options at step(); 0 before): the margin a search for marked tiles near a
+     *  point adds to its box. */
+    double tileReach() const { return tile_reach_m_; }
     /** Cells set in the layers of `kind`, summed over regions. */
     size_t markedCells(MotionKind kind) const;
     /** True if a layer of region `region_id` has a marked cell: isDynamic() is false at
      *  every point outside the regions for which this holds. */
     bool hasMarks(long region_id) const;
 
-    /** True if the global point `p` lies in a cell marked in the layer of `kind` of the
-     *  region whose CURRENT triangle contains it. */
+    /** True if the global point `p` lies in a cell marked in the layer of `kind` of a
+     *  region whose CURRENT triangle contains it, or of a fallback tile holding it. */
     bool isDynamic(MotionKind kind, const ltr::RegionPartition& partition,
                    const Eigen::Vector2d& p) const;
     /** Either layer. */
     bool isDynamic(const ltr::RegionPartition& partition, const Eigen::Vector2d& p) const;
 
     /** Draws the layer of `kind` into `out` (sized by the caller): cells whose centre
-     *  lies in a current triangle with a marked local cell get 1, others untouched. */
+     *  lies in a current triangle (region or fallback tile) with a marked local cell get
+     *  1, others untouched. */
     void renderInto(MotionKind kind, const ltr::RegionPartition& partition,
                     mrpt::maps::COccupancyGridMap2D& out) const;
     /** HybridMetricMap::renderOccupancy, then every cell marked in either motion layer
@@ -244,6 +272,26 @@ private:
         bool seen = false;  //!< in view at some call
         std::uint64_t view_call = 0;  //!< the last call (calls_) that had it in view
     };
+
+    /** Fallback tiles share the regions' state, schedule and code under ids from
+     *  kFirstTileId up; region ids stay far below it. */
+    static constexpr long kFirstTileId = 1L << 60;
+    static bool isTile(long id) { return id >= kFirstTileId; }
+    /** The id of tile `key`, made on first use. */
+    long tileId(const dense::FallbackTileKey& key);
+    /** The occupancy layer of region or tile `id` in `map`, or nullptr. */
+    const dense::OccupancyLayer* occupancyOf(const dense::HybridMetricMap& map, long id) const;
+    /** Current triangle and reference -> current map of region or tile `id`; nullopt if
+     *  the partition lacks it (or its anchor) or its current triangle is degenerate. */
+    std::optional<std::pair<ltr::TriangleFrame::Vertices, ltr::AffineRegionMap>> frameOf(
+        long id, const ltr::RegionPartition& partition) const;
+    /** Drops the state of region or tile `id` (and its place in the view list). */
+    void eraseUnit(long id);
+    /** isDynamic() over the fallback tiles with a marked cell near `p`. */
+    bool tileMarked(const ltr::RegionPartition& partition, const Eigen::Vector2d& p, bool slow,
+                    bool fast) const;
+    /** Keeps marked_tile_anchors_ up to date after tile `id` gained marks or is erased. */
+    void noteTileMarks(long id, bool had_marks, bool has_marks);
 
     /** Differences `st`'s snapshot against the region's occupancy now; ORs into
      *  `layer`, replaces the snapshot. Returns cells marked. */
@@ -283,6 +331,15 @@ private:
                         std::greater<>>
         slow_due_;
     LastDifference last_slow_, last_fast_;
+    /** Fallback tiles with state: key -> id (ordered by anchor, so an anchor's tiles are
+     *  one range) and back. */
+    std::map<dense::FallbackTileKey, long> tile_ids_;
+    std::unordered_map<long, dense::FallbackTileKey> tile_keys_;
+    long next_tile_id_ = kFirstTileId;
+    /** Anchors -> how many of their tiles hold a marked cell (isDynamic looks only there). */
+    std::unordered_map<long, int> marked_tile_anchors_;
+    double tile_m_ = 0;       //!< [m] the map's fallback_tile_m, from step()
+    double tile_reach_m_ = 0;  //!< [m] see tileReach()
 };
 
 }  // namespace hymm::dynamic
