@@ -17,6 +17,11 @@
 //
 // BM_MotionStepAllInView: every region of the map in view at every call (fast layer):
 // the work per call is proportional to N, so is the time; reported per region.
+//
+// BM_MotionStepTiles: BM_MotionStep on a map that also keeps fallback tiles (about one
+// per region); each call finds the tiles in view (HybridMetricMap::fallbackTilesInBox,
+// timed: SlamMotionHook calls it every step) and differences them with the regions. The
+// time per call should not grow with N.
 #include "lattice_map.h"
 
 #include <benchmark/benchmark.h>
@@ -59,6 +64,30 @@ void BM_MotionStep(benchmark::State& state)
         ++calls;
     }
     setCounters(state, m, calls, in_view, fast, slow);
+}
+
+void BM_MotionStepTiles(benchmark::State& state)
+{
+    LatticeMap m(static_cast<size_t>(state.range(0)), true);
+    hymm::dynamic::MotionDetector det(benchOptions());
+    const auto views = m.viewSchedule(0.0, 0.1, static_cast<size_t>(state.max_iterations));
+    const V2 r(14.0, 14.0);
+    size_t fast = 0, slow = 0, in_view = 0, tiles = 0, calls = 0;
+    for (auto _ : state)
+    {
+        const double t = 0.1 * static_cast<double>(calls);
+        const V2 v = m.vehicle(t);
+        const auto tiles_in_view = m.map.fallbackTilesInBox(m.partition, v - r, v + r);
+        const auto rep = det.step(m.map, views[calls], tiles_in_view, t);
+        fast += rep.fast_differenced;
+        slow += rep.slow_differenced;
+        in_view += views[calls].size();
+        tiles += tiles_in_view.size();
+        ++calls;
+    }
+    setCounters(state, m, calls, in_view, fast, slow);
+    state.counters["tiles"] = static_cast<double>(m.map.fallbackTiles());
+    state.counters["tiles_in_view"] = static_cast<double>(tiles) / static_cast<double>(calls);
 }
 
 void BM_MotionStepRemoval(benchmark::State& state)
@@ -112,6 +141,14 @@ void BM_MotionStepAllInView(benchmark::State& state)
 }
 
 BENCHMARK(BM_MotionStep)
+    ->ArgName("regions")
+    ->Arg(100)
+    ->Arg(500)
+    ->Arg(2000)
+    ->Arg(8000)
+    ->Iterations(3000)
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_MotionStepTiles)
     ->ArgName("regions")
     ->Arg(100)
     ->Arg(500)

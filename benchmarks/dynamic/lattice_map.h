@@ -43,27 +43,38 @@ struct LatticeMap
     V2 centre;
     hymm::dense::HybridMetricMap map;
 
-    static hymm::dense::HybridMetricMap::Options mapOptions()
+    static hymm::dense::HybridMetricMap::Options mapOptions(bool fallback = false)
     {
         hymm::dense::HybridMetricMap::Options mo;
         mo.enable_points = false;
         mo.occupancy.cell_size_m = 0.2;
+        if (fallback) mo.fallback_max_distance_m = 10.0;  // tiles of 10 m (the default)
         return mo;
     }
     /** `side` is even for every N used (100, 500, 2000, 8000): the centre then falls on
-     *  the same point of a lattice square and the geometry around it is the same. */
-    explicit LatticeMap(size_t regions)
+     *  the same point of a lattice square and the geometry around it is the same.
+     *  `fallback`: the map keeps fallback tiles too, and every lattice square puts one
+     *  return into a tile of the region holding it (about one tile per region, the
+     *  density of a long run's boundary everywhere). */
+    explicit LatticeMap(size_t regions, bool fallback = false)
         : side(static_cast<int>(std::ceil(std::sqrt(static_cast<double>(regions) / 2.0))) + 2),
           lattice{side, side, kSpacing, V2(0, 0)},
           view(lattice.landmarks()),
           centre(0.5 * kSpacing * (side - 1) * V2(1, 1)),
-          map(mapOptions())
+          map(mapOptions(fallback))
     {
         addRegions(partition, view, lattice.triangles(centre), regions);
         const auto scan = ringScan();
         for (int i = 0; i < side; ++i)
             for (int j = 0; j < side; ++j)
                 map.insertScan(scan, {kSpacing * (i + 0.5), kSpacing * (j + 0.5), 0.0}, partition);
+        if (!fallback) return;
+        for (int i = 0; i < side; ++i)
+            for (int j = 0; j < side; ++j)
+            {
+                const V2 p(kSpacing * (i + 0.3), kSpacing * (j + 0.6));
+                map.insertFallbackReturn(p - V2(1.0, 0.0), p, 0.05, 0.01, partition);
+            }
     }
     /** Vehicle position at time t: a circle of radius 4 m around the centre, one lap
      *  in ~126 s. */

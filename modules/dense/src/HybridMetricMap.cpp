@@ -268,12 +268,15 @@ std::vector<FallbackTileKey> HybridMetricMap::fallbackTilesInBox(
 {
     std::vector<FallbackTileKey> out;
     if (fallback_.empty()) return out;
-    // A tile lies within fallback_max_distance_m of its anchor's triangle when a return
-    // made it, plus its own diagonal; twice that leaves room for the anchor's later moves.
-    const double reach = 2.0 * (options_.fallback_max_distance_m + std::sqrt(2.0) * options_.fallback_tile_m);
-    const Eigen::Vector2d pad = Eigen::Vector2d::Constant(reach);
-    for (const long anchor : partition.regionsInBox(lo - pad, hi + pad))
+    const Eigen::Vector2d pad = Eigen::Vector2d::Constant(fallbackReach());
+    const Eigen::Vector2d lo_pad = lo - pad, hi_pad = hi + pad;
+    for (const long anchor : partition.regionsInBox(lo_pad, hi_pad))
     {
+        // The grid lists a region in whole cells: its own box first, then its tiles.
+        const auto& cur = partition.region(anchor).current;
+        const Eigen::Vector2d alo = cur[0].cwiseMin(cur[1]).cwiseMin(cur[2]);
+        const Eigen::Vector2d ahi = cur[0].cwiseMax(cur[1]).cwiseMax(cur[2]);
+        if ((alo.array() > hi_pad.array()).any() || (ahi.array() < lo_pad.array()).any()) continue;
         auto it = fallback_.lower_bound(FallbackTileKey{anchor, std::numeric_limits<int>::min(), 0, 0});
         if (it == fallback_.end() || it->first.anchor != anchor) continue;
         const auto to_current = usableReferenceToCurrent(partition, anchor);
@@ -292,6 +295,14 @@ std::vector<FallbackTileKey> HybridMetricMap::fallbackTilesInBox(
         }
     }
     return out;
+}
+
+double HybridMetricMap::fallbackReach() const
+{
+    // A return within fallback_max_distance_m of the anchor's triangle when kept, plus its
+    // tile's diagonal; a quarter more for the anchor's later deformation (the affine map
+    // stretches the reference plane by the change of the triangle's shape).
+    return 1.25 * (options_.fallback_max_distance_m + std::sqrt(2.0) * options_.fallback_tile_m);
 }
 
 std::vector<long> HybridMetricMap::regionIds() const

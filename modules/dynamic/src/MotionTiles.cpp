@@ -3,7 +3,6 @@
 // anchor's reference frame; only the look-ups that need its geometry live here.
 #include <hymm/dense/OccupancyLayer.h>
 
-#include <cmath>
 #include <limits>
 
 #include "hymm/dynamic/MotionDetector.h"
@@ -35,11 +34,8 @@ MotionDetector::StepReport MotionDetector::step(
     const dense::HybridMetricMap& map, const std::vector<long>& regions_in_view,
     const std::vector<dense::FallbackTileKey>& tiles_in_view, double t)
 {
-    const auto& o = map.options();
-    tile_m_ = o.fallback_tile_m;
-    // As HybridMetricMap::fallbackTilesInBox: a tile within the fallback distance of its
-    // anchor when made, plus its diagonal, doubled for the anchor's later moves.
-    tile_reach_m_ = 2.0 * (o.fallback_max_distance_m + std::sqrt(2.0) * o.fallback_tile_m);
+    tile_m_ = map.options().fallback_tile_m;
+    tile_reach_m_ = map.fallbackReach();
     if (tiles_in_view.empty()) return step(map, regions_in_view, t);
     std::vector<long> ids = regions_in_view;
     ids.reserve(ids.size() + tiles_in_view.size());

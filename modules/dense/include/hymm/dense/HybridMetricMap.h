@@ -275,6 +275,9 @@ public:
     const LocalDenseMap* fallbackMap(const FallbackTileKey& key) const;
     /** Keys of every fallback triangle, ordered by anchor. */
     std::vector<FallbackTileKey> fallbackTileKeys() const;
+    /** [m] how far from its anchor's current triangle a fallback triangle is looked for
+     *  (fallbackTilesInBox and readers that search tiles near a point). */
+    double fallbackReach() const;
     /** Keys of the fallback triangles whose current position (through the anchor's
      *  reference -> current map) meets the box [lo, hi]. Only anchors the partition's
      *  lookup grid lists near the box are visited, so the cost depends on the content
