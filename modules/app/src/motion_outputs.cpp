@@ -90,12 +90,13 @@ MotionRaster rasterMotionLayer(const DenseSlam& slam, MotionKind kind, double re
     };
     for (long id : slam.hybridMap()->regionIds())
         if (p.has(id)) cover(p.region(id).current);
-    // The fallback tiles that hold occupancy are differenced too (MotionDetector).
+    // The fallback tiles that hold occupancy: the motion layers read them where no region
+    // holds a place ([MotionDetector] fallback_tiles; without it nothing marks them).
     const auto& hybrid = *slam.hybridMap();
     for (const auto& key : hybrid.fallbackTileKeys())
     {
         const auto* tile = hybrid.fallbackMap(key);
-        if (!tile || !tile->layer(dense::OccupancyLayer::kKind)) continue;
+        if (!tile || !tile->layer(dense::OccupancyLayer::kKind) || !p.has(key.anchor)) continue;
         const auto to_current = dense::usableReferenceToCurrent(p, key.anchor);
         if (!to_current) continue;
         auto cur = dense::fallbackTileTriangle(key, hybrid.options().fallback_tile_m);

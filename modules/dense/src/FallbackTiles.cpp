@@ -18,6 +18,9 @@ FallbackTileKey fallbackTileOf(long anchor, const Eigen::Vector2d& p_ref, double
     FallbackTileKey k;
     k.anchor = anchor;
     const double fx = std::floor(p_ref.x() / tile_m), fy = std::floor(p_ref.y() / tile_m);
+    // Tile indices are ints: a point that far (a nearly folded anchor's inverse map) has no tile.
+    if (std::abs(fx) > 1e9 || std::abs(fy) > 1e9)
+        throw std::invalid_argument("fallbackTileOf: point beyond the tile index range");
     k.ix = static_cast<int>(fx);
     k.iy = static_cast<int>(fy);
     // Half 0 holds the points below the diagonal (x - x0 >= y - y0), the diagonal included.
@@ -43,6 +46,7 @@ double distanceToTriangle(const Eigen::Vector2d& p, const hymm::ltr::TriangleFra
 std::optional<hymm::ltr::AffineRegionMap> usableReferenceToCurrent(const hymm::ltr::RegionPartition& partition,
                                                                     long id)
 {
+    if (!partition.has(id)) return std::nullopt;
     try
     {
         return partition.referenceToCurrent(id);

@@ -202,7 +202,7 @@ std::vector<long> HybridMetricMap::removeRegions(const std::vector<long>& region
         last_scan_regions_.erase(id);
         // Fallback content hangs off its anchor's frame: it goes with the anchor (the
         // tiles are ordered by anchor, so they are one range).
-        const auto first = fallback_.lower_bound(FallbackTileKey{id, std::numeric_limits<int>::min(), 0, 0});
+        const auto first = fallback_.lower_bound(FallbackTileKey{id, std::numeric_limits<int>::min(), std::numeric_limits<int>::min(), std::numeric_limits<int>::min()});
         auto last = first;
         while (last != fallback_.end() && last->first.anchor == id) ++last;
         fallback_.erase(first, last);
@@ -277,7 +277,7 @@ std::vector<FallbackTileKey> HybridMetricMap::fallbackTilesInBox(
         const Eigen::Vector2d alo = cur[0].cwiseMin(cur[1]).cwiseMin(cur[2]);
         const Eigen::Vector2d ahi = cur[0].cwiseMax(cur[1]).cwiseMax(cur[2]);
         if ((alo.array() > hi_pad.array()).any() || (ahi.array() < lo_pad.array()).any()) continue;
-        auto it = fallback_.lower_bound(FallbackTileKey{anchor, std::numeric_limits<int>::min(), 0, 0});
+        auto it = fallback_.lower_bound(FallbackTileKey{anchor, std::numeric_limits<int>::min(), std::numeric_limits<int>::min(), std::numeric_limits<int>::min()});
         if (it == fallback_.end() || it->first.anchor != anchor) continue;
         const auto to_current = usableReferenceToCurrent(partition, anchor);
         if (!to_current) continue;

@@ -36,6 +36,8 @@ hymm::core::OptionTable MotionDetector::Options::table()
               "slow differencings per call at most (the rest wait for the next calls)");
     t.flag("fallback_tiles", fallback_tiles,
            "difference the fallback tiles too (returns no region holds; [HybridMetricMap] fallback_max_distance_m > 0)");
+    t.flag("tile_marks_inside_regions", tile_marks_inside_regions,
+           "read a tile's marks inside regions too (false: the regions' own layers judge their area)");
     return t;
 }
 
@@ -216,7 +218,7 @@ void MotionDetector::removeRegions(const std::vector<long>& region_ids)
     {
         eraseUnit(id);
         // A tile hangs off its anchor's frame and goes with it (HybridMetricMap drops it).
-        const auto first = tile_ids_.lower_bound(dense::FallbackTileKey{id, std::numeric_limits<int>::min(), 0, 0});
+        const auto first = tile_ids_.lower_bound(dense::FallbackTileKey{id, std::numeric_limits<int>::min(), std::numeric_limits<int>::min(), std::numeric_limits<int>::min()});
         auto last = first;
         for (; last != tile_ids_.end() && last->first.anchor == id; ++last) eraseUnit(last->second);
         tile_ids_.erase(first, last);
@@ -263,8 +265,13 @@ size_t MotionDetector::markedCells(MotionKind kind) const
 bool MotionDetector::isDynamic(MotionKind kind, const ltr::RegionPartition& partition,
                                const Eigen::Vector2d& p) const
 {
-    if (tileMarked(partition, p, kind == MotionKind::Slow, kind == MotionKind::Fast)) return true;
-    for (long id : partition.findRegions(p))
+    // A point a region holds reads the regions' layers; one in no region the tiles' (as
+    // the dense map keeps a return in a tile only where no region holds it).
+    const auto holders = partition.findRegions(p);
+    if ((holders.empty() || options_.tile_marks_inside_regions) &&
+        tileMarked(partition, p, kind == MotionKind::Slow, kind == MotionKind::Fast))
+        return true;
+    for (long id : holders)
     {
         const auto* l = layer(kind, id);
         if (!l || l->count() == 0) continue;
@@ -283,8 +290,10 @@ bool MotionDetector::isDynamic(MotionKind kind, const ltr::RegionPartition& part
 bool MotionDetector::isDynamic(const ltr::RegionPartition& partition, const Eigen::Vector2d& p) const
 {
     // isDynamic(Slow) || isDynamic(Fast), with one look-up of the regions holding p.
-    if (tileMarked(partition, p, true, true)) return true;
-    for (long id : partition.findRegions(p))
+    const auto holders = partition.findRegions(p);
+    if ((holders.empty() || options_.tile_marks_inside_regions) && tileMarked(partition, p, true, true))
+        return true;
+    for (long id : holders)
     {
         const auto it = regions_.find(id);
         if (it == regions_.end()) continue;
@@ -333,7 +342,11 @@ void MotionDetector::paint(const std::vector<MotionKind>& kinds, const ltr::Regi
                 for (const auto* l : layers)
                     if (l->at(r))
                     {
-                        out.setCell(cx, cy, value);
+                        // A tile's marks count only where no region holds the place (the
+                        // regions' own layers judge it): tiles overlap regions and see
+                        // the same walls through an extrapolated frame (isDynamic too).
+                        if (!isTile(id) || options_.tile_marks_inside_regions || partition.findRegions(c).empty())
+                            out.setCell(cx, cy, value);
                         break;
                     }
             }

@@ -135,17 +135,7 @@ void MotionDetector::saveState(mrpt::serialization::CArchive& out) const
         out << last->t_then << last->t_now;
         writeDifference(out, last->diff);
     }
-    // The fallback tiles' ids (their state is in the regions' table above).
-    writeSize(out, tile_ids_.size());
-    for (const auto& [key, id] : tile_ids_)
-    {
-        writeLong(out, key.anchor);
-        out << static_cast<std::int32_t>(key.ix) << static_cast<std::int32_t>(key.iy)
-            << static_cast<std::int32_t>(key.half);
-        writeLong(out, id);
-    }
-    writeLong(out, next_tile_id_);
-    out << tile_m_ << tile_reach_m_;
+    saveTiles(out);
     writeTag(out, "MotionDetector end");
 }
 
@@ -181,6 +171,27 @@ void MotionDetector::loadState(mrpt::serialization::CArchive& in)
         in >> last->t_then >> last->t_now;
         readDifference(in, last->diff);
     }
+    loadTiles(in);
+    expectTag(in, "MotionDetector end");
+}
+
+void MotionDetector::saveTiles(mrpt::serialization::CArchive& out) const
+{
+    // The fallback tiles' ids: their state is in the regions' table.
+    writeSize(out, tile_ids_.size());
+    for (const auto& [key, id] : tile_ids_)
+    {
+        writeLong(out, key.anchor);
+        out << static_cast<std::int32_t>(key.ix) << static_cast<std::int32_t>(key.iy)
+            << static_cast<std::int32_t>(key.half);
+        writeLong(out, id);
+    }
+    writeLong(out, next_tile_id_);
+    out << tile_m_ << tile_reach_m_;
+}
+
+void MotionDetector::loadTiles(mrpt::serialization::CArchive& in)
+{
     tile_ids_.clear();
     tile_keys_.clear();
     marked_tile_anchors_.clear();
@@ -195,19 +206,24 @@ void MotionDetector::loadState(mrpt::serialization::CArchive& in)
         key.iy = iy;
         key.half = half;
         const long id = readLong(in);
-        if (!isTile(id) || !tile_keys_.emplace(id, key).second || !tile_ids_.emplace(key, id).second)
+        if (!isTile(id) || (half != 0 && half != 1) || !tile_keys_.emplace(id, key).second ||
+            !tile_ids_.emplace(key, id).second)
             throw std::runtime_error("corrupt state: motion tile id " + std::to_string(id));
     }
     next_tile_id_ = readLong(in);
     in >> tile_m_ >> tile_reach_m_;
+    if (!isTile(next_tile_id_) || !(tile_m_ >= 0) || !(tile_reach_m_ >= 0))
+        throw std::runtime_error("corrupt state: motion tiles' next id or geometry");
+    for (const auto& kv : tile_keys_)
+        if (kv.first >= next_tile_id_)
+            throw std::runtime_error("corrupt state: motion tile id " + std::to_string(kv.first) + " not below the next id");
     for (const auto& [id, st] : regions_)
     {
         if (!isTile(id)) continue;
-        if (!tile_keys_.count(id) || id >= next_tile_id_)
+        if (!tile_keys_.count(id))
             throw std::runtime_error("corrupt state: motion state of unknown tile id " + std::to_string(id));
         noteTileMarks(id, false, hasMarks(id));
     }
-    expectTag(in, "MotionDetector end");
 }
 
 void SlamMotionHook::saveState(mrpt::serialization::CArchive& out) const

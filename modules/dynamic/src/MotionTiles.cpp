@@ -40,7 +40,8 @@ MotionDetector::StepReport MotionDetector::step(
     std::vector<long> ids = regions_in_view;
     ids.reserve(ids.size() + tiles_in_view.size());
     for (const auto& key : tiles_in_view)
-        if (map.fallbackMap(key)) ids.push_back(tileId(key));
+        if (const auto* tile = map.fallbackMap(key); tile && tile->layer(dense::OccupancyLayer::kKind))
+            ids.push_back(tileId(key));
     return step(map, ids, t);
 }
 
@@ -95,7 +96,7 @@ bool MotionDetector::tileMarked(const ltr::RegionPartition& partition, const Eig
         const auto to_current = dense::usableReferenceToCurrent(partition, anchor);
         if (!to_current) continue;
         const Eigen::Vector2d r = to_current->inverseMapPoint(p);
-        if (!r.allFinite()) continue;
+        if (!r.allFinite() || (r.array().abs() > 1e9 * tile_m_).any()) continue;  // no tile index
         const auto it = tile_ids_.find(dense::fallbackTileOf(anchor, r, tile_m_));
         if (it == tile_ids_.end()) continue;
         const auto st = regions_.find(it->second);
@@ -114,7 +115,7 @@ std::vector<ltr::TriangleFrame::Vertices> MotionDetector::markedTileTriangles(
     for (const long anchor : anchors)
     {
         if (!marked_tile_anchors_.count(anchor)) continue;
-        auto it = tile_ids_.lower_bound(dense::FallbackTileKey{anchor, std::numeric_limits<int>::min(), 0, 0});
+        auto it = tile_ids_.lower_bound(dense::FallbackTileKey{anchor, std::numeric_limits<int>::min(), std::numeric_limits<int>::min(), std::numeric_limits<int>::min()});
         for (; it != tile_ids_.end() && it->first.anchor == anchor; ++it)
             if (hasMarks(it->second))
                 if (const auto frame = frameOf(it->second, partition)) out.push_back(frame->first);

@@ -558,23 +558,28 @@ struct TileScene
     mrpt::random::CRandomGenerator rng{5};
     const Box container{{6.0, 17.0}, {9.0, 19.0}};
     const Box back_wall{{2.0, 22.0}, {16.0, 22.4}};  // what the beams meet once it is gone
+    /** Inside the lattice, under the tiles that reach into it (y in [10, 20]); removed
+     *  with the container when `inner`. */
+    const Box inner_box{{8.0, 11.0}, {10.0, 13.0}};
     double t = 0;
     /** A pass of 30 scans with or without the container, then 30 s away. `tiles`: the
-     *  detector is given the fallback tiles in view. */
-    void run(MotionDetector& det, bool tiles)
+     *  detector is given the fallback tiles in view; `regions`: the regions in view. */
+    void run(MotionDetector& det, bool tiles, bool regions = true, bool inner = false)
     {
         const Eigen::Vector2d lo(1.0 - 24, 7.5 - 24), hi(1.0 + 24, 7.5 + 24);
         for (const bool present : {true, false})
         {
             for (int k = 0; k < 30; ++k, t += 0.1)
             {
-                map.insertScan(scanOf(present ? std::vector<Box>{container, back_wall} : std::vector<Box>{back_wall},
-                                      0.05, rng),
-                               kSensorPose, w.partition);
+                std::vector<Box> boxes{back_wall};
+                if (present) boxes.push_back(container);
+                if (present && inner) boxes.push_back(inner_box);
+                map.insertScan(scanOf(boxes, 0.05, rng), kSensorPose, w.partition);
+                const auto view = regions ? inView(w.partition) : std::vector<long>{};
                 if (tiles)
-                    det.step(map, inView(w.partition), map.fallbackTilesInBox(w.partition, lo, hi), t);
+                    det.step(map, view, map.fallbackTilesInBox(w.partition, lo, hi), t);
                 else
-                    det.step(map, inView(w.partition), t);
+                    det.step(map, view, t);
             }
             for (const double until = t + 30.0; t < until; t += 0.1) det.step(map, {}, {}, t);
         }
@@ -653,6 +658,53 @@ TEST(MotionDetector, ObjectsBeyondEveryRegionAreFoundInTheFallbackTiles)
     loaded.removeStaleRegions(with_tiles.map);
     EXPECT_EQ(loaded.tiles(), 0u);
     EXPECT_EQ(loaded.markedCells(MotionKind::Slow), det.markedCells(MotionKind::Slow));
+}
+
+// Tiles overlap regions; where a region holds a place its own layers judge it. Here the
+// regions are never differenced, so only the tiles reaching into the lattice mark the
+// removed inner box: their marks are there but no reader reports them.
+TEST(MotionDetector, TileMarksInsideARegionAreLeftToTheRegion)
+{
+    MotionDetector::Options o;
+    o.enable_fast = false;
+    o.slow_period_s = 20.0;
+    TileScene sc;
+    MotionDetector det(o);
+    sc.run(det, true, false, true);
+    const auto& p = sc.w.partition;
+    // A tile holds a mark on the inner box's near face (x = 8), which a region holds.
+    std::optional<Eigen::Vector2d> tile_mark;
+    for (const auto& key : sc.map.fallbackTileKeys())
+    {
+        const auto* l = det.layer(MotionKind::Slow, key);
+        if (!l || l->count() == 0) continue;
+        const auto to_current = hymm::dense::usableReferenceToCurrent(p, key.anchor);
+        ASSERT_TRUE(to_current.has_value());
+        for (double y = 10.6; y < 13.4 && !tile_mark; y += 0.05)
+            for (double x = 7.6; x < 10.4 && !tile_mark; x += 0.05)
+            {
+                const Eigen::Vector2d q(x, y), r = to_current->inverseMapPoint(q);
+                if (hymm::dense::fallbackTileOf(key.anchor, r, 10.0) == key && l->at(r)) tile_mark = q;
+            }
+    }
+    ASSERT_TRUE(tile_mark.has_value());
+    EXPECT_FALSE(p.findRegions(*tile_mark).empty());
+    EXPECT_FALSE(det.isDynamic(p, *tile_mark));
+    EXPECT_FALSE(det.isDynamic(MotionKind::Slow, p, *tile_mark));
+    mrpt::maps::COccupancyGridMap2D g(-5.0f, 25.0f, -5.0f, 30.0f, 0.1f);
+    det.renderInto(MotionKind::Slow, p, g);
+    for (unsigned cy = 0; cy < g.getSizeY(); ++cy)
+        for (unsigned cx = 0; cx < g.getSizeX(); ++cx)
+            if (g.getCell(cx, cy) > 0.9f)
+                EXPECT_TRUE(p.findRegions(Eigen::Vector2d(g.idx2x(cx), g.idx2y(cy))).empty()) << cx << ' ' << cy;
+    // The container beyond the lattice is still found there.
+    EXPECT_TRUE(sc.markedPoint(det).has_value());
+    // With tile_marks_inside_regions the tile's mark is read there too.
+    o.tile_marks_inside_regions = true;
+    TileScene sc2;
+    MotionDetector det2(o);
+    sc2.run(det2, true, false, true);
+    EXPECT_TRUE(det2.isDynamic(sc2.w.partition, *tile_mark));
 }
 
 TEST(MotionDetectorOptions, ReadsValidatesAndRejectsUnknownKeys)

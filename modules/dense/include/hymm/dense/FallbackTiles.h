@@ -55,7 +55,7 @@ struct FallbackTileKey
 };
 
 /** The tile triangle holding reference point `p_ref` of `anchor`. Throws
- *  std::invalid_argument if tile_m <= 0 or p_ref is not finite. */
+ *  std::invalid_argument if tile_m <= 0, p_ref is not finite or beyond 1e9 tiles. */
 FallbackTileKey fallbackTileOf(long anchor, const Eigen::Vector2d& p_ref, double tile_m);
 
 /** Vertices of the tile triangle (counter-clockwise, anchor's reference frame). */
@@ -64,8 +64,8 @@ hymm::ltr::TriangleFrame::Vertices fallbackTileTriangle(const FallbackTileKey& k
 /** Euclidean distance from `p` to the closed triangle `tri` (0 inside). */
 double distanceToTriangle(const Eigen::Vector2d& p, const hymm::ltr::TriangleFrame::Vertices& tri);
 
-/** The region's reference-to-current map, or nullopt when its current triangle is
- *  degenerate (RegionPartition::referenceToCurrent refuses it): such a region anchors no
+/** The region's reference-to-current map, or nullopt when the partition lacks it or its
+ *  current triangle is degenerate (RegionPartition::referenceToCurrent refuses it): such a region anchors no
  *  fallback content this scan. */
 std::optional<hymm::ltr::AffineRegionMap> usableReferenceToCurrent(const hymm::ltr::RegionPartition& partition,
                                                                     long id);

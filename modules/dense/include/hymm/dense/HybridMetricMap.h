@@ -276,12 +276,16 @@ public:
     /** Keys of every fallback triangle, ordered by anchor. */
     std::vector<FallbackTileKey> fallbackTileKeys() const;
     /** [m] how far from its anchor's current triangle a fallback triangle is looked for
-     *  (fallbackTilesInBox and readers that search tiles near a point). */
+     *  (fallbackTilesInBox and readers that search tiles near a point): the fallback
+     *  distance plus a tile's diagonal, and a quarter more for the anchor's later
+     *  deformation. A rule of thumb, not a bound: a tile whose anchor's triangle has
+     *  stretched more is missed by those searches (the renders still draw it). */
     double fallbackReach() const;
     /** Keys of the fallback triangles whose current position (through the anchor's
-     *  reference -> current map) meets the box [lo, hi]. Only anchors the partition's
-     *  lookup grid lists near the box are visited, so the cost depends on the content
-     *  near the box, not on the map's size. */
+     *  reference -> current map) meets the box [lo, hi], among those of the anchors
+     *  within fallbackReach() of it. Only anchors the partition's lookup grid lists near
+     *  the box are visited, so the cost depends on the content near the box, not on the
+     *  map's size. */
     std::vector<FallbackTileKey> fallbackTilesInBox(
         const hymm::ltr::RegionPartition& partition, const Eigen::Vector2d& lo, const Eigen::Vector2d& hi) const;
     /** nullptr if the region has no dense content yet. */

@@ -161,6 +161,12 @@ public:
         /** Difference the fallback tiles too, where the map keeps returns no region holds
          *  ([HybridMetricMap] fallback_max_distance_m > 0). */
         bool fallback_tiles = true;
+        /** Read a tile's marks inside regions too (OR with the regions' layers). Off:
+         *  where a region holds a place its own layers judge it, as the dense map keeps a
+         *  return in a tile only where no region holds it; on: more of the changes the
+         *  regions miss are found, with more marks beside static outlines
+         *  (docs/results.md, "Motion layers in the fallback tiles"). */
+        bool tile_marks_inside_regions = false;
 
         /** Every ini key, declared once: loader, saver and README table come from it. */
         hymm::core::OptionTable table();
@@ -218,9 +224,8 @@ public:
      *  hasMarks() and these triangles. */
     std::vector<ltr::TriangleFrame::Vertices> markedTileTriangles(
         const ltr::RegionPartition& partition, const std::vector<long>& anchors) const;
-    /** [m] how far from its anchor's current triangle a fallback tile can lie (from the
-     *  map's options at step(); 0 before): the margin a search for marked tiles near a
-     *  point adds to its box. */
+    /** [m] the margin a search for marked tiles near a point adds to its box
+     *  (HybridMetricMap::fallbackReach, from the map at step(); 0 before). */
     double tileReach() const { return tile_reach_m_; }
     /** Cells set in the layers of `kind`, summed over regions. */
     size_t markedCells(MotionKind kind) const;
@@ -229,15 +234,16 @@ public:
     bool hasMarks(long region_id) const;
 
     /** True if the global point `p` lies in a cell marked in the layer of `kind` of a
-     *  region whose CURRENT triangle contains it, or of a fallback tile holding it. */
+     *  region whose CURRENT triangle contains it, or of a fallback tile holding it: at a
+     *  point in no region, or anywhere with Options::tile_marks_inside_regions. */
     bool isDynamic(MotionKind kind, const ltr::RegionPartition& partition,
                    const Eigen::Vector2d& p) const;
     /** Either layer. */
     bool isDynamic(const ltr::RegionPartition& partition, const Eigen::Vector2d& p) const;
 
     /** Draws the layer of `kind` into `out` (sized by the caller): cells whose centre
-     *  lies in a current triangle (region or fallback tile) with a marked local cell get
-     *  1, others untouched. */
+     *  lies in a current triangle (region, or fallback tile as isDynamic reads them) with
+     *  a marked local cell get 1, others untouched. */
     void renderInto(MotionKind kind, const ltr::RegionPartition& partition,
                     mrpt::maps::COccupancyGridMap2D& out) const;
     /** HybridMetricMap::renderOccupancy, then every cell marked in either motion layer
@@ -250,7 +256,7 @@ public:
      *  Fig. 6.9 c-d): region id, the snapshots' time span, and the images. */
     struct LastDifference
     {
-        long region = -1;
+        long region = -1;  //!< region id, or a fallback tile's internal id (>= 2^60); -1: none
         double t_then = 0, t_now = 0;
         Difference diff;
     };
@@ -290,6 +296,9 @@ private:
     /** isDynamic() over the fallback tiles with a marked cell near `p`. */
     bool tileMarked(const ltr::RegionPartition& partition, const Eigen::Vector2d& p, bool slow,
                     bool fast) const;
+    /** The tiles' part of saveState / loadState (ids, next id, geometry; checked). */
+    void saveTiles(mrpt::serialization::CArchive& out) const;
+    void loadTiles(mrpt::serialization::CArchive& in);
     /** Keeps marked_tile_anchors_ up to date after tile `id` gained marks or is erased. */
     void noteTileMarks(long id, bool had_marks, bool has_marks);
 
