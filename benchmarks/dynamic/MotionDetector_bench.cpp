@@ -140,22 +140,13 @@ void BM_MotionStepAllInView(benchmark::State& state)
     setCounters(state, m, calls, ids.size() * calls, fast, 0);
 }
 
-BENCHMARK(BM_MotionStep)
-    ->ArgName("regions")
-    ->Arg(100)
-    ->Arg(500)
-    ->Arg(2000)
-    ->Arg(8000)
-    ->Iterations(3000)
-    ->Unit(benchmark::kMicrosecond);
-BENCHMARK(BM_MotionStepTiles)
-    ->ArgName("regions")
-    ->Arg(100)
-    ->Arg(500)
-    ->Arg(2000)
-    ->Arg(8000)
-    ->Iterations(3000)
-    ->Unit(benchmark::kMicrosecond);
+/** Maps of 100 to 8000 regions, 3000 calls each. */
+void overMapSizes(benchmark::internal::Benchmark* b)
+{
+    b->ArgName("regions")->Arg(100)->Arg(500)->Arg(2000)->Arg(8000)->Iterations(3000)->Unit(benchmark::kMicrosecond);
+}
+BENCHMARK(BM_MotionStep)->Apply(overMapSizes);
+BENCHMARK(BM_MotionStepTiles)->Apply(overMapSizes);
 // view_m 14: ~50 regions in view at every N; 32: ~260, for N >= 2000 only (the disc of
 // 36 m the view reaches needs ~330 regions), near the ~340 of the 25 m box used before.
 BENCHMARK(BM_MotionStepRemoval)
