@@ -32,6 +32,8 @@ hymm::core::OptionTable MotionDetector::Options::table()
               "slow layer: a change within this many cells of an occupied cell of the other snapshot is an edge that moved (0: off)");
     t.integer("fast_shift_tolerance_cells", fast_shift_tolerance_cells, "", 0, 100,
               "fast layer: the same (0: off)");
+    t.integer("slow_tile_shift_tolerance_cells", slow_tile_shift_tolerance_cells, "", 0, 100,
+              "slow layer of the fallback tiles: the same (their frames extrapolate the anchor's)");
     t.integer("slow_max_regions_per_call", slow_max_regions_per_call, "", 1, 1000000,
               "slow differencings per call at most (the rest wait for the next calls)");
     t.flag("fallback_tiles", fallback_tiles,
@@ -189,7 +191,8 @@ void MotionDetector::stepSlow(const dense::HybridMetricMap& map, std::uint64_t c
         if (it == regions_.end() || !occ || !it->second.slow_ref) continue;  // region gone
         rep.slow_cells_marked +=
             differenceRegion(id, *occ, it->second.slow_ref, it->second.slow, t, last_slow_, rep,
-                             options_.slow_min_cluster_cells, options_.slow_shift_tolerance_cells);
+                             options_.slow_min_cluster_cells,
+                             isTile(id) ? options_.slow_tile_shift_tolerance_cells : options_.slow_shift_tolerance_cells);
         ++rep.slow_differenced;
         ++done;
         slow_due_.emplace(t + options_.slow_period_s, id);
