@@ -96,12 +96,10 @@ MotionRaster rasterMotionLayer(const DenseSlam& slam, MotionKind kind, double re
     for (const auto& key : hybrid.fallbackTileKeys())
     {
         const auto* tile = hybrid.fallbackMap(key);
-        if (!tile || !tile->layer(dense::OccupancyLayer::kKind) || !p.has(key.anchor)) continue;
+        if (!tile || !tile->layer(dense::OccupancyLayer::kKind)) continue;
         const auto to_current = dense::usableReferenceToCurrent(p, key.anchor);
         if (!to_current) continue;
-        auto cur = dense::fallbackTileTriangle(key, hybrid.options().fallback_tile_m);
-        for (auto& v : cur) v = to_current->mapPoint(v);
-        cover(cur);
+        cover(dense::currentFallbackTileTriangle(key, hybrid.options().fallback_tile_m, *to_current));
     }
     // The layer alone: a blank grid of the same geometry, marked cells at 1.
     mrpt::maps::COccupancyGridMap2D layer(grid.getXMin(), grid.getXMax(), grid.getYMin(), grid.getYMax(),

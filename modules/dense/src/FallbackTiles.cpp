@@ -28,6 +28,20 @@ FallbackTileKey fallbackTileOf(long anchor, const Eigen::Vector2d& p_ref, double
     return k;
 }
 
+FallbackTileKey firstFallbackTileKey(long anchor)
+{
+    constexpr int lowest = std::numeric_limits<int>::min();
+    return FallbackTileKey{anchor, lowest, lowest, lowest};
+}
+
+hymm::ltr::TriangleFrame::Vertices currentFallbackTileTriangle(
+    const FallbackTileKey& key, double tile_m, const hymm::ltr::AffineRegionMap& to_current)
+{
+    auto tri = fallbackTileTriangle(key, tile_m);
+    for (auto& v : tri) v = to_current.mapPoint(v);
+    return tri;
+}
+
 hymm::ltr::TriangleFrame::Vertices fallbackTileTriangle(const FallbackTileKey& key, double tile_m)
 {
     const Eigen::Vector2d o(key.ix * tile_m, key.iy * tile_m);

@@ -202,7 +202,7 @@ std::vector<long> HybridMetricMap::removeRegions(const std::vector<long>& region
         last_scan_regions_.erase(id);
         // Fallback content hangs off its anchor's frame: it goes with the anchor (the
         // tiles are ordered by anchor, so they are one range).
-        const auto first = fallback_.lower_bound(FallbackTileKey{id, std::numeric_limits<int>::min(), std::numeric_limits<int>::min(), std::numeric_limits<int>::min()});
+        const auto first = fallback_.lower_bound(firstFallbackTileKey(id));
         auto last = first;
         while (last != fallback_.end() && last->first.anchor == id) ++last;
         fallback_.erase(first, last);
@@ -277,20 +277,15 @@ std::vector<FallbackTileKey> HybridMetricMap::fallbackTilesInBox(
         const Eigen::Vector2d alo = cur[0].cwiseMin(cur[1]).cwiseMin(cur[2]);
         const Eigen::Vector2d ahi = cur[0].cwiseMax(cur[1]).cwiseMax(cur[2]);
         if ((alo.array() > hi_pad.array()).any() || (ahi.array() < lo_pad.array()).any()) continue;
-        auto it = fallback_.lower_bound(FallbackTileKey{anchor, std::numeric_limits<int>::min(), std::numeric_limits<int>::min(), std::numeric_limits<int>::min()});
+        auto it = fallback_.lower_bound(firstFallbackTileKey(anchor));
         if (it == fallback_.end() || it->first.anchor != anchor) continue;
         const auto to_current = usableReferenceToCurrent(partition, anchor);
         if (!to_current) continue;
         for (; it != fallback_.end() && it->first.anchor == anchor; ++it)
         {
-            Eigen::Vector2d tlo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
-            Eigen::Vector2d thi = -tlo;
-            for (const auto& v : fallbackTileTriangle(it->first, options_.fallback_tile_m))
-            {
-                const Eigen::Vector2d c = to_current->mapPoint(v);
-                tlo = tlo.cwiseMin(c);
-                thi = thi.cwiseMax(c);
-            }
+            const auto t = currentFallbackTileTriangle(it->first, options_.fallback_tile_m, *to_current);
+            const Eigen::Vector2d tlo = t[0].cwiseMin(t[1]).cwiseMin(t[2]);
+            const Eigen::Vector2d thi = t[0].cwiseMax(t[1]).cwiseMax(t[2]);
             if ((tlo.array() <= hi.array()).all() && (thi.array() >= lo.array()).all()) out.push_back(it->first);
         }
     }

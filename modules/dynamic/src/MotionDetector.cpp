@@ -221,7 +221,7 @@ void MotionDetector::removeRegions(const std::vector<long>& region_ids)
     {
         eraseUnit(id);
         // A tile hangs off its anchor's frame and goes with it (HybridMetricMap drops it).
-        const auto first = tile_ids_.lower_bound(dense::FallbackTileKey{id, std::numeric_limits<int>::min(), std::numeric_limits<int>::min(), std::numeric_limits<int>::min()});
+        const auto first = tile_ids_.lower_bound(dense::firstFallbackTileKey(id));
         auto last = first;
         for (; last != tile_ids_.end() && last->first.anchor == id; ++last) eraseUnit(last->second);
         tile_ids_.erase(first, last);

@@ -70,9 +70,7 @@ std::optional<std::pair<ltr::TriangleFrame::Vertices, ltr::AffineRegionMap>> Mot
     if (key == tile_keys_.end()) return std::nullopt;
     const auto to_current = dense::usableReferenceToCurrent(partition, key->second.anchor);
     if (!to_current) return std::nullopt;
-    ltr::TriangleFrame::Vertices cur = dense::fallbackTileTriangle(key->second, tile_m_);
-    for (auto& v : cur) v = to_current->mapPoint(v);
-    return std::make_pair(cur, *to_current);
+    return std::make_pair(dense::currentFallbackTileTriangle(key->second, tile_m_, *to_current), *to_current);
 }
 
 void MotionDetector::noteTileMarks(long id, bool had_marks, bool has_marks)
@@ -115,7 +113,7 @@ std::vector<ltr::TriangleFrame::Vertices> MotionDetector::markedTileTriangles(
     for (const long anchor : anchors)
     {
         if (!marked_tile_anchors_.count(anchor)) continue;
-        auto it = tile_ids_.lower_bound(dense::FallbackTileKey{anchor, std::numeric_limits<int>::min(), std::numeric_limits<int>::min(), std::numeric_limits<int>::min()});
+        auto it = tile_ids_.lower_bound(dense::firstFallbackTileKey(anchor));
         for (; it != tile_ids_.end() && it->first.anchor == anchor; ++it)
             if (hasMarks(it->second))
                 if (const auto frame = frameOf(it->second, partition)) out.push_back(frame->first);

@@ -127,16 +127,16 @@ std::optional<std::pair<Eigen::Vector2d, Eigen::Vector2d>> SlamMotionHook::marke
     const double c = partition.options().grid_cell_size_m;
     const Eigen::Vector2d pad = Eigen::Vector2d::Constant(options_.view_range_m + c + 1.0);
     std::optional<std::pair<Eigen::Vector2d, Eigen::Vector2d>> box;
-    for (long id : partition.regionsInBox(vehicle - pad, vehicle + pad))
-    {
-        if (!detector_.hasMarks(id)) continue;
-        for (const auto& q : partition.region(id).current)
+    const auto extend = [&box](const ltr::TriangleFrame::Vertices& tri) {
+        for (const auto& q : tri)
         {
             if (!box) box.emplace(q, q);
             box->first = box->first.cwiseMin(q);
             box->second = box->second.cwiseMax(q);
         }
-    }
+    };
+    for (long id : partition.regionsInBox(vehicle - pad, vehicle + pad))
+        if (detector_.hasMarks(id)) extend(partition.region(id).current);
     // The same for the fallback tiles: isDynamic(p) reads the tiles of the anchors the
     // grid lists within the tiles' reach of p.
     if (detector_.tiles() > 0)
@@ -144,12 +144,7 @@ std::optional<std::pair<Eigen::Vector2d, Eigen::Vector2d>> SlamMotionHook::marke
         const Eigen::Vector2d reach = pad + Eigen::Vector2d::Constant(detector_.tileReach());
         for (const auto& tri : detector_.markedTileTriangles(
                  partition, partition.regionsInBox(vehicle - reach, vehicle + reach)))
-            for (const auto& q : tri)
-            {
-                if (!box) box.emplace(q, q);
-                box->first = box->first.cwiseMin(q);
-                box->second = box->second.cwiseMax(q);
-            }
+            extend(tri);
     }
     if (box)
     {

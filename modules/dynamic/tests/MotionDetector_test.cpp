@@ -561,6 +561,9 @@ struct TileScene
     /** Inside the lattice, under the tiles that reach into it (y in [10, 20]); removed
      *  with the container when `inner`. */
     const Box inner_box{{8.0, 11.0}, {10.0, 13.0}};
+    /** [m] how far the back wall stands farther away in the second pass (a static wall seen
+     *  through another estimate of the anchor). */
+    double wall_shift = 0;
     double t = 0;
     /** A pass of 30 scans with or without the container, then 30 s away. `tiles`: the
      *  detector is given the fallback tiles in view; `regions`: the regions in view. */
@@ -571,7 +574,8 @@ struct TileScene
         {
             for (int k = 0; k < 30; ++k, t += 0.1)
             {
-                std::vector<Box> boxes{back_wall};
+                const Eigen::Vector2d shift(0.0, present ? 0.0 : wall_shift);
+                std::vector<Box> boxes{{back_wall.lo + shift, back_wall.hi + shift}};
                 if (present) boxes.push_back(container);
                 if (present && inner) boxes.push_back(inner_box);
                 map.insertScan(scanOf(boxes, 0.05, rng), kSensorPose, w.partition);
@@ -705,6 +709,35 @@ TEST(MotionDetector, TileMarksInsideARegionAreLeftToTheRegion)
     MotionDetector det2(o);
     sc2.run(det2, true, false, true);
     EXPECT_TRUE(det2.isDynamic(sc2.w.partition, *tile_mark));
+}
+
+// A wall in the tiles that moved by two cells between the slow snapshots is an edge that
+// moved under the tiles' tolerance (3 cells), and motion without it.
+TEST(MotionDetector, TilesTakeTheirOwnEdgeTolerance)
+{
+    const auto wallMarks = [](int tile_tolerance, bool& container_found) {
+        MotionDetector::Options o;
+        o.enable_fast = false;
+        o.slow_period_s = 20.0;
+        o.slow_tile_shift_tolerance_cells = tile_tolerance;
+        TileScene sc;
+        sc.wall_shift = 0.4;
+        MotionDetector det(o);
+        sc.run(det, true);
+        container_found = sc.markedPoint(det).has_value();
+        mrpt::maps::COccupancyGridMap2D g(-5.0f, 25.0f, -5.0f, 30.0f, 0.1f);
+        det.renderInto(MotionKind::Slow, sc.w.partition, g);
+        size_t n = 0;
+        for (unsigned cy = 0; cy < g.getSizeY(); ++cy)
+            for (unsigned cx = 0; cx < g.getSizeX(); ++cx)
+                if (g.getCell(cx, cy) > 0.9f && g.idx2y(cy) > 21.0) ++n;
+        return n;
+    };
+    bool found_default = false, found_none = false;
+    EXPECT_EQ(wallMarks(MotionDetector::Options{}.slow_tile_shift_tolerance_cells, found_default), 0u);
+    EXPECT_GT(wallMarks(0, found_none), 10u);
+    EXPECT_TRUE(found_default);
+    EXPECT_TRUE(found_none);
 }
 
 TEST(MotionDetectorOptions, ReadsValidatesAndRejectsUnknownKeys)

@@ -303,15 +303,13 @@ std::string GuardedRawlogStream::classAt(uint64_t at)
 }
 
 GuardedRawlogStream::Checkpoint GuardedRawlogStream::pixelsAt(const ObjectHeader& h, uint64_t at, uint64_t pixels,
-                                                              uint64_t bytes, uint64_t fields, const char* what)
+                                                              uint64_t bytes, uint64_t fields, const char* what,
+                                                              size_t width)
 {
-    Checkpoint c;
+    Checkpoint c = countAt(h, at, bytes, fields, what);
     c.kind = Checkpoint::Pixels;
-    c.offset = at;
     c.cap = pixels;
-    c.element_bytes = bytes;
-    c.tail_bytes = fields + endFlagBytes(h);
-    c.what = what;
+    c.width = width;
     return c;
 }
 

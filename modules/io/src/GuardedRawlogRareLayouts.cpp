@@ -175,12 +175,10 @@ void GuardedRawlogStream::armRotatingScan(const ObjectHeader& h)
     if (!peek(dims, range.data(), 4)) return;
     const uint64_t pixels = uint64_t{range[0]} * range[1];
     // Columns and rows are uint16 reads: the check fires on a 2-byte read.
-    checkpoints_.push_back(pixelsAt(h, dims, pixels, 2, 4 + 4 + 2, "range image pixels"));
-    checkpoints_.back().width = 2;
+    checkpoints_.push_back(pixelsAt(h, dims, pixels, 2, 4 + 4 + 2, "range image pixels", 2));
     if (!peek(dims + 4 + 2 * pixels, intensity.data(), 4)) return;
     checkpoints_.push_back(pixelsAt(h, dims + 4 + 2 * pixels, uint64_t{intensity[0]} * intensity[1], 1, 4 + 2,
-                                    "intensity image pixels"));
-    checkpoints_.back().width = 2;
+                                    "intensity image pixels", 2));
 }
 
 void GuardedRawlogStream::armGpsMessages(const ObjectHeader& h)

@@ -236,9 +236,10 @@ private:
     static Checkpoint countAt(const ObjectHeader& h, uint64_t at, uint64_t element, uint64_t tail,
                               const char* what);
     /** An image whose first dimension is read at `at`: `pixels` of `bytes` each, `fields`
-     *  bytes of its own fields (from `at` on) and the end flag (Checkpoint::Pixels). */
+     *  bytes of its own fields (from `at` on) and the end flag (Checkpoint::Pixels);
+     *  `width`: bytes of each dimension (Checkpoint::width). */
     static Checkpoint pixelsAt(const ObjectHeader& h, uint64_t at, uint64_t pixels, uint64_t bytes,
-                               uint64_t fields, const char* what);
+                               uint64_t fields, const char* what, size_t width = 4);
     static uint64_t endFlagBytes(const ObjectHeader& h) { return h.old_format ? 0 : 1; }
     /** The class name MRPT will look up for the object serialised at `at`, with its
      *  namespace if written with one ("nullptr" for a null pointer); empty if the bytes

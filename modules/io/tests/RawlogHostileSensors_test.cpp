@@ -38,7 +38,6 @@
 #include <mrpt/poses/CPose2D.h>
 
 #include <algorithm>
-#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <string>

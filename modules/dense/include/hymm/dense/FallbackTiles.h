@@ -61,6 +61,14 @@ FallbackTileKey fallbackTileOf(long anchor, const Eigen::Vector2d& p_ref, double
 /** Vertices of the tile triangle (counter-clockwise, anchor's reference frame). */
 hymm::ltr::TriangleFrame::Vertices fallbackTileTriangle(const FallbackTileKey& key, double tile_m);
 
+/** The same mapped to the current estimates through the anchor's reference -> current map. */
+hymm::ltr::TriangleFrame::Vertices currentFallbackTileTriangle(
+    const FallbackTileKey& key, double tile_m, const hymm::ltr::AffineRegionMap& to_current);
+
+/** The smallest key of `anchor`'s tiles: containers ordered by key hold an anchor's tiles
+ *  as one range starting at lower_bound(firstFallbackTileKey(anchor)). */
+FallbackTileKey firstFallbackTileKey(long anchor);
+
 /** Euclidean distance from `p` to the closed triangle `tri` (0 inside). */
 double distanceToTriangle(const Eigen::Vector2d& p, const hymm::ltr::TriangleFrame::Vertices& tri);
 
