@@ -1,6 +1,6 @@
 // GuardedRawlogStream: where the counts lie in the serialised objects of the classes
 // HYMM reads (the checkpoints armFor sets when a class name goes by), and which classes
-// may appear where (trackHeader).
+// may appear where (trackHeader) and which objects are open (trackFrames).
 #include "GuardedRawlogStream.h"
 
 #include <mrpt/obs/CActionCollection.h>
@@ -322,6 +322,63 @@ GuardedRawlogStream::Checkpoint GuardedRawlogStream::countAt(
     c.tail_bytes = tail + endFlagBytes(h);
     c.what = what;
     return c;
+}
+
+bool GuardedRawlogStream::trackFrames(size_t count, size_t n, const uint8_t* bytes, int prev)
+{
+    // Which objects are open (see open_): the version byte after a class name opens the
+    // frame; a lone 0x88 closes one, unless what follows shows it was a value.
+    bool version_byte = false;
+    if (pending_)
+    {
+        if (count == 1 && n == 1)
+        {
+            open_.push_back(*pending_);
+            open_.back().version = bytes[0];
+            version_byte = true;
+        }
+        else if (reopened_ && !open_.empty())
+            open_.pop_back();  // no version byte: no header, so the 0x88 did close it
+        pending_.reset();
+    }
+    reopened_ = false;
+    if (popped_)
+    {
+        // Reopened at once, so that the header's own check sees the right parent; closed
+        // again if no version byte follows the name.
+        const bool name_follows = prev == kEndFlag && n == count && n == (kEndFlag & 0x7Fu) &&
+                                  mrpt::rtti::findRegisteredClass(classNameOf(bytes, n)) != nullptr;
+        const bool wide_after_action = (popped_->collection || popped_->element) && count != 1;
+        if (name_follows || wide_after_action) open_.push_back(*popped_);
+        reopened_ = name_follows;
+        popped_.reset();
+    }
+    if (n != 1) return false;
+    if (!version_byte && bytes[0] == kEndFlag && !open_.empty())
+    {
+        popped_ = open_.back();
+        open_.pop_back();
+        // The end of a frame's observation is followed by the next observation's header
+        // or by the frame's own end flag. A uint8 field of value 0x88 inside an
+        // observation (a Topcon status byte, a CAN data byte) is followed by neither; taken
+        // for a close it would have the observation's nested objects checked as frame
+        // elements, and a valid file refused.
+        if (!open_.empty() && open_.back().sensory_frame && !elementBoundaryAt(pos_))
+        {
+            open_.push_back(*popped_);
+            popped_.reset();
+        }
+    }
+    return true;
+}
+
+bool GuardedRawlogStream::elementBoundaryAt(uint64_t at)
+{
+    uint8_t b = 0;
+    if (!peek(at, &b, 1)) return true;  // the end of the data: nothing left to check
+    if (b == kEndFlag) return true;
+    const std::string cls = classAt(at);
+    return cls == "nullptr" || (!cls.empty() && mrpt::rtti::findRegisteredClass(cls) != nullptr);
 }
 
 }  // namespace hymm::io::detail

@@ -115,12 +115,19 @@ void GuardedRawlogStream::armRawDaq(const ObjectHeader& h)
     // elements of 1, 2, 4 or 8 B) with the channel count (uint16) and the interleaving
     // flag between the 5th and the 6th.
     static constexpr std::array<uint64_t, 13> kElement{1, 2, 4, 4, 8, 1, 2, 4, 8, 1, 1, 4, 8};
+    // Named as MRPT's fields, so an error says which vector declared too much.
+    static constexpr std::array<const char*, 13> kName{
+        "DAQ samples of AIN_8bits",   "DAQ samples of AIN_16bits",   "DAQ samples of AIN_32bits",
+        "DAQ samples of AIN_float",   "DAQ samples of AIN_double",   "DAQ samples of AOUT_8bits",
+        "DAQ samples of AOUT_16bits", "DAQ samples of AOUT_float",   "DAQ samples of AOUT_double",
+        "DAQ samples of DIN",         "DAQ samples of DOUT",         "DAQ samples of CNTRIN_32bits",
+        "DAQ samples of CNTRIN_double"};
     const uint64_t end = endFlagBytes(h);
     Checkpoint c = countAt(h, h.data, 1, 16 + 13 * 4 + 3, "bytes of sensor label");
     for (size_t i = 0; i < kElement.size(); ++i)
     {
         const uint64_t later = (kElement.size() - 1 - i) * 4 + (i < 5 ? 3 : 0);
-        c.then[i] = {"DAQ samples", i == 0 ? 16u : i == 5 ? 3u : 0u, kElement[i], later + end};
+        c.then[i] = {kName[i], i == 0 ? 16u : i == 5 ? 3u : 0u, kElement[i], later + end};
     }
     checkpoints_.push_back(c);
 }

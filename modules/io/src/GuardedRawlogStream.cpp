@@ -12,8 +12,6 @@ namespace hymm::io::detail
 namespace
 {
 constexpr size_t kChunk = 1 << 16;
-// MRPT writes an object as: 0x80 | name length, the name, a version byte, the data, 0x88.
-constexpr uint8_t kEndFlag = 0x88;
 
 // n elements of `element` bytes and `tail` bytes more, saturated: rows x columns of a
 // matrix reach 2^64, and a product that wrapped round would pass as small.
@@ -100,18 +98,37 @@ bool GuardedRawlogStream::peek(uint64_t offset, void* out, size_t n) { return pe
 
 bool GuardedRawlogStream::peek(uint64_t offset, void* out, size_t n, uint64_t max_ahead)
 {
-    if (offset < pos_ || offset + n > total_ || offset + n - pos_ > max_ahead) return false;
-    const size_t need = static_cast<size_t>(offset + n - pos_);
-    while (ahead_.size() - ahead_head_ < need)
-    {
-        std::array<uint8_t, 1024> tmp{};
-        const size_t want = std::min(tmp.size(), need - (ahead_.size() - ahead_head_));
-        const int got = gzread(asGz(gz_), tmp.data(), static_cast<unsigned>(want));
-        if (got <= 0) return false;
-        ahead_.insert(ahead_.end(), tmp.begin(), tmp.begin() + got);
-    }
-    std::memcpy(out, ahead_.data() + ahead_head_ + (offset - pos_), n);
+    const uint8_t* at = lookAhead(offset, n, max_ahead);
+    if (!at) return false;
+    std::memcpy(out, at, n);
     return true;
+}
+
+const uint8_t* GuardedRawlogStream::lookAhead(uint64_t offset, size_t n, uint64_t max_ahead)
+{
+    if (offset < pos_ || offset + n > total_ || offset + n - pos_ > max_ahead) return nullptr;
+    const size_t need = static_cast<size_t>(offset + n - pos_);
+    const size_t have = ahead_.size() - ahead_head_;
+    if (have < need)
+    {
+        // One gzread for what is missing: a JPEG's look-ahead of up to 64 MiB took 65,000
+        // calls in 1 KiB pieces.
+        const size_t old = ahead_.size(), missing = need - have;
+        ahead_.resize(old + missing);
+        size_t filled = 0;
+        while (filled < missing)
+        {
+            const size_t want = std::min<size_t>(missing - filled, 1u << 30);
+            const int got = gzread(asGz(gz_), ahead_.data() + old + filled, static_cast<unsigned>(want));
+            if (got <= 0)
+            {
+                ahead_.resize(old + filled);
+                return nullptr;
+            }
+            filled += static_cast<size_t>(got);
+        }
+    }
+    return ahead_.data() + ahead_head_ + (offset - pos_);
 }
 
 bool GuardedRawlogStream::peekHeader(uint64_t at, ObjectHeader& h)
@@ -317,63 +334,6 @@ size_t GuardedRawlogStream::Read(void* buffer, size_t count)
         armFor(name, old_name);
     }
     return n;
-}
-
-bool GuardedRawlogStream::trackFrames(size_t count, size_t n, const uint8_t* bytes, int prev)
-{
-    // Which objects are open (see open_): the version byte after a class name opens the
-    // frame; a lone 0x88 closes one, unless what follows shows it was a value.
-    bool version_byte = false;
-    if (pending_)
-    {
-        if (count == 1 && n == 1)
-        {
-            open_.push_back(*pending_);
-            open_.back().version = bytes[0];
-            version_byte = true;
-        }
-        else if (reopened_ && !open_.empty())
-            open_.pop_back();  // no version byte: no header, so the 0x88 did close it
-        pending_.reset();
-    }
-    reopened_ = false;
-    if (popped_)
-    {
-        // Reopened at once, so that the header's own check sees the right parent; closed
-        // again if no version byte follows the name.
-        const bool name_follows = prev == kEndFlag && n == count && n == (kEndFlag & 0x7Fu) &&
-                                  mrpt::rtti::findRegisteredClass(classNameOf(bytes, n)) != nullptr;
-        const bool wide_after_action = (popped_->collection || popped_->element) && count != 1;
-        if (name_follows || wide_after_action) open_.push_back(*popped_);
-        reopened_ = name_follows;
-        popped_.reset();
-    }
-    if (n != 1) return false;
-    if (!version_byte && bytes[0] == kEndFlag && !open_.empty())
-    {
-        popped_ = open_.back();
-        open_.pop_back();
-        // The end of a frame's observation is followed by the next observation's header
-        // or by the frame's own end flag. A uint8 field of value 0x88 inside an
-        // observation (a Topcon status byte, a CAN data byte) is followed by neither; taken
-        // for a close it would have the observation's nested objects checked as frame
-        // elements, and a valid file refused.
-        if (!open_.empty() && open_.back().sensory_frame && !elementBoundaryAt(pos_))
-        {
-            open_.push_back(*popped_);
-            popped_.reset();
-        }
-    }
-    return true;
-}
-
-bool GuardedRawlogStream::elementBoundaryAt(uint64_t at)
-{
-    uint8_t b = 0;
-    if (!peek(at, &b, 1)) return true;  // the end of the data: nothing left to check
-    if (b == kEndFlag) return true;
-    const std::string cls = classAt(at);
-    return cls == "nullptr" || (!cls.empty() && mrpt::rtti::findRegisteredClass(cls) != nullptr);
 }
 
 size_t GuardedRawlogStream::Write(const void*, size_t)

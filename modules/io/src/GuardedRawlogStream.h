@@ -70,6 +70,9 @@ inline uint64_t matrixElementBytes(const std::string& name)
     return 0;
 }
 
+// MRPT writes an object as: 0x80 | name length, the name, a version byte, the data, 0x88.
+inline constexpr uint8_t kEndFlag = 0x88;
+
 // The class name MRPT looks up for a header's `n` name bytes: it copies them into a C
 // string, so a zero byte ends the name (the version still follows all n bytes).
 inline std::string classNameOf(const uint8_t* bytes, size_t n)
@@ -199,6 +202,10 @@ private:
     /** peek() up to `max_ahead` bytes beyond the current position instead of 4 KiB (a
      *  JPEG's bytes, decoded before MRPT decodes them). */
     bool peek(uint64_t offset, void* out, size_t n, uint64_t max_ahead);
+    /** The `n` bytes at `offset` in the look-ahead buffer, read in as needed (at most
+     *  `max_ahead` beyond the current position); nullptr when they are not there. Valid
+     *  until the next read or look-ahead. */
+    const uint8_t* lookAhead(uint64_t offset, size_t n, uint64_t max_ahead);
     void armFor(const std::string& class_name, bool old_format);
     /** The version and first data byte of the object whose class name was just read
      *  (pos_ is past the name); false on a short read or an impossible version. */

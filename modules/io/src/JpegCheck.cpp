@@ -93,9 +93,10 @@ void GuardedRawlogStream::checkJpegDecodes(uint64_t at, uint32_t n)
                       ", more than the " + std::to_string(kMaxJpegBytes) + " a rawlog image may hold";
         throw RawlogSizeError(size_error_);
     }
-    std::vector<uint8_t> jpeg(n);
-    if (!peek(at + 4, jpeg.data(), n, kJpegWindow)) return;
-    const std::string why = jpegDecodeError(jpeg.data(), n, kMaxDecodedImageBytes);
+    // Decoded in place in the look-ahead buffer, which MRPT's read then consumes.
+    const uint8_t* jpeg = lookAhead(at + 4, n, kJpegWindow);
+    if (!jpeg) return;
+    const std::string why = jpegDecodeError(jpeg, n, kMaxDecodedImageBytes);
     if (why.empty()) return;
     size_error_ = "holds a JPEG image at byte " + std::to_string(at) + " that libjpeg cannot decode (" + why +
                   "; MRPT's decoder would end the program)";

@@ -854,7 +854,9 @@ TEST(RawlogHostileSensorsTest, TwoComponentJpegIsRefused)
 namespace
 {
 // A raw DAQ observation: the label and 13 sample vectors, the channel count and the
-// interleaving flag between the 5th and the 6th.
+// interleaving flag between the 5th and the 6th. Each count is set just beyond what the
+// rest of the file holds at its own element size (and within it at 1 byte), so the test
+// fails if the guard takes a vector's element size, or its place in the chain, wrong.
 TEST(RawlogHostileSensorsTest, RawDaqVectorsAreChecked)
 {
     mrpt::obs::CObservationRawDAQ obs;
@@ -864,19 +866,36 @@ TEST(RawlogHostileSensorsTest, RawDaqVectorsAreChecked)
     obs.CNTRIN_double = {3.0, 4.0};
     expectLabelGuarded(obs, "daq_board");
     obs.sensorLabel = "daq_board";
+    // Room for the counts before it to be cut by element size: 40 KB of digital outputs.
+    obs.DOUT.assign(40000, 3);
     const auto data = inFrame(obs);
+    expectReads(data);
+    // The smallest count of `element`-byte samples that the bytes after it cannot hold.
+    const auto beyond = [&](size_t at, size_t element)
+    { return static_cast<uint32_t>((data.size() - at - 4) / element + 1); };
     // After the label, the timestamp and the sample rate: the 8-bit inputs.
     const size_t ain8 = lengthOf(data, "daq_board") + 4 + 9 + 16;
     ASSERT_EQ(getU32(data, ain8), 2u);
-    expectRefused(data, ain8, 0x7FFFFFFFu, "DAQ samples");
-    // AIN_16bits, AIN_32bits, AIN_float are empty; then AIN_double's count.
-    const size_t ain_double = ain8 + 4 + 2 + 3 * 4;
+    expectRefused(data, ain8, beyond(ain8, 1), "DAQ samples of AIN_8bits");
+    // AIN_16bits, AIN_32bits and AIN_float are empty; then AIN_double's count.
+    const size_t ain16 = ain8 + 4 + 2;
+    ASSERT_EQ(getU32(data, ain16), 0u);
+    expectRefused(data, ain16, beyond(ain16, 2), "DAQ samples of AIN_16bits");
+    const size_t ain_float = ain16 + 2 * 4;
+    expectRefused(data, ain_float, beyond(ain_float, 4), "DAQ samples of AIN_float");
+    const size_t ain_double = ain16 + 3 * 4;
     ASSERT_EQ(getU32(data, ain_double), 3u);
+    expectRefused(data, ain_double, beyond(ain_double, 8), "DAQ samples of AIN_double");
+    // The channel count and the interleaving flag (3 B), then the outputs.
     const size_t aout8 = ain_double + 4 + 3 * 8 + 3;
     ASSERT_EQ(getU32(data, aout8), 1u);
-    expectRefused(data, aout8, 0x7FFFFFFFu, "DAQ samples");
-    const size_t cntrin_double = aout8 + 4 + 1 + 6 * 4;
+    const size_t aout_double = aout8 + 4 + 1 + 2 * 4;
+    expectRefused(data, aout_double, beyond(aout_double, 8), "DAQ samples of AOUT_double");
+    const size_t dout = aout8 + 4 + 1 + 4 * 4;
+    ASSERT_EQ(getU32(data, dout), 40000u);
+    expectRefused(data, dout, beyond(dout, 1), "DAQ samples of DOUT");
+    const size_t cntrin_double = dout + 4 + 40000 + 4;
     ASSERT_EQ(getU32(data, cntrin_double), 2u);
-    expectRefused(data, cntrin_double, 0x10000000u, "DAQ samples");
+    expectRefused(data, cntrin_double, 0x10000000u, "DAQ samples of CNTRIN_double");
 }
 }  // namespace
