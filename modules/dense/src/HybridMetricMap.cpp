@@ -214,7 +214,7 @@ void HybridMetricMap::renderLayer(
     const std::string& kind, const RegionPartition& partition, mrpt::maps::CMetricMap& out,
     Content content) const
 {
-    mrpt::system::CTimeLoggerEntry tle(profiler_, "dense.render." + kind);
+    core::TimedSection tle(profiler_, "dense.render." + kind);
     forEachMap(partition, content, [&](const LocalDenseMap& map, const AffineRegionMap& to_current) {
         if (const DenseLayer* layer = map.layer(kind)) layer->renderInto(to_current, out);
     });

@@ -305,7 +305,7 @@ HybridMetricMap::InsertStats HybridMetricMap::insertScan(
     const ScanPoints& scan, const mrpt::math::TPose2D& vehicle_pose, const RegionPartition& partition,
     const RegionFilter& accept)
 {
-    mrpt::system::CTimeLoggerEntry tle(profiler_, "dense.insertScan");
+    core::TimedSection tle(profiler_, "dense.insertScan");
     scan.validate();  // values / noise: bad input is rejected before anything changes
     InsertStats st;
     const WorldScan w = scan.toWorld(vehicle_pose, options_.max_range_m, options_.no_return_free_range_m);
@@ -316,19 +316,19 @@ HybridMetricMap::InsertStats HybridMetricMap::insertScan(
     // 1. Regions near the scan, with their reference -> current maps.
     ScanOwners owners(partition, accept, fallback_);
     {
-        mrpt::system::CTimeLoggerEntry t1(profiler_, "dense.insertScan.1_regions");
+        core::TimedSection t1(profiler_, "dense.insertScan.1_regions");
         owners.collectRegions(w, st);
     }
     // 2. Owner of each return (a region, a fallback tile, or none).
     const double fb_dist = options_.fallback_max_distance_m;
     {
-        mrpt::system::CTimeLoggerEntry t2(profiler_, "dense.insertScan.2_assign");
+        core::TimedSection t2(profiler_, "dense.insertScan.2_assign");
         owners.assignReturns(w, scan, options_, st);
     }
 
     // 3. Split the beams among the regions and fuse into every layer (Sec. 4.5).
     {
-        mrpt::system::CTimeLoggerEntry t3(profiler_, "dense.insertScan.3_clip_fuse");
+        core::TimedSection t3(profiler_, "dense.insertScan.3_clip_fuse");
         last_scan_regions_.clear();
         for (const size_t k : clipToRegions(w, scan, owners, shadowMargin(options_)))
         {
@@ -343,7 +343,7 @@ HybridMetricMap::InsertStats HybridMetricMap::insertScan(
     // crossing a tile.
     if (fb_dist > 0)
     {
-        mrpt::system::CTimeLoggerEntry t3b(profiler_, "dense.insertScan.3b_fallback");
+        core::TimedSection t3b(profiler_, "dense.insertScan.3b_fallback");
         for (auto& [key, rs] : fallbackTileScans(w, scan, partition, owners, fb_dist, options_.fallback_tile_m, fallback_))
             fallbackMapFor(key).insert(rs);
     }
@@ -352,7 +352,7 @@ HybridMetricMap::InsertStats HybridMetricMap::insertScan(
     ++scans_;
     if (options_.coarsen_every_n_scans > 0 && scans_ % static_cast<size_t>(options_.coarsen_every_n_scans) == 0)
     {
-        mrpt::system::CTimeLoggerEntry t4(profiler_, "dense.insertScan.4_coarsen");
+        core::TimedSection t4(profiler_, "dense.insertScan.4_coarsen");
         st.regions_coarsened = coarsenIdleRegions().coarsened.size();
     }
     return st;

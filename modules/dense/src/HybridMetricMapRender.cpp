@@ -33,7 +33,7 @@ void HybridMetricMap::renderSogSurface(
 {
     if (!(resolution_m > 0) || !(margin_m >= 0))
         throw std::invalid_argument("HybridMetricMap::renderSogSurface: need resolution > 0 and margin >= 0");
-    mrpt::system::CTimeLoggerEntry tle(profiler_, "dense.render.sog_surface");
+    core::TimedSection tle(profiler_, "dense.render.sog_surface");
     Eigen::Vector2d lo, hi;
     if (!layerBox(SogLayer::kKind, partition, lo, hi)) lo = hi = Eigen::Vector2d::Zero();
     const Eigen::Vector2d m = Eigen::Vector2d::Constant(margin_m);
@@ -61,7 +61,7 @@ void HybridMetricMap::renderProperty(
     const RegionPartition& partition, double resolution_m, ScalarField& mean, ScalarField& stddev) const
 {
     if (!(resolution_m > 0)) throw std::invalid_argument("HybridMetricMap::renderProperty: resolution must be > 0");
-    mrpt::system::CTimeLoggerEntry tle(profiler_, "dense.render.property");
+    core::TimedSection tle(profiler_, "dense.render.property");
     Eigen::Vector2d lo, hi;
     if (!layerBox(PropertyLayer::kKind, partition, lo, hi)) lo = hi = Eigen::Vector2d::Zero();
     const double nan = std::numeric_limits<double>::quiet_NaN();

@@ -10,6 +10,7 @@
 #include "usable_covariance.h"
 
 #include <hymm/dense/LayerRegistry.h>
+#include <hymm/core/TimeLogger.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
 #include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/system/datetime.h>
@@ -165,7 +166,7 @@ void DenseSlam::processOdometry(const mrpt::poses::CPosePDFGaussian& increment)
 
 void DenseSlam::predict(const scanslam::ScanOdometry::Increment& increment)
 {
-    mrpt::system::CTimeLoggerEntry tle(profiler_, "denseslam.1_predict");
+    core::TimedSection tle(profiler_, "denseslam.1_predict");
     const mrpt::poses::CPosePDFGaussian inc(
         mrpt::poses::CPose2D(increment.mean.x(), increment.mean.y(), increment.mean.z()),
         mrpt::math::CMatrixDouble33(increment.cov));
@@ -202,7 +203,7 @@ void DenseSlam::applyPendingOdometry(const mrpt::obs::CSensoryFrame& frame)
         if (reads_pose) flushOdometry();
         return;
     }
-    mrpt::system::CTimeLoggerEntry tle(profiler_, "denseslam.1_scan_odometry");
+    core::TimedSection tle(profiler_, "denseslam.1_scan_odometry");
     // No odometry since the last frame: the scan is the next one's reference (the motion
     // in between is unknown, nothing to fuse it with).
     scanslam::ScanOdometry::Increment wheel;
@@ -345,7 +346,7 @@ void DenseSlam::processScanObservation(const mrpt::obs::CObservation2DRangeScan&
     {
         // The HLLs are observed like scan landmarks (Sec. 6.1.3): after the point
         // sources, before the dense part reads the filter.
-        mrpt::system::CTimeLoggerEntry tle(profiler_, "denseslam.3_hll_observe");
+        core::TimedSection tle(profiler_, "denseslam.3_hll_observe");
         const size_t before = hll_->mapChanges();
         hll_->processScan(ekf_, scan, frame_t_);
         updates_ += hll_->mapChanges() - before;

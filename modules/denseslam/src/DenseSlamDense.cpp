@@ -9,6 +9,7 @@
 #include "hymm/denseslam/VirtualLandmarkView.h"
 
 #include <hymm/dense/ScanPoints.h>
+#include <hymm/core/TimeLogger.h>
 #include <hymm/dense/geometry.h>
 #include <hymm/ltr/position_error.h>
 #include <hymm/uif/DelayedDenseStore.h>
@@ -24,7 +25,7 @@ namespace hymm::denseslam
 void DenseSlam::searchHighLevelLandmarks(double t)
 {
     if (!hll_->due(t)) return;
-    mrpt::system::CTimeLoggerEntry tle(profiler_, "denseslam.7_hll_search");
+    core::TimedSection tle(profiler_, "denseslam.7_hll_search");
     // Areas of the Scan-SLAM templates in the filter: an HLL must not duplicate them.
     std::vector<hll::OrientedRect> exclusions;
     if (const auto* src = scanLandmarks())
@@ -74,7 +75,7 @@ double DenseSlam::scanReach(const mrpt::obs::CSensoryFrame& frame) const
 void DenseSlam::updateRegions(const ltr::LandmarkCovarianceView& view,
                               const mrpt::obs::CSensoryFrame& frame, double t)
 {
-    mrpt::system::CTimeLoggerEntry tle(profiler_, "denseslam.4_regions");
+    core::TimedSection tle(profiler_, "denseslam.4_regions");
     // local_refresh: only the regions the scans and the growth can reach follow the
     // new estimates (O(area) per step); a large vehicle correction (a loop closure)
     // refreshes every region. Otherwise every region and landmark, every step.
@@ -207,7 +208,7 @@ void DenseSlam::processDense(const mrpt::obs::CSensoryFrame& frame, double t, bo
     const VirtualLandmarkView view(ekf_, virtual_ids_, options_.pose_landmark_vertices);
     if (partition_ && map_changed) updateRegions(view, frame, t);
 
-    mrpt::system::CTimeLoggerEntry tle(profiler_, "denseslam.5_dense");
+    core::TimedSection tle(profiler_, "denseslam.5_dense");
     // Every observation of the frame was taken at the frame's pose; the estimate after
     // the frame's update is the best estimate of that pose.
     const Eigen::Vector3d v = ekf_.vehiclePose();
@@ -223,14 +224,14 @@ void DenseSlam::processDense(const mrpt::obs::CSensoryFrame& frame, double t, bo
 void DenseSlam::updateMotionLayers(double t)
 {
     if (!motion_ || !hybrid_) return;
-    mrpt::system::CTimeLoggerEntry tle(profiler_, "denseslam.6_motion");
+    core::TimedSection tle(profiler_, "denseslam.6_motion");
     const auto removed = motion_->afterFrame(*hybrid_, *partition_, ekf_, t);
     for (long id : removed) features_.erase(id);
 }
 
 void DenseSlam::createVirtualLandmarks(const std::vector<Eigen::Vector2d>& unassigned, double t)
 {
-    mrpt::system::CTimeLoggerEntry tle(profiler_, "denseslam.6_virtual");
+    core::TimedSection tle(profiler_, "denseslam.6_virtual");
     const VirtualLandmarkView view(ekf_, virtual_ids_, options_.pose_landmark_vertices);
     for (const auto& p : ltr::proposeVirtualLandmarks(*partition_, view, unassigned, virtual_options_))
         // Shallower apexes when the full depth overlaps a region or fails a condition.

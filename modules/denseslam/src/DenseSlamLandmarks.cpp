@@ -55,7 +55,7 @@ std::vector<std::pair<std::string, size_t>> DenseSlam::scanSourceCounters() cons
 void DenseSlam::processScanSources(const mrpt::obs::CObservation2DRangeScan& scan)
 {
     if (sources_.empty()) return;
-    mrpt::system::CTimeLoggerEntry tle(profiler_, "denseslam.3_scan_sources");
+    core::TimedSection tle(profiler_, "denseslam.3_scan_sources");
     for (auto& src : sources_)
     {
         const size_t before = src->mapChanges();
@@ -67,7 +67,7 @@ void DenseSlam::processScanSources(const mrpt::obs::CObservation2DRangeScan& sca
         {
             const double point_std = scan_lm->map().options().noise.std_range_m;
             scan_lm->map().setAugmenter([this, point_std](const Eigen::Vector2d& lo, const Eigen::Vector2d& hi) {
-                mrpt::system::CTimeLoggerEntry t(profiler_, "denseslam.3_template_augmentation");
+                core::TimedSection t(profiler_, "denseslam.3_template_augmentation");
                 return denseGaussiansInBox(*partition_, *hybrid_, lo, hi, point_std);
             });
         }
@@ -95,7 +95,7 @@ void DenseSlam::processScan(const mrpt::obs::CObservation2DRangeScan& scan)
     std::vector<ekf::RangeBearingObs> z;
     std::vector<const std::string*> by;  // the source of each of z
     {
-        mrpt::system::CTimeLoggerEntry tle(profiler_, "denseslam.2_extract");
+        core::TimedSection tle(profiler_, "denseslam.2_extract");
         // Every scan source's features, in registry order, each with its own noise.
         std::vector<std::pair<const std::string*, PointObservations>> found;
         for (const auto& src : point_sources_)
@@ -179,7 +179,7 @@ ekf::UpdateReport DenseSlam::update(const std::vector<ekf::RangeBearingObs>& obs
                                     const mrpt::poses::CPose3D& sensor)
 {
     if (obs.empty()) return {};
-    mrpt::system::CTimeLoggerEntry tle(profiler_, "denseslam.3_update");
+    core::TimedSection tle(profiler_, "denseslam.3_update");
     stats_.observations += obs.size();
     if (motion_)
     {

@@ -1,6 +1,7 @@
 #include "hymm/ekf/EkfSlam.h"
 
 #include <hymm/core/RangeBearingModel.h>
+#include <hymm/core/TimeLogger.h>
 #include <hymm/ekf/pose_composition.h>
 #include <mrpt/core/exceptions.h>
 #include <mrpt/math/wrap2pi.h>
@@ -142,7 +143,7 @@ void EkfSlam::applyVehicleMotion(
 void EkfSlam::predictUte(const Eigen::Vector2d& u, const Eigen::Matrix2d& Q, double dt,
                          const hymm::core::UteParams& p)
 {
-    mrpt::system::CTimeLoggerEntry tle(profiler_, "ekf.1_predict");
+    core::TimedSection tle(profiler_, "ekf.1_predict");
     if (!u.allFinite() || !std::isfinite(dt) || dt < 0.0)
         throw std::invalid_argument("EkfSlam::predictUte: non-finite control or negative dt");
     checkCovariance(Q, 2, "EkfSlam::predictUte(Q)");
@@ -155,7 +156,7 @@ void EkfSlam::predictUte(const Eigen::Vector2d& u, const Eigen::Matrix2d& Q, dou
 
 void EkfSlam::predictOdometry(const mrpt::poses::CPosePDFGaussian& increment)
 {
-    mrpt::system::CTimeLoggerEntry tle(profiler_, "ekf.1_predict");
+    core::TimedSection tle(profiler_, "ekf.1_predict");
     const Eigen::Vector3d d(increment.mean.x(), increment.mean.y(), increment.mean.phi());
     Eigen::Matrix3d Sigma = increment.cov.asEigen();
     if (!d.allFinite()) throw std::invalid_argument("EkfSlam::predictOdometry: non-finite increment");

@@ -1,5 +1,6 @@
 // EkfSlam: one observation step (validation, association, fusion, augmentation, pruning).
 #include <hymm/core/RangeBearingModel.h>
+#include <hymm/core/TimeLogger.h>
 #include <hymm/ekf/EkfSlam.h>
 #include <mrpt/math/distributions.h>
 
@@ -26,7 +27,7 @@ bool isValid(const RangeBearingObs& o)
 UpdateReport EkfSlam::updateRangeBearing(
     const std::vector<RangeBearingObs>& obs, const mrpt::poses::CPose3D& sensorPoseOnVehicle)
 {
-    mrpt::system::CTimeLoggerEntry tle_all(profiler_, "ekf.update_step");
+    core::TimedSection tle_all(profiler_, "ekf.update_step");
     const Eigen::Vector3d sensor(
         sensorPoseOnVehicle.x(), sensorPoseOnVehicle.y(), sensorPoseOnVehicle.yaw());
     if (!sensor.allFinite())
@@ -46,14 +47,14 @@ UpdateReport EkfSlam::updateRangeBearing(
     std::vector<Pairing> pairs;
     std::vector<NewLandmark> created;
     {
-        mrpt::system::CTimeLoggerEntry tle(profiler_, "ekf.2_associate");
+        core::TimedSection tle(profiler_, "ekf.2_associate");
         associateBatch(obs, valid, sensor, pairs, created, report);
     }
 
     // 3. One batched update with every associated observation.
     if (!pairs.empty())
     {
-        mrpt::system::CTimeLoggerEntry tle(profiler_, "ekf.3_update");
+        core::TimedSection tle(profiler_, "ekf.3_update");
         if (fuse(pairs, obs, report.rejection_reason))
         {
             report.associated += pairs.size();
@@ -70,13 +71,13 @@ UpdateReport EkfSlam::updateRangeBearing(
     // 4. New landmarks at the updated vehicle pose (Eq. 2.53), all in one augmentation.
     if (!created.empty())
     {
-        mrpt::system::CTimeLoggerEntry tle(profiler_, "ekf.4_augment");
+        core::TimedSection tle(profiler_, "ekf.4_augment");
         addNewLandmarks(created, obs, sensor, report);
     }
 
     // 5. End of step: confirm or prune tentative landmarks.
     {
-        mrpt::system::CTimeLoggerEntry tle(profiler_, "ekf.5_prune");
+        core::TimedSection tle(profiler_, "ekf.5_prune");
         report.pruned = pruneTentative();
     }
     ++step_;

@@ -8,6 +8,7 @@
 #include "joint_covariance.h"
 
 #include <hymm/core/RangeBearingModel.h>
+#include <hymm/core/TimeLogger.h>
 #include <mrpt/math/wrap2pi.h>
 
 #include <Eigen/Cholesky>
@@ -199,7 +200,7 @@ DelayedDenseStore::AddReport DelayedDenseStore::addScan(
     AddReport rep;
     rep.offered = z.size();
     if (!options_.enabled) return rep;
-    mrpt::system::CTimeLoggerEntry tle(profiler_, "uif.addScan");
+    core::TimedSection tle(profiler_, "uif.addScan");
     checkNoise(R);
     checkScanInput(z, sensor_on_vehicle, time, tags, last_time_);
     last_time_ = time;

@@ -10,6 +10,7 @@
 #include "joint_covariance.h"
 
 #include <hymm/core/RangeBearingModel.h>
+#include <hymm/core/TimeLogger.h>
 #include <hymm/dense/geometry.h>
 #include <hymm/ltr/AffineRegionMap.h>
 
@@ -199,7 +200,7 @@ DelayedDenseStore::FuseReport DelayedDenseStore::fuse(
 {
     FuseReport rep;
     if (!options_.enabled || scans_.empty()) return rep;
-    mrpt::system::CTimeLoggerEntry tle(profiler_, "uif.fuse");
+    core::TimedSection tle(profiler_, "uif.fuse");
     ScanFuser fuser(ekf, partition, options_.fuse_free_space, sink, fused, outside, rep);
     for (StoredScan& scan : scans_)
     {

@@ -40,6 +40,7 @@
  */
 #pragma once
 
+#include <hymm/core/TimeLogger.h>
 #include <hymm/core/OptionTable.h>
 #include "hymm/dense/FallbackTiles.h"
 #include "hymm/dense/LocalDenseMap.h"
@@ -56,7 +57,6 @@
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/maps/CSimplePointsMap.h>
 #include <mrpt/poses/CPoint2DPDFGaussian.h>
-#include <mrpt/system/CTimeLogger.h>
 
 #include <functional>
 #include <iosfwd>
@@ -316,7 +316,7 @@ public:
     /** Empty layer of `kind` for a region (nullptr if the kind is unknown/disabled). */
     std::unique_ptr<DenseLayer> makeLayer(
         const std::string& kind, const hymm::ltr::TriangleFrame::Vertices& reference) const;
-    mrpt::system::CTimeLogger& profiler() const { return profiler_; }
+    mrpt::system::CTimeLogger& profiler() const { return profiler_.get(); }
 
     // --- persistence -------------------------------------------------------------
     void save(std::ostream& out) const;
@@ -354,7 +354,7 @@ private:
     std::map<FallbackTileKey, std::unique_ptr<LocalDenseMap>> fallback_;
     std::set<long> last_scan_regions_;  //!< regions updated by the last insertScan()
     size_t scans_ = 0;                  //!< insertScan() calls
-    mutable mrpt::system::CTimeLogger profiler_;
+    core::LazyTimeLogger profiler_;
 };
 
 }  // namespace hymm::dense

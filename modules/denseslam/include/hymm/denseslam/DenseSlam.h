@@ -35,6 +35,7 @@
  */
 #pragma once
 
+#include <hymm/core/TimeLogger.h>
 #include <hymm/dense/ClassicOccupancyGrid.h>
 #include <hymm/dense/HybridMetricMap.h>
 #include <hymm/dense/ScanPoints.h>
@@ -54,7 +55,6 @@
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/obs/CObservationBearingRange.h>
 #include <mrpt/poses/CPose2D.h>
-#include <mrpt/system/CTimeLogger.h>
 
 #include <cstdint>
 #include <map>
@@ -117,7 +117,7 @@ public:
     const std::vector<PathSample>& path() const { return path_; }
     const Stats& stats() const { return stats_; }
     const Options& options() const { return options_; }
-    mrpt::system::CTimeLogger& profiler() { return profiler_; }
+    mrpt::system::CTimeLogger& profiler() { return profiler_.get(); }
     /** The scan observations (of laser_reflectors, laser_trees) behind every landmark now
      *  in the filter; landmarks never observed in a scan are absent (all of them with
      *  bearing_range). */
@@ -295,7 +295,7 @@ private:
     std::set<long> virtual_ids_;  //!< passive blocks of ekf_ that are virtual landmarks
     /** Virtual landmarks live in the passive-state id space, far above real landmark ids. */
     long next_virtual_id_ = 1L << 40;
-    mrpt::system::CTimeLogger profiler_{false, "hymm::DenseSlam"};
+    core::LazyTimeLogger profiler_{false, "hymm::DenseSlam"};
     std::vector<std::unique_ptr<PointLandmarkSource>> point_sources_;  //!< registry order
     std::vector<std::unique_ptr<ScanLandmarkSource>> sources_;  //!< registered per-scan sources
 };

@@ -20,6 +20,7 @@
  */
 #pragma once
 
+#include <hymm/core/TimeLogger.h>
 #include <hymm/core/OptionTable.h>
 #include <hymm/core/UteVehicleModel.h>
 #include <hymm/ekf/DataAssociation.h>
@@ -29,7 +30,6 @@
 #include <mrpt/obs/CActionRobotMovement2D.h>
 #include <mrpt/poses/CPose3D.h>
 #include <mrpt/poses/CPosePDFGaussian.h>
-#include <mrpt/system/CTimeLogger.h>
 
 #include <Eigen/Core>
 #include <optional>
@@ -312,10 +312,10 @@ public:
     void saveState(mrpt::serialization::CArchive& out) const;
     void loadState(mrpt::serialization::CArchive& in);
 
-    const mrpt::system::CTimeLogger& profiler() const { return profiler_; }
+    const mrpt::system::CTimeLogger& profiler() const { return profiler_.get(); }
     /** Mutable access, e.g. to clear it or to disable it (an enabled CTimeLogger prints
      *  its statistics when destroyed). */
-    mrpt::system::CTimeLogger& profiler() { return profiler_; }
+    mrpt::system::CTimeLogger& profiler() { return profiler_.get(); }
 
 private:
     struct Pairing
@@ -393,7 +393,7 @@ private:
     Eigen::Vector3d predicted_pose_ = Eigen::Vector3d::Zero();  //!< x_{k|k-1}
     Eigen::Matrix3d last_F_ = Eigen::Matrix3d::Identity();
     long step_ = 0;
-    mrpt::system::CTimeLogger profiler_;
+    core::LazyTimeLogger profiler_;
 };
 
 }  // namespace hymm::ekf

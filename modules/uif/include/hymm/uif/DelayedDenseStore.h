@@ -60,13 +60,13 @@
  */
 #pragma once
 
+#include <hymm/core/TimeLogger.h>
 #include <hymm/core/OptionTable.h>
 #include <hymm/dense/RegionScan.h>
 #include <hymm/ekf/EkfSlam.h>
 #include <hymm/ltr/RegionPartition.h>
 #include <hymm/uif/PotentialRegionSet.h>
 #include <mrpt/config/CLoadableOptions.h>
-#include <mrpt/system/CTimeLogger.h>
 
 #include <Eigen/Core>
 
@@ -273,7 +273,7 @@ public:
     size_t numStoredPoints() const { return num_points_; }
     size_t numStoredScans() const { return scans_.size(); }
     const PotentialRegionSet& potentialRegions() const { return potential_; }
-    mrpt::system::CTimeLogger& profiler() { return profiler_; }
+    mrpt::system::CTimeLogger& profiler() { return profiler_.get(); }
 
 private:
     /** Drops scans whose passive block vanished and scans older than max_age_s. */
@@ -294,7 +294,7 @@ private:
     long next_scan_id_ = 0;
     long next_passive_id_;
     double last_time_ = -1e300;
-    mutable mrpt::system::CTimeLogger profiler_;
+    core::LazyTimeLogger profiler_;
 };
 
 }  // namespace hymm::uif
