@@ -16,8 +16,12 @@ std::map<std::string, mrpt::system::CTimeLogger::TCallStats> statsOf(const LazyT
     l.get().getStats(s);
     return s;
 }
-// An enabled CTimeLogger prints its statistics when destroyed: not in the test output.
-void quiet(LazyTimeLogger& l) { l.get().disable(); }
+// MRPT's CTimeLogger prints what it holds when destroyed: not in the test output.
+void quiet(LazyTimeLogger& l)
+{
+    l.get().clear(true);
+    l.get().disable();
+}
 }  // namespace
 
 TEST(LazyTimeLoggerTest, DisabledSectionsMakeNoLogger)

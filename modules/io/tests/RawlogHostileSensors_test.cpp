@@ -854,9 +854,11 @@ TEST(RawlogHostileSensorsTest, TwoComponentJpegIsRefused)
 namespace
 {
 // A raw DAQ observation: the label and 13 sample vectors, the channel count and the
-// interleaving flag between the 5th and the 6th. Each count is set just beyond what the
-// rest of the file holds at its own element size (and within it at 1 byte), so the test
-// fails if the guard takes a vector's element size, or its place in the chain, wrong.
+// interleaving flag between the 5th and the 6th. The counts of the vectors of 2, 4 and
+// 8-byte samples tested here are set just beyond what the rest of the file holds at their
+// own element size (and within it at 1 byte), so the test fails if the guard takes their
+// element size, or their place in the chain, wrong; the 1-byte ones just beyond the bytes
+// left.
 TEST(RawlogHostileSensorsTest, RawDaqVectorsAreChecked)
 {
     mrpt::obs::CObservationRawDAQ obs;
@@ -881,6 +883,8 @@ TEST(RawlogHostileSensorsTest, RawDaqVectorsAreChecked)
     const size_t ain16 = ain8 + 4 + 2;
     ASSERT_EQ(getU32(data, ain16), 0u);
     expectRefused(data, ain16, beyond(ain16, 2), "DAQ samples of AIN_16bits");
+    const size_t ain32 = ain16 + 4;
+    expectRefused(data, ain32, beyond(ain32, 4), "DAQ samples of AIN_32bits");
     const size_t ain_float = ain16 + 2 * 4;
     expectRefused(data, ain_float, beyond(ain_float, 4), "DAQ samples of AIN_float");
     const size_t ain_double = ain16 + 3 * 4;
@@ -889,6 +893,8 @@ TEST(RawlogHostileSensorsTest, RawDaqVectorsAreChecked)
     // The channel count and the interleaving flag (3 B), then the outputs.
     const size_t aout8 = ain_double + 4 + 3 * 8 + 3;
     ASSERT_EQ(getU32(data, aout8), 1u);
+    const size_t aout16 = aout8 + 4 + 1;
+    expectRefused(data, aout16, beyond(aout16, 2), "DAQ samples of AOUT_16bits");
     const size_t aout_double = aout8 + 4 + 1 + 2 * 4;
     expectRefused(data, aout_double, beyond(aout_double, 8), "DAQ samples of AOUT_double");
     const size_t dout = aout8 + 4 + 1 + 4 * 4;
