@@ -699,9 +699,10 @@ TEST(MotionDetector, TileMarksInsideARegionAreLeftToTheRegion)
     det.renderInto(MotionKind::Slow, p, g);
     for (unsigned cy = 0; cy < g.getSizeY(); ++cy)
         for (unsigned cx = 0; cx < g.getSizeX(); ++cx)
-            if (g.getCell(cx, cy) > 0.9f) {
-                EXPECT_TRUE(p.findRegions(Eigen::Vector2d(g.idx2x(cx), g.idx2y(cy))).empty()) << cx << ' ' << cy;
-            }
+        {
+            if (g.getCell(cx, cy) <= 0.9f) continue;
+            EXPECT_TRUE(p.findRegions(Eigen::Vector2d(g.idx2x(cx), g.idx2y(cy))).empty()) << cx << ' ' << cy;
+        }
     // The container beyond the lattice is still found there.
     EXPECT_TRUE(sc.markedPoint(det).has_value());
     // With tile_marks_inside_regions the tile's mark is read there too.
