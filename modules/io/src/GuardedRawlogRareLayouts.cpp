@@ -72,6 +72,10 @@ bool GuardedRawlogStream::armRare(const ObjectHeader& h)
         // (v5). MRPT holds about 104 B per reading.
         checkpoints_.push_back(countAt(h, data, kMinPose3DBytes + 4 + 4 + (v >= 3 ? 1 : 0),
                                        (v >= 4 ? 4 : 0) + (v >= 5 ? 8 : 0), "gas sensor readings"));
+    else if (name == "CObservationGasSensors" && v <= 1)
+        // Sixteen voltages of a 2006 e-nose as a float vector; MRPT sizes the vector from
+        // its count before it asserts the count is 16.
+        checkpoints_.push_back(countAt(h, data, 4, 0, "gas sensor voltages"));
     else if (name == "CObservation6DFeatures" && v == 0)
     {
         // Two floats, the sensor pose; per feature a CPose3D object, an int32 ID and a 6x6

@@ -512,39 +512,70 @@ TEST(RawlogHostileSensorsTest, CountsOfTheRarerClassesAreChecked)
     expectRefused(data, count, 0x00FFFFFFu, "6-D features");
 }
 
+// A sensory frame holding one object of class `name` (qualified) and `version`, whose
+// serialised data is `body` (the end flag is added): for layouts MRPT 2.5 reads but no
+// longer writes.
+std::vector<uint8_t> inFrameAsWritten(const std::string& name, uint8_t version, const std::vector<uint8_t>& body)
+{
+    mrpt::obs::CSensoryFrame sf;
+    auto data = serialised(sf);  // header, version, a zero count, end flag
+    const size_t n = afterName(data, "mrpt::obs::CSensoryFrame") + 1;
+    putU32(data, n, 1);
+    std::vector<uint8_t> obs{static_cast<uint8_t>(0x80 | name.size())};
+    obs.insert(obs.end(), name.begin(), name.end());
+    obs.push_back(version);
+    obs.insert(obs.end(), body.begin(), body.end());
+    obs.push_back(0x88);
+    data.insert(data.begin() + static_cast<std::ptrdiff_t>(n + 4), obs.begin(), obs.end());
+    return data;
+}
+
+void appendU32(std::vector<uint8_t>& bytes, uint32_t x)
+{
+    bytes.resize(bytes.size() + 4);
+    putU32(bytes, bytes.size() - 4, x);
+}
+
 // Before version 4 the RFID tag count is decimal text, parsed with atoi into a uint32:
 // "-1" is 4,294,967,295 tags.
 TEST(RawlogHostileSensorsTest, RfidTagCountAsTextIsChecked)
 {
     const auto rfidV3 = [](const std::string& count)
     {
-        mrpt::obs::CSensoryFrame sf;
-        auto data = serialised(sf);  // header, version, a zero count, end flag
-        const std::string name = "mrpt::obs::CObservationRFID";
-        const size_t n = afterName(data, "mrpt::obs::CSensoryFrame") + 1;
-        putU32(data, n, 1);
-        std::vector<uint8_t> obs{static_cast<uint8_t>(0x80 | name.size())};
-        obs.insert(obs.end(), name.begin(), name.end());
-        obs.push_back(3);
-        const auto u32 = [&](uint32_t x) { obs.resize(obs.size() + 4); putU32(obs, obs.size() - 4, x); };
-        u32(static_cast<uint32_t>(count.size()));
-        obs.insert(obs.end(), count.begin(), count.end());
-        obs.resize(obs.size() + 8, 0);  // one tag's power
-        u32(0);                         // its EPC
-        u32(0);                         // its antenna port
-        u32(0);                         // the label
-        obs.resize(obs.size() + 8, 0);  // the timestamp
+        std::vector<uint8_t> body;
+        appendU32(body, static_cast<uint32_t>(count.size()));
+        body.insert(body.end(), count.begin(), count.end());
+        body.resize(body.size() + 8, 0);  // one tag's power
+        appendU32(body, 0);               // its EPC
+        appendU32(body, 0);               // its antenna port
+        appendU32(body, 0);               // the label
+        body.resize(body.size() + 8, 0);  // the timestamp
         const auto pose = serialised(mrpt::poses::CPose3D());
-        obs.insert(obs.end(), pose.begin(), pose.end());
-        obs.push_back(0x88);
-        data.insert(data.begin() + static_cast<std::ptrdiff_t>(n + 4), obs.begin(), obs.end());
-        return data;
+        body.insert(body.end(), pose.begin(), pose.end());
+        return inFrameAsWritten("mrpt::obs::CObservationRFID", 3, body);
     };
     expectReads(rfidV3("1"));
     for (const char* count : {"-1", "2000000000", "99999999999999999999"})
     {
         const auto data = rfidV3(count);
         expectCleanError(writeGz(data), data, "entry 0", "RFID tags");
+    }
+}
+
+// Versions 0 and 1 of a gas-sensor observation hold 16 voltages as a float vector, which
+// MRPT sizes from its count before it checks the count is 16 (the fuzzer's 68-byte input
+// made it allocate 7.8 GB).
+TEST(RawlogHostileSensorsTest, GasSensorVoltagesOfVersionsZeroAndOneAreChecked)
+{
+    for (const uint8_t version : {0, 1})
+    {
+        std::vector<uint8_t> body;
+        appendU32(body, 16);
+        body.resize(body.size() + 16 * 4, 0);
+        const auto data = inFrameAsWritten("mrpt::obs::CObservationGasSensors", version, body);
+        expectReads(data);
+        const size_t count = afterName(data, "mrpt::obs::CObservationGasSensors") + 1;
+        expectRefused(data, count, 0x7463656Cu, "gas sensor voltages");
     }
 }
 
