@@ -66,16 +66,10 @@ bool GuardedRawlogStream::armRare(const ObjectHeader& h)
         armRfid(h);
     else if (name == "CObservationRawDAQ" && v == 0)
         armRawDaq(h);
-    else if (name == "CObservationGasSensors" && v >= 2 && v <= 5)
-        // Per reading: the e-nose pose (a CPose3D object), the voltages (float vector) and
-        // sensor types (int vector), a temperature flag (v3+); then label (v4+), timestamp
-        // (v5). MRPT holds about 104 B per reading.
-        checkpoints_.push_back(countAt(h, data, kMinPose3DBytes + 4 + 4 + (v >= 3 ? 1 : 0),
-                                       (v >= 4 ? 4 : 0) + (v >= 5 ? 8 : 0), "gas sensor readings"));
-    else if (name == "CObservationGasSensors" && v <= 1)
-        // Sixteen voltages of a 2006 e-nose as a float vector; MRPT sizes the vector from
-        // its count before it asserts the count is 16.
-        checkpoints_.push_back(countAt(h, data, 4, 0, "gas sensor voltages"));
+    else if (name == "CObservationGasSensors" && v <= 5)
+        armGasSensors(h);
+    else if (name == "CObservationStereoImagesFeatures" && v == 0)
+        armStereoFeatures(h);
     else if (name == "CObservation6DFeatures" && v == 0)
     {
         // Two floats, the sensor pose; per feature a CPose3D object, an int32 ID and a 6x6
@@ -88,6 +82,33 @@ bool GuardedRawlogStream::armRare(const ObjectHeader& h)
     else
         return false;
     return true;
+}
+
+void GuardedRawlogStream::armGasSensors(const ObjectHeader& h)
+{
+    const int v = h.version;
+    if (v <= 1)
+        // Sixteen voltages of a 2006 e-nose as a float vector; MRPT sizes the vector from
+        // its count before it asserts the count is 16.
+        checkpoints_.push_back(countAt(h, h.data, 4, 0, "gas sensor voltages"));
+    else
+        // Per reading: the e-nose pose (a CPose3D object), the voltages (float vector) and
+        // sensor types (int vector), a temperature flag (v3+); then label (v4+), timestamp
+        // (v5). MRPT holds about 104 B per reading.
+        checkpoints_.push_back(countAt(h, h.data, kMinPose3DBytes + 4 + 4 + (v >= 3 ? 1 : 0),
+                                       (v >= 4 ? 4 : 0) + (v >= 5 ? 8 : 0), "gas sensor readings"));
+}
+
+void GuardedRawlogStream::armStereoFeatures(const ObjectHeader& h)
+{
+    // The two cameras (TCamera objects), the right camera's and the sensor's poses
+    // (CPose3DQuat objects); per feature two pixels (4 floats) and an ID (uint32); then
+    // label, timestamp.
+    uint64_t at = h.data;
+    for (int i = 0; i < 4 && at != 0; ++i) at = skipObject(at);
+    if (at == 0) return;
+    checkpoints_.push_back(countAt(h, at, 20, 4 + 8, "stereo features"));
+    checkpoints_.back().then[0] = {"bytes of sensor label", 0, 1, 8 + endFlagBytes(h)};
 }
 
 void GuardedRawlogStream::armPointCloud(const ObjectHeader& h)

@@ -204,13 +204,48 @@ void GuardedRawlogStream::arm3DScan(const ObjectHeader& h)
 void GuardedRawlogStream::armImage(const ObjectHeader& h)
 {
     const uint64_t end = armImageData(h);
-    if (end == 0 || open_.empty() || open_.back().name != "CObservationImage") return;
+    if (open_.empty()) return;
+    ++open_.back().images;
+    if (end == 0) return;
+    if (open_.back().name == "CObservationStereoImages")
+    {
+        armStereoLabel(h, end, open_.back());
+        return;
+    }
+    if (open_.back().name != "CObservationImage") return;
     // The image of a CObservationImage (v3-4) is followed by the timestamp, in v3 the
     // focal length (a double), then the label. The observation's end flag is taken to be
     // in the image's format (one writer wrote both).
     const int v = open_.back().version;
     if (v < 3 || v > 4) return;
     checkpoints_.push_back(countAt(h, end + endFlagBytes(h) + 8 + (v == 3 ? 8 : 0), 1, 0, "bytes of sensor label"));
+}
+
+void GuardedRawlogStream::armStereoLabel(const ObjectHeader& h, uint64_t image_end, Frame& stereo)
+{
+    // v4-5 hold a left and a right image; v6 a left one, then two flags (disparity,
+    // right) saying which of the other two follow. After the last image: the timestamp,
+    // the right camera's pose (v4: a CPose3D object and the focal length, a double; v5-6:
+    // a CPose3DQuat object), the label. The end flags are taken to be in the image's
+    // format (one writer wrote both).
+    const int v = stereo.version;
+    if (v < 4 || v > 6) return;
+    uint64_t at = image_end + endFlagBytes(h);
+    if (stereo.images == 1)
+    {
+        stereo.images_expected = 2;
+        if (v == 6)
+        {
+            std::array<uint8_t, 2> flags{};
+            if (!peek(at, flags.data(), 2)) return;
+            stereo.images_expected = 1 + (flags[0] != 0 ? 1 : 0) + (flags[1] != 0 ? 1 : 0);
+            at += 2;
+        }
+    }
+    if (stereo.images != stereo.images_expected) return;
+    at = skipObject(at + 8);
+    if (at == 0) return;
+    checkpoints_.push_back(countAt(h, at + (v == 4 ? 8 : 0), 1, 0, "bytes of sensor label"));
 }
 
 uint64_t GuardedRawlogStream::armImageData(const ObjectHeader& h)

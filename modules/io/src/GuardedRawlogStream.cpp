@@ -182,6 +182,18 @@ uint64_t GuardedRawlogStream::skipObject(uint64_t at)
     }
     else if (h.name == "CPose2D")
         end = h.version == 0 ? h.data + 3 * 4 : h.version == 1 ? h.data + 3 * 8 : 0;
+    else if (h.name == "CPose3DQuat" && h.version == 0)
+        end = h.data + 7 * 8;  // x y z and the quaternion
+    else if (h.name == "TCamera" && h.version >= 4 && h.version <= 6)
+    {
+        // The focal length, 8 distortion and 4 intrinsic doubles, rows and columns, the
+        // camera name (v5+), the distortion model (v6, a byte).
+        end = h.data + 8 + 64 + 32 + 8;
+        uint32_t name = 0;
+        if (h.version >= 5 && (!peek(end, &name, 4) || name > total_)) return 0;
+        if (h.version >= 5) end += 4 + name;
+        if (h.version >= 6) end += 1;
+    }
     else if (h.name == "CPose3DPDFGaussian" && h.version == 1)
     {
         // The mean (a CPose3D object), then the 21 doubles of the covariance's upper

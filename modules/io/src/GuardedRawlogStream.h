@@ -230,6 +230,8 @@ private:
     void armGpsMessages(const ObjectHeader& h);
     void arm3DScan(const ObjectHeader& h);
     void armImage(const ObjectHeader& h);
+    void armGasSensors(const ObjectHeader& h);
+    void armStereoFeatures(const ObjectHeader& h);
     /** armImage's checks of the image data; where the data ends, 0 if not known. */
     uint64_t armImageData(const ObjectHeader& h);
     uint64_t armRawImage(const ObjectHeader& h);
@@ -271,6 +273,8 @@ private:
         bool sensory_frame = false;  // a CSensoryFrame: its children must be observations
         std::string name;            // without namespace
         int version = -1;            // once its version byte was read
+        int images = 0;              // CImage children armed so far (stereo observations)
+        int images_expected = 0;     // how many a stereo observation holds, once known
     };
     /** At a class name MRPT just read (the header started at `at`): refuses an entry that
      *  is no action collection, sensory frame or observation, a child of an open
@@ -280,6 +284,8 @@ private:
     /** Opens and closes frames for a read of `count` bytes that gave `n`, after one whose
      *  single byte was `prev` (-1 if it was wider); true if the read was one byte. */
     bool trackFrames(size_t count, size_t n, const uint8_t* bytes, int prev);
+    /** The label of a CObservationStereoImages (v4-6), after its last image. */
+    void armStereoLabel(const ObjectHeader& h, uint64_t image_end, Frame& stereo);
     /** True if at `at` there is a serialised header of a registered class (or a null
      *  object), an end flag or the end of the data: what follows the end of a frame's
      *  element. */

@@ -26,6 +26,8 @@
 #include <mrpt/obs/CObservationReflectivity.h>
 #include <mrpt/obs/CObservationRobotPose.h>
 #include <mrpt/obs/CObservationSkeleton.h>
+#include <mrpt/obs/CObservationStereoImages.h>
+#include <mrpt/obs/CObservationStereoImagesFeatures.h>
 #include <mrpt/obs/CObservationWindSensor.h>
 #include <mrpt/obs/CObservationWirelessPower.h>
 #include <mrpt/poses/CPose3D.h>
@@ -185,6 +187,42 @@ TEST(RawlogHostileSensorsTest, HugeGreyImageIsRefusedBeforeMrptSizesIt)
     ASSERT_EQ(getU32(data, width), 40u);
     expectRefused(data, width, 0x40000000u, "pixels of a grey image");
     expectRefused(data, width + 4, 0xFFFFFFF0u, "pixels of a grey image");  // a negative height
+}
+
+// The label of a stereo observation lies after its images (v6: one to three, as two
+// flags after the left one say), the timestamp and the right camera's pose.
+TEST(RawlogHostileSensorsTest, StereoImagesLabelIsChecked)
+{
+    for (const bool right : {false, true})
+        for (const bool disparity : {false, true})
+        {
+            SCOPED_TRACE(std::string("right ") + (right ? "yes" : "no") + ", disparity " + (disparity ? "yes" : "no"));
+            mrpt::obs::CObservationStereoImages obs;
+            obs.imageLeft = pattern(8, 6, mrpt::img::CH_GRAY);
+            obs.hasImageRight = right;
+            obs.hasImageDisparity = disparity;
+            if (right) obs.imageRight = pattern(8, 6, mrpt::img::CH_GRAY);
+            if (disparity) obs.imageDisparity = pattern(8, 6, mrpt::img::CH_GRAY);
+            obs.leftCamera.cameraName = "left_cam";
+            expectLabelGuarded(obs, "stereo_rig");
+        }
+}
+
+// The features of a stereo-features observation follow two cameras and two poses.
+TEST(RawlogHostileSensorsTest, StereoFeaturesCountAndLabelAreChecked)
+{
+    mrpt::obs::CObservationStereoImagesFeatures obs;
+    obs.cameraLeft.cameraName = "left_cam";
+    obs.sensorLabel = "stereo_features";
+    obs.theFeatures.resize(3);
+    const auto data = inFrame(obs);
+    expectReads(data);
+    const size_t label = lengthOf(data, "stereo_features");
+    // Per feature four floats and an ID.
+    const size_t count = label - 3 * 20 - 4;
+    ASSERT_EQ(getU32(data, count), 3u);
+    expectRefused(data, count, 0x40000000u, "stereo features");
+    expectRefused(data, label, 0xF0000000u, "bytes of sensor label");
 }
 
 TEST(RawlogHostileSensorsTest, JpegByteCountAndDecodedSizeAreChecked)
