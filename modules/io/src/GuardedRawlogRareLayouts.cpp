@@ -1,8 +1,8 @@
 // GuardedRawlogStream: the counts and labels of the rarer MRPT observation classes that
 // MRPT builds inside sensory frames (rotating lidars, reflectivity, wireless power, wind,
-// robot pose, skeleton, CAN bus, RFID, raw DAQ, gas sensors, 6-D features, point clouds)
-// and the messages of a GPS observation. Offsets follow MRPT
-// 2.5's serializeFrom() of each class.
+// robot pose, skeleton, CAN bus, RFID, raw DAQ, gas sensors, stereo and 6-D features, point
+// clouds) and the messages of a GPS observation. Offsets follow MRPT 2.5's serializeFrom()
+// of each class.
 #include "GuardedRawlogStream.h"
 
 #include <mrpt/obs/gnss_messages_novatel.h>

@@ -1,7 +1,8 @@
 // GuardedRawlogStream: where the counts lie in the serialised objects of MRPT classes that
 // HYMM does not read but MRPT builds inside sensory frames, to count them by class name
 // (comments, beacon and range finders, IMUs, GPS receivers, battery states, Velodyne and
-// RGB-D scans, point clouds and every image of a camera or RGB-D observation). Offsets follow MRPT 2.5's serializeFrom() of each class.
+// RGB-D scans, point clouds, every image of a camera, stereo or RGB-D observation and the
+// label after a stereo pair). Offsets follow MRPT 2.5's serializeFrom() of each class.
 #include "GuardedRawlogStream.h"
 
 #include <mrpt/obs/CObservationIMU.h>
