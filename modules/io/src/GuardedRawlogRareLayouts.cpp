@@ -70,6 +70,8 @@ bool GuardedRawlogStream::armRare(const ObjectHeader& h)
         armGasSensors(h);
     else if (name == "CObservationStereoImagesFeatures" && v == 0)
         armStereoFeatures(h);
+    else if (name == "CObservationRGBD360" && v == 1)
+        armRgbd360(h);
     else if (name == "CObservation6DFeatures" && v == 0)
     {
         // Two floats, the sensor pose; per feature a CPose3D object, an int32 ID and a 6x6
@@ -109,6 +111,22 @@ void GuardedRawlogStream::armStereoFeatures(const ObjectHeader& h)
     if (at == 0) return;
     checkpoints_.push_back(countAt(h, at, 20, 4 + 8, "stereo features"));
     checkpoints_.back().then[0] = {"bytes of sensor label", 0, 1, 8 + endFlagBytes(h)};
+}
+
+void GuardedRawlogStream::armRgbd360(const ObjectHeader& h)
+{
+    // The maximum range (a float), the sensor pose (a CPose3D object), a flag; if set, two
+    // range images of rows x columns uint16 (MRPT sizes each from its two dimensions),
+    // one after the other. At least 43 bytes follow them: the intensity flag, two
+    // timestamps, the error (a float), the timestamp, the label, two external-storage
+    // flags and file names.
+    const uint64_t at = skipObject(h.data + 4);
+    uint8_t has_range = 0;
+    if (at == 0 || !peek(at, &has_range, 1) || !has_range) return;
+    Checkpoint c = countAt(h, at + 1, 2, 8 + 43, "range image pixels");
+    c.kind = Checkpoint::Matrix;
+    c.then[0] = {"range image pixels", 0, 2, 43 + endFlagBytes(h), true};
+    checkpoints_.push_back(c);
 }
 
 void GuardedRawlogStream::armPointCloud(const ObjectHeader& h)
@@ -221,9 +239,9 @@ void GuardedRawlogStream::armGpsMessages(const ObjectHeader& h)
     // Most types are a fixed block behind its byte count (MRPT checks the count before
     // reading); the NovAtel generic frames size their body from a count and then read 4
     // bytes into it whatever its size (a heap overflow below 4, and MRPT's own position
-    // afterwards); RANGECMP and VERSION hold at most 2,000 records (MRPT asserts it). The
-    // walk follows MRPT's reads and stops at a type it does not size (Topcon PZS and
-    // SATS, unknown types) or after 1,000 messages.
+    // afterwards); RANGECMP and VERSION hold at most 2,000 records (MRPT asserts it); the
+    // Topcon messages have no byte count (armTopcon). The walk follows MRPT's reads and
+    // stops at an unknown type or after 1,000 messages.
     using namespace mrpt::obs::gnss;
     uint32_t label = 0, count = 0;
     if (!peek(h.data + 16, &label, 4, kWalkWindow) || label > total_) return;
@@ -261,11 +279,43 @@ void GuardedRawlogStream::armGpsMessages(const ObjectHeader& h)
             p += 4 + n * record;
             continue;
         }
-        if (type == TOPCON_PZS || type == TOPCON_SATS || !peek(p, &n, 4, kWalkWindow)) return;
+        if (type == TOPCON_PZS || type == TOPCON_SATS)
+        {
+            p = armTopcon(h, type == TOPCON_SATS, p);
+            if (p == 0) return;
+            continue;
+        }
+        if (!peek(p, &n, 4, kWalkWindow)) return;
         std::unique_ptr<gnss_message> known(gnss_message::Factory(static_cast<gnss_message_type_t>(type)));
         if (!known) return;  // MRPT refuses an unknown type
         p += 4 + uint64_t{n};
     }
+}
+
+uint64_t GuardedRawlogStream::armTopcon(const ObjectHeader& h, bool sats, uint64_t p)
+{
+    if (!sats)
+    {
+        // PZS: 4 doubles, a float, a double, 5 bytes, a flag, 6 doubles, a flag, the
+        // position covariance (a CMatrixF object, checked as MRPT reads it), a flag, the
+        // velocity covariance, a flag and 3 bytes.
+        p = skipObject(p + 32 + 4 + 8 + 5 + 1 + 48 + 1);
+        if (p != 0) p = skipObject(p + 1);
+        return p == 0 ? 0 : p + 1 + 3;
+    }
+    // SATS: the satellites' IDs and elevations (bytes) and azimuths (int16), each a
+    // counted vector that MRPT sizes before reading it.
+    Checkpoint c = countAt(h, p, 1, 4 + 4, "Topcon satellite IDs");
+    c.then[0] = {"Topcon satellite elevations", 0, 1, 4 + endFlagBytes(h)};
+    c.then[1] = {"Topcon satellite azimuths", 0, 2, endFlagBytes(h)};
+    checkpoints_.push_back(c);
+    for (const uint64_t element : {1, 1, 2})
+    {
+        uint32_t n = 0;
+        if (!peek(p, &n, 4, kWalkWindow)) return 0;
+        p += 4 + n * element;
+    }
+    return p;
 }
 
 }  // namespace hymm::io::detail

@@ -272,6 +272,7 @@ void GuardedRawlogStream::checkCount(const Checkpoint& c)
         const uint64_t need = bytesFor(elements, c.element_bytes, c.tail_bytes);
         const uint64_t reserved = reservedAfter(c.offset + 8);
         if (need > left || need + reserved > left) refuse(elements, need, c, left, reserved);
+        armNextInChain(c, c.offset + 8 + elements * c.element_bytes);
         return;
     }
     const uint64_t start = c.offset + sizeof(n);
@@ -280,18 +281,21 @@ void GuardedRawlogStream::checkCount(const Checkpoint& c)
     const uint64_t reserved = reservedAfter(start);
     if (need + reserved > left) refuse(n, need, c, left, reserved);
     if (n > 0) claims_.push_back(start + (uint64_t{n} - 1) * c.element_bytes);
-    if (c.then[0].what)
-    {
-        // The next count of the chain follows the elements (and `gap` bytes more).
-        Checkpoint s;
-        s.offset = c.offset + sizeof(n) + uint64_t{n} * c.element_bytes + c.then[0].gap;
-        s.element_bytes = c.then[0].element;
-        s.tail_bytes = c.then[0].tail;
-        s.what = c.then[0].what;
-        if (c.then[0].matrix) s.kind = Checkpoint::Matrix;
-        std::copy(c.then.begin() + 1, c.then.end(), s.then.begin());
-        checkpoints_.push_back(s);
-    }
+    armNextInChain(c, start + uint64_t{n} * c.element_bytes);
+}
+
+void GuardedRawlogStream::armNextInChain(const Checkpoint& c, uint64_t elements_end)
+{
+    if (!c.then[0].what) return;
+    // The next count of the chain follows the elements (and `gap` bytes more).
+    Checkpoint s;
+    s.offset = elements_end + c.then[0].gap;
+    s.element_bytes = c.then[0].element;
+    s.tail_bytes = c.then[0].tail;
+    s.what = c.then[0].what;
+    if (c.then[0].matrix) s.kind = Checkpoint::Matrix;
+    std::copy(c.then.begin() + 1, c.then.end(), s.then.begin());
+    checkpoints_.push_back(s);
 }
 
 size_t GuardedRawlogStream::Read(void* buffer, size_t count)

@@ -228,10 +228,14 @@ private:
     void armRawDaq(const ObjectHeader& h);
     void armRotatingScan(const ObjectHeader& h);
     void armGpsMessages(const ObjectHeader& h);
+    /** A Topcon PZS or SATS message of a GPS observation whose content starts at `p`:
+     *  checks its counts; where it ends, 0 if not known. */
+    uint64_t armTopcon(const ObjectHeader& h, bool sats, uint64_t p);
     void arm3DScan(const ObjectHeader& h);
     void armImage(const ObjectHeader& h);
     void armGasSensors(const ObjectHeader& h);
     void armStereoFeatures(const ObjectHeader& h);
+    void armRgbd360(const ObjectHeader& h);
     /** armImage's checks of the image data; where the data ends, 0 if not known. */
     uint64_t armImageData(const ObjectHeader& h);
     uint64_t armRawImage(const ObjectHeader& h);
@@ -255,6 +259,9 @@ private:
      *  cannot be read. */
     std::string classAt(uint64_t at);
     void checkCount(const Checkpoint& c);
+    /** The checkpoint of the count after `c`'s elements (ending at `elements_end`), if
+     *  `c` chains one. */
+    void armNextInChain(const Checkpoint& c, uint64_t elements_end);
     [[noreturn]] void refuse(uint64_t n, uint64_t need, const Checkpoint& c, uint64_t left,
                              uint64_t reserved);
     /** Bytes after `at` that the counted containers being read still need at least for

@@ -21,6 +21,7 @@
 #include <mrpt/obs/CObservationCANBusJ1939.h>
 #include <mrpt/obs/CObservationGasSensors.h>
 #include <mrpt/obs/CObservationRFID.h>
+#include <mrpt/obs/CObservationRGBD360.h>
 #include <mrpt/obs/CObservationRawDAQ.h>
 #include <mrpt/obs/CObservationRange.h>
 #include <mrpt/obs/CObservationReflectivity.h>
@@ -206,6 +207,24 @@ TEST(RawlogHostileSensorsTest, StereoImagesLabelIsChecked)
             obs.leftCamera.cameraName = "left_cam";
             expectLabelGuarded(obs, "stereo_rig");
         }
+}
+
+// An RGB-D 360 observation holds two range images, each sized from its two dimensions.
+TEST(RawlogHostileSensorsTest, Rgbd360RangeImagesAreChecked)
+{
+    mrpt::obs::CObservationRGBD360 obs;
+    obs.sensorLabel = "rgbd360";
+    obs.hasRangeImage = true;
+    obs.rangeImages[0].setZero(3, 4);
+    obs.rangeImages[1].setZero(2, 5);
+    const auto data = inFrame(obs);
+    expectReads(data);
+    const size_t first = find(data, std::string("\x03\0\0\0\x04\0\0\0", 8));
+    const size_t second = first + 8 + 3 * 4 * 2;
+    ASSERT_EQ(getU32(data, second), 2u);
+    ASSERT_EQ(getU32(data, second + 4), 5u);
+    expectRefused(data, first, 0xFFFFu, "range image pixels");
+    expectRefused(data, second + 4, 0xFFFFu, "range image pixels");
 }
 
 // The features of a stereo-features observation follow two cameras and two poses.
@@ -700,6 +719,41 @@ TEST(RawlogHostileSensorsTest, NovatelFrameBehindOtherGpsMessagesIsChecked)
     ASSERT_EQ(getU32(data, count), 4u);
     expectRefused(data, count, 2, "into which MRPT reads 4");
     expectRefused(data, count, 0x7FFFFFFFu, "bytes of a NovAtel frame");
+}
+}  // namespace
+
+namespace
+{
+// Topcon messages have no byte count: the walk steps over a PZS (its covariances are
+// matrix objects) and checks the three counted vectors of a SATS, then goes on to a
+// NovAtel frame after them.
+TEST(RawlogHostileSensorsTest, TopconMessagesAreWalkedAndSatelliteCountsChecked)
+{
+    using namespace mrpt::obs;
+    CObservationGPS obs;
+    obs.sensorLabel = "topcon";
+    gnss::Message_TOPCON_PZS pzs;
+    pzs.Fix = 0x88;
+    pzs.hasPosCov = true;
+    obs.setMsg(pzs);
+    gnss::Message_TOPCON_SATS sats;
+    sats.USIs = {7, 8, 9};
+    sats.ELs = {10, 20, 30};
+    sats.AZs = {100, 200, 300};
+    obs.setMsg(sats);
+    gnss::Message_NV_OEM6_GENERIC_FRAME frame;
+    frame.msg_body = {0xAB, 0xCD, 0xEF, 0x12};
+    obs.messages[gnss::NV_OEM6_GENERIC_FRAME].set(new gnss::Message_NV_OEM6_GENERIC_FRAME(frame));
+    const auto data = inFrame(obs);
+    expectReads(data);
+    const size_t ids = find(data, std::string("\x03\0\0\0\x07\x08\x09", 7));
+    ASSERT_EQ(getU32(data, ids - 4), static_cast<uint32_t>(gnss::TOPCON_SATS));
+    expectRefused(data, ids, 0x7FFFFFFFu, "Topcon satellite IDs");
+    expectRefused(data, ids + 7, 0x7FFFFFFFu, "Topcon satellite elevations");
+    expectRefused(data, ids + 14, 0x7FFFFFFFu, "Topcon satellite azimuths");
+    const size_t body = find(data, std::string("\xAB\xCD\xEF\x12", 4));
+    ASSERT_EQ(getU32(data, body - 4), 4u);
+    expectRefused(data, body - 4, 2, "into which MRPT reads 4");
 }
 }  // namespace
 
