@@ -36,6 +36,7 @@ void GuardedRawlogStream::armFor(const std::string& qualified, bool old_format)
     const int v = h.version;
     const uint64_t data = h.data;
     const std::string& name = h.name;
+    if ((name == "CPose3DQuat" || name == "CPose3D") && !open_.empty()) armAfterStereoPose(h);
     if (name == "CSensoryFrame" && v <= 2)
     {
         // v0: ID (uint32) and a timestamp (uint64) before the count; v1: the ID.

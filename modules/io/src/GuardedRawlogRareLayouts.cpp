@@ -1,6 +1,6 @@
 // GuardedRawlogStream: the counts and labels of the rarer MRPT observation classes that
 // MRPT builds inside sensory frames (rotating lidars, reflectivity, wireless power, wind,
-// robot pose, skeleton, CAN bus, RFID, raw DAQ, gas sensors, stereo and 6-D features, point
+// robot pose, skeleton, CAN bus, RFID, raw DAQ, gas sensors, 6-D features, RGB-D 360, point
 // clouds) and the messages of a GPS observation. Offsets follow MRPT 2.5's serializeFrom()
 // of each class.
 #include "GuardedRawlogStream.h"
@@ -68,8 +68,6 @@ bool GuardedRawlogStream::armRare(const ObjectHeader& h)
         armRawDaq(h);
     else if (name == "CObservationGasSensors" && v <= 5)
         armGasSensors(h);
-    else if (name == "CObservationStereoImagesFeatures" && v == 0)
-        armStereoFeatures(h);
     else if (name == "CObservationRGBD360" && v == 1)
         armRgbd360(h);
     else if (name == "CObservation6DFeatures" && v == 0)
@@ -99,18 +97,6 @@ void GuardedRawlogStream::armGasSensors(const ObjectHeader& h)
         // (v5). MRPT holds about 104 B per reading.
         checkpoints_.push_back(countAt(h, h.data, kMinPose3DBytes + 4 + 4 + (v >= 3 ? 1 : 0),
                                        (v >= 4 ? 4 : 0) + (v >= 5 ? 8 : 0), "gas sensor readings"));
-}
-
-void GuardedRawlogStream::armStereoFeatures(const ObjectHeader& h)
-{
-    // The two cameras (TCamera objects), the right camera's and the sensor's poses
-    // (CPose3DQuat objects); per feature two pixels (4 floats) and an ID (uint32); then
-    // label, timestamp.
-    uint64_t at = h.data;
-    for (int i = 0; i < 4 && at != 0; ++i) at = skipObject(at);
-    if (at == 0) return;
-    checkpoints_.push_back(countAt(h, at, 20, 4 + 8, "stereo features"));
-    checkpoints_.back().then[0] = {"bytes of sensor label", 0, 1, 8 + endFlagBytes(h)};
 }
 
 void GuardedRawlogStream::armRgbd360(const ObjectHeader& h)
@@ -299,8 +285,8 @@ uint64_t GuardedRawlogStream::armTopcon(const ObjectHeader& h, bool sats, uint64
         // PZS: 4 doubles, a float, a double, 5 bytes, a flag, 6 doubles, a flag, the
         // position covariance (a CMatrixF object, checked as MRPT reads it), a flag, the
         // velocity covariance, a flag and 3 bytes.
-        p = skipObject(p + 32 + 4 + 8 + 5 + 1 + 48 + 1);
-        if (p != 0) p = skipObject(p + 1);
+        p = skipObject(p + 32 + 4 + 8 + 5 + 1 + 48 + 1, kWalkWindow);
+        if (p != 0) p = skipObject(p + 1, kWalkWindow);
         return p == 0 ? 0 : p + 1 + 3;
     }
     // SATS: the satellites' IDs and elevations (bytes) and azimuths (int16), each a

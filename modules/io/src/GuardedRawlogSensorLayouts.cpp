@@ -1,8 +1,9 @@
 // GuardedRawlogStream: where the counts lie in the serialised objects of MRPT classes that
 // HYMM does not read but MRPT builds inside sensory frames, to count them by class name
 // (comments, beacon and range finders, IMUs, GPS receivers, battery states, Velodyne and
-// RGB-D scans, point clouds, every image of a camera, stereo or RGB-D observation and the
-// label after a stereo pair). Offsets follow MRPT 2.5's serializeFrom() of each class.
+// RGB-D scans, point clouds, every image of a camera, stereo or RGB-D observation, and what
+// follows the poses of stereo observations). Offsets follow MRPT 2.5's serializeFrom() of
+// each class.
 #include "GuardedRawlogStream.h"
 
 #include <mrpt/obs/CObservationIMU.h>
@@ -205,15 +206,7 @@ void GuardedRawlogStream::arm3DScan(const ObjectHeader& h)
 void GuardedRawlogStream::armImage(const ObjectHeader& h)
 {
     const uint64_t end = armImageData(h);
-    if (open_.empty()) return;
-    ++open_.back().images;
-    if (end == 0) return;
-    if (open_.back().name == "CObservationStereoImages")
-    {
-        armStereoLabel(h, end, open_.back());
-        return;
-    }
-    if (open_.back().name != "CObservationImage") return;
+    if (end == 0 || open_.empty() || open_.back().name != "CObservationImage") return;
     // The image of a CObservationImage (v3-4) is followed by the timestamp, in v3 the
     // focal length (a double), then the label. The observation's end flag is taken to be
     // in the image's format (one writer wrote both).
@@ -222,31 +215,28 @@ void GuardedRawlogStream::armImage(const ObjectHeader& h)
     checkpoints_.push_back(countAt(h, end + endFlagBytes(h) + 8 + (v == 3 ? 8 : 0), 1, 0, "bytes of sensor label"));
 }
 
-void GuardedRawlogStream::armStereoLabel(const ObjectHeader& h, uint64_t image_end, Frame& stereo)
+void GuardedRawlogStream::armAfterStereoPose(const ObjectHeader& h)
 {
-    // v4-5 hold a left and a right image; v6 a left one, then two flags (disparity,
-    // right) saying which of the other two follow. After the last image: the timestamp,
-    // the right camera's pose (v4: a CPose3D object and the focal length, a double; v5-6:
-    // a CPose3DQuat object), the label. The end flags are taken to be in the image's
-    // format (one writer wrote both).
-    const int v = stereo.version;
-    if (v < 4 || v > 6) return;
-    uint64_t at = image_end + endFlagBytes(h);
-    if (stereo.images == 1)
+    // Read directly inside a stereo observation (v4-6) are the camera's pose, then, after
+    // the images and the timestamp, the right camera's (CPose3DQuat objects; v4: CPose3D
+    // objects, and the focal length, a double, after the second), then the label. Inside
+    // a stereo-features observation (v0), after the two cameras (TCamera objects): the
+    // right camera's and the sensor's poses, then per feature two pixels (4 floats) and an
+    // ID (uint32), then the label and the timestamp. Waiting for the second pose's header
+    // puts both right behind the read position, whatever the images' or cameras' sizes.
+    Frame& parent = open_.back();
+    const bool stereo = parent.name == "CObservationStereoImages" && parent.version >= 4 && parent.version <= 6;
+    const bool features = parent.name == "CObservationStereoImagesFeatures" && parent.version == 0;
+    if ((!stereo && !features) || ++parent.poses != 2) return;
+    const uint64_t end = objectEnd(h);
+    if (end == 0) return;
+    if (stereo)
     {
-        stereo.images_expected = 2;
-        if (v == 6)
-        {
-            std::array<uint8_t, 2> flags{};
-            if (!peek(at, flags.data(), 2)) return;
-            stereo.images_expected = 1 + (flags[0] != 0 ? 1 : 0) + (flags[1] != 0 ? 1 : 0);
-            at += 2;
-        }
+        checkpoints_.push_back(countAt(h, end + (parent.version == 4 ? 8 : 0), 1, 0, "bytes of sensor label"));
+        return;
     }
-    if (stereo.images != stereo.images_expected) return;
-    at = skipObject(at + 8);
-    if (at == 0) return;
-    checkpoints_.push_back(countAt(h, at + (v == 4 ? 8 : 0), 1, 0, "bytes of sensor label"));
+    checkpoints_.push_back(countAt(h, end, 20, 4 + 8, "stereo features"));
+    checkpoints_.back().then[0] = {"bytes of sensor label", 0, 1, 8 + endFlagBytes(h)};
 }
 
 uint64_t GuardedRawlogStream::armImageData(const ObjectHeader& h)

@@ -21,8 +21,6 @@ uint64_t bytesFor(uint64_t n, uint64_t element, uint64_t tail)
     if (element != 0 && n > (max - tail) / element) return max;
     return n * element + tail;
 }
-// The most bytes the stream reads ahead to find where an object's counts lie.
-constexpr uint64_t kMaxPeek = 4096;
 gzFile asGz(void* p) { return static_cast<gzFile>(p); }
 
 std::string gzErrorText(gzFile f)
@@ -131,52 +129,56 @@ const uint8_t* GuardedRawlogStream::lookAhead(uint64_t offset, size_t n, uint64_
     return ahead_.data() + ahead_head_ + (offset - pos_);
 }
 
-bool GuardedRawlogStream::peekHeader(uint64_t at, ObjectHeader& h)
+bool GuardedRawlogStream::peekHeader(uint64_t at, ObjectHeader& h, uint64_t max_ahead)
 {
     // MRPT >= 0.5.5: 0x80 | name length, the name, a version byte ... end flag.
     // Older: the name length (< 0x80), three zero bytes, the name, an int32 version, and
     // no end flag.
     uint8_t len = 0;
-    if (!peek(at, &len, 1)) return false;
+    if (!peek(at, &len, 1, max_ahead)) return false;
     h.old_format = !(len & 0x80);
     len &= 0x7F;
     uint64_t name_at = at + 1;
     if (h.old_format)
     {
         std::array<uint8_t, 3> zeros{};
-        if (!peek(at + 1, zeros.data(), 3) || zeros[0] || zeros[1] || zeros[2]) return false;
+        if (!peek(at + 1, zeros.data(), 3, max_ahead) || zeros[0] || zeros[1] || zeros[2]) return false;
         name_at += 3;
     }
     std::array<char, 128> name{};
-    if (len == 0 || len > 120 || !peek(name_at, name.data(), len)) return false;
+    if (len == 0 || len > 120 || !peek(name_at, name.data(), len, max_ahead)) return false;
     h.name = unqualified(classNameOf(reinterpret_cast<const uint8_t*>(name.data()), len));
     if (h.old_format)
     {
         int32_t v = 0;
-        if (!peek(name_at + len, &v, 4) || v < 0 || v > 255) return false;
+        if (!peek(name_at + len, &v, 4, max_ahead) || v < 0 || v > 255) return false;
         h.version = v;
         h.data = name_at + len + 4;
     }
     else
     {
         uint8_t v = 0;
-        if (!peek(name_at + len, &v, 1)) return false;
+        if (!peek(name_at + len, &v, 1, max_ahead)) return false;
         h.version = v;
         h.data = name_at + len + 1;
     }
     return true;
 }
 
-uint64_t GuardedRawlogStream::skipObject(uint64_t at)
+uint64_t GuardedRawlogStream::skipObject(uint64_t at, uint64_t max_ahead)
 {
     ObjectHeader h;
-    if (!peekHeader(at, h)) return 0;
+    return peekHeader(at, h, max_ahead) ? objectEnd(h, max_ahead) : 0;
+}
+
+uint64_t GuardedRawlogStream::objectEnd(const ObjectHeader& h, uint64_t max_ahead)
+{
     uint64_t end = 0;
     if (h.name == "CPose3D")
     {
         // v0: a float 4x4 matrix object; v1: a double one; v2: x y z and a quaternion
         // (7 doubles); v3: x y z and the rotation matrix (12 doubles).
-        if (h.version <= 1) end = skipObject(h.data);
+        if (h.version <= 1) end = skipObject(h.data, max_ahead);
         else if (h.version == 2) end = h.data + 7 * 8;
         else if (h.version == 3) end = h.data + 12 * 8;
     }
@@ -190,7 +192,7 @@ uint64_t GuardedRawlogStream::skipObject(uint64_t at)
         // camera name (v5+), the distortion model (v6, a byte).
         end = h.data + 8 + 64 + 32 + 8;
         uint32_t name = 0;
-        if (h.version >= 5 && (!peek(end, &name, 4) || name > total_)) return 0;
+        if (h.version >= 5 && (!peek(end, &name, 4, max_ahead) || name > total_)) return 0;
         if (h.version >= 5) end += 4 + name;
         if (h.version >= 6) end += 1;
     }
@@ -198,13 +200,13 @@ uint64_t GuardedRawlogStream::skipObject(uint64_t at)
     {
         // The mean (a CPose3D object), then the 21 doubles of the covariance's upper
         // triangle.
-        end = skipObject(h.data);
+        end = skipObject(h.data, max_ahead);
         if (end != 0) end += 21 * 8;
     }
     else if (h.version == 0 && matrixElementBytes(h.name) != 0)
     {
         std::array<uint32_t, 2> rc{};
-        if (!peek(h.data, rc.data(), 8)) return 0;
+        if (!peek(h.data, rc.data(), 8, max_ahead)) return 0;
         const uint64_t bytes = bytesFor(uint64_t{rc[0]} * rc[1], matrixElementBytes(h.name), 8);
         if (bytes > total_) return 0;
         end = h.data + bytes;
@@ -212,7 +214,7 @@ uint64_t GuardedRawlogStream::skipObject(uint64_t at)
     if (end == 0) return 0;
     if (h.old_format) return end;
     uint8_t flag = 0;
-    if (!peek(end, &flag, 1) || flag != kEndFlag) return 0;
+    if (!peek(end, &flag, 1, max_ahead) || flag != kEndFlag) return 0;
     return end + 1;
 }
 

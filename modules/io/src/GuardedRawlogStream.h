@@ -41,7 +41,7 @@
  * (GuardedRawlogRareLayouts.cpp). An entry must be an action collection, a frame or an
  * observation, a frame's element an observation (refused at the class name, before MRPT
  * builds it). Not guarded: the fields modules/io/README.md lists (e.g. an RGB-D scan's
- * label and layer names, stereo observations' labels): MRPT allocates what they declare.
+ * label and layer names, a 3-D scene's objects): MRPT allocates what they declare.
  *
  * The file is decompressed once when opened to count its bytes (and to find corrupt gzip
  * data, so that it is reported as corrupt rather than as an early end).
@@ -102,6 +102,8 @@ inline constexpr uint64_t kMaxDecodedImageBytes = uint64_t{1} << 28;
 // checkJpegDecodes), and how far ahead its bytes may be looked at.
 inline constexpr uint32_t kMaxJpegBytes = 64u << 20;
 inline constexpr uint64_t kJpegWindow = uint64_t{kMaxJpegBytes} + 4096;
+// The most bytes the stream reads ahead by default to find where an object's counts lie.
+inline constexpr uint64_t kMaxPeek = 4096;
 
 // Smallest serialised object (a null pointer: header, "nullptr", end flag).
 inline constexpr uint64_t kMinObjectBytes = 9;
@@ -234,7 +236,6 @@ private:
     void arm3DScan(const ObjectHeader& h);
     void armImage(const ObjectHeader& h);
     void armGasSensors(const ObjectHeader& h);
-    void armStereoFeatures(const ObjectHeader& h);
     void armRgbd360(const ObjectHeader& h);
     /** armImage's checks of the image data; where the data ends, 0 if not known. */
     uint64_t armImageData(const ObjectHeader& h);
@@ -267,10 +268,13 @@ private:
     /** Bytes after `at` that the counted containers being read still need at least for
      *  their remaining elements (see claims_); drops the claims that `at` has passed. */
     uint64_t reservedAfter(uint64_t at);
-    bool peekHeader(uint64_t at, ObjectHeader& h);
-    /** Offset just past a serialised CPose3D (v0-3), CPose2D (v0-1), CPose3DPDFGaussian (v1)
-     *  or CMatrixF/CMatrixD object starting at `at`, 0 if the bytes there are not one. */
-    uint64_t skipObject(uint64_t at);
+    bool peekHeader(uint64_t at, ObjectHeader& h, uint64_t max_ahead = kMaxPeek);
+    /** Offset just past a serialised CPose3D (v0-3), CPose2D (v0-1), CPose3DQuat (v0),
+     *  TCamera (v4-6), CPose3DPDFGaussian (v1) or CMatrixF/CMatrixD object starting at
+     *  `at`, 0 if the bytes there are not one (or not within `max_ahead`). */
+    uint64_t skipObject(uint64_t at, uint64_t max_ahead = kMaxPeek);
+    /** skipObject() of the object whose header is `h`. */
+    uint64_t objectEnd(const ObjectHeader& h, uint64_t max_ahead = kMaxPeek);
 
     /** An object being read: a current-format header went by, its end flag has not. */
     struct Frame
@@ -280,8 +284,7 @@ private:
         bool sensory_frame = false;  // a CSensoryFrame: its children must be observations
         std::string name;            // without namespace
         int version = -1;            // once its version byte was read
-        int images = 0;              // CImage children armed so far (stereo observations)
-        int images_expected = 0;     // how many a stereo observation holds, once known
+        int poses = 0;               // pose objects read directly inside it (stereo observations)
     };
     /** At a class name MRPT just read (the header started at `at`): refuses an entry that
      *  is no action collection, sensory frame or observation, a child of an open
@@ -291,8 +294,9 @@ private:
     /** Opens and closes frames for a read of `count` bytes that gave `n`, after one whose
      *  single byte was `prev` (-1 if it was wider); true if the read was one byte. */
     bool trackFrames(size_t count, size_t n, const uint8_t* bytes, int prev);
-    /** The label of a CObservationStereoImages (v4-6), after its last image. */
-    void armStereoLabel(const ObjectHeader& h, uint64_t image_end, Frame& stereo);
+    /** At a pose object read directly inside a stereo observation (h: the pose's header):
+     *  the label after the right camera's pose, or the features after the sensor's. */
+    void armAfterStereoPose(const ObjectHeader& h);
     /** True if at `at` there is a serialised header of a registered class (or a null
      *  object), an end flag or the end of the data: what follows the end of a frame's
      *  element. */

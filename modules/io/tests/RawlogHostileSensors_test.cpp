@@ -191,22 +191,25 @@ TEST(RawlogHostileSensorsTest, HugeGreyImageIsRefusedBeforeMrptSizesIt)
 }
 
 // The label of a stereo observation lies after its images (v6: one to three, as two
-// flags after the left one say), the timestamp and the right camera's pose.
+// flags after the left one say), the timestamp and the right camera's pose; images of
+// 8 KB put it beyond the 4 KiB the guard looks ahead by default.
 TEST(RawlogHostileSensorsTest, StereoImagesLabelIsChecked)
 {
-    for (const bool right : {false, true})
-        for (const bool disparity : {false, true})
-        {
-            SCOPED_TRACE(std::string("right ") + (right ? "yes" : "no") + ", disparity " + (disparity ? "yes" : "no"));
-            mrpt::obs::CObservationStereoImages obs;
-            obs.imageLeft = pattern(8, 6, mrpt::img::CH_GRAY);
-            obs.hasImageRight = right;
-            obs.hasImageDisparity = disparity;
-            if (right) obs.imageRight = pattern(8, 6, mrpt::img::CH_GRAY);
-            if (disparity) obs.imageDisparity = pattern(8, 6, mrpt::img::CH_GRAY);
-            obs.leftCamera.cameraName = "left_cam";
-            expectLabelGuarded(obs, "stereo_rig");
-        }
+    for (const int width : {8, 100})
+        for (const bool right : {false, true})
+            for (const bool disparity : {false, true})
+            {
+                SCOPED_TRACE("width " + std::to_string(width) + ", right " + (right ? "yes" : "no") +
+                             ", disparity " + (disparity ? "yes" : "no"));
+                mrpt::obs::CObservationStereoImages obs;
+                obs.imageLeft = pattern(width, 80, mrpt::img::CH_GRAY);
+                obs.hasImageRight = right;
+                obs.hasImageDisparity = disparity;
+                if (right) obs.imageRight = pattern(width, 80, mrpt::img::CH_GRAY);
+                if (disparity) obs.imageDisparity = pattern(width, 80, mrpt::img::CH_GRAY);
+                obs.leftCamera.cameraName = "left_cam";
+                expectLabelGuarded(obs, "stereo_rig");
+            }
 }
 
 // An RGB-D 360 observation holds two range images, each sized from its two dimensions.
@@ -227,21 +230,26 @@ TEST(RawlogHostileSensorsTest, Rgbd360RangeImagesAreChecked)
     expectRefused(data, second + 4, 0xFFFFu, "range image pixels");
 }
 
-// The features of a stereo-features observation follow two cameras and two poses.
+// The features of a stereo-features observation follow two cameras and two poses (a
+// camera name of 5,000 characters puts them beyond the default look-ahead).
 TEST(RawlogHostileSensorsTest, StereoFeaturesCountAndLabelAreChecked)
 {
-    mrpt::obs::CObservationStereoImagesFeatures obs;
-    obs.cameraLeft.cameraName = "left_cam";
-    obs.sensorLabel = "stereo_features";
-    obs.theFeatures.resize(3);
-    const auto data = inFrame(obs);
-    expectReads(data);
-    const size_t label = lengthOf(data, "stereo_features");
-    // Per feature four floats and an ID.
-    const size_t count = label - 3 * 20 - 4;
-    ASSERT_EQ(getU32(data, count), 3u);
-    expectRefused(data, count, 0x40000000u, "stereo features");
-    expectRefused(data, label, 0xF0000000u, "bytes of sensor label");
+    for (const size_t name : {size_t{8}, size_t{5000}})
+    {
+        SCOPED_TRACE("camera name of " + std::to_string(name) + " characters");
+        mrpt::obs::CObservationStereoImagesFeatures obs;
+        obs.cameraLeft.cameraName = std::string(name, 'c');
+        obs.sensorLabel = "stereo_features";
+        obs.theFeatures.resize(3);
+        const auto data = inFrame(obs);
+        expectReads(data);
+        const size_t label = lengthOf(data, "stereo_features");
+        // Per feature four floats and an ID.
+        const size_t count = label - 3 * 20 - 4;
+        ASSERT_EQ(getU32(data, count), 3u);
+        expectRefused(data, count, 0x40000000u, "stereo features");
+        expectRefused(data, label, 0xF0000000u, "bytes of sensor label");
+    }
 }
 
 TEST(RawlogHostileSensorsTest, JpegByteCountAndDecodedSizeAreChecked)
