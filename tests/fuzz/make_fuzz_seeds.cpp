@@ -18,8 +18,12 @@
 #include <mrpt/obs/CObservationIMU.h>
 #include <mrpt/obs/CObservationImage.h>
 #include <mrpt/obs/CObservationPointCloud.h>
+#include <mrpt/obs/CObservationRGBD360.h>
 #include <mrpt/obs/CObservationRange.h>
 #include <mrpt/obs/CObservationRotatingScan.h>
+#include <mrpt/obs/CObservationStereoImages.h>
+#include <mrpt/obs/CObservationStereoImagesFeatures.h>
+#include <mrpt/obs/gnss_messages_topcon.h>
 #include <mrpt/obs/CObservationVelodyneScan.h>
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/serialization/CArchive.h>
@@ -70,7 +74,8 @@ mrpt::obs::CObservationImage::Ptr imageObservation(int w, int h, mrpt::img::TIma
 
 // Frames of the observation classes the pipeline does not read but MRPT builds (comment,
 // range finder, IMU, GPS, grey, raw colour, JPEG and external images; in a second file,
-// under 4 KB each, Velodyne, RGB-D, point-cloud and rotating scans), so that the rawlog target
+// under 4 KB each, Velodyne, RGB-D, point-cloud and rotating scans; in a third, stereo
+// images and features, an RGB-D 360 scan and Topcon GPS messages), so that the rawlog target
 // mutates the sizes GuardedRawlogStream checks in them. Images are serialised when the
 // frame is written, hence the JPEG switch around that write.
 void sensorSeeds(const fs::path& dir)
@@ -144,6 +149,34 @@ void sensorSeeds(const fs::path& dir)
     rotating->intensityImage.setZero(3, 4);
     clouds.insert(rotating);
     arch2 << clouds;
+
+    mrpt::io::CFileOutputStream f3((dir / "sensor_stereo.rawlog").string());
+    auto arch3 = mrpt::serialization::archiveFrom(f3);
+    CSensoryFrame stereo;
+    auto pair = CObservationStereoImages::Create();
+    pair->sensorLabel = "stereo";
+    pair->imageLeft = imageObservation(8, 6, mrpt::img::CH_GRAY)->image;
+    pair->imageRight = pair->imageLeft;
+    stereo.insert(pair);
+    auto features = CObservationStereoImagesFeatures::Create();
+    features->sensorLabel = "stereo_features";
+    features->theFeatures.resize(2);
+    stereo.insert(features);
+    auto rgbd360 = CObservationRGBD360::Create();
+    rgbd360->hasRangeImage = true;
+    rgbd360->rangeImages[0].setZero(2, 3);
+    rgbd360->rangeImages[1].setZero(2, 3);
+    stereo.insert(rgbd360);
+    auto topcon = CObservationGPS::Create();
+    topcon->sensorLabel = "topcon";
+    topcon->setMsg(gnss::Message_TOPCON_PZS());
+    gnss::Message_TOPCON_SATS sats;
+    sats.USIs = {3, 7};
+    sats.ELs = {40, 60};
+    sats.AZs = {90, 180};
+    topcon->setMsg(sats);
+    stereo.insert(topcon);
+    arch3 << stereo;
 }
 
 std::string readAll(const fs::path& p)

@@ -732,18 +732,26 @@ TEST(RawlogHostileSensorsTest, NovatelFrameBehindOtherGpsMessagesIsChecked)
 
 namespace
 {
+// A Topcon receiver's observation with a PZS message whose fix byte reads like an end
+// flag.
+mrpt::obs::CObservationGPS topconWithPzs()
+{
+    mrpt::obs::CObservationGPS gps;
+    gps.sensorLabel = "topcon";
+    mrpt::obs::gnss::Message_TOPCON_PZS pzs;
+    pzs.Fix = 0x88;
+    pzs.hasPosCov = true;
+    gps.setMsg(pzs);
+    return gps;
+}
+
 // Topcon messages have no byte count: the walk steps over a PZS (its covariances are
 // matrix objects) and checks the three counted vectors of a SATS, then goes on to a
 // NovAtel frame after them.
 TEST(RawlogHostileSensorsTest, TopconMessagesAreWalkedAndSatelliteCountsChecked)
 {
     using namespace mrpt::obs;
-    CObservationGPS obs;
-    obs.sensorLabel = "topcon";
-    gnss::Message_TOPCON_PZS pzs;
-    pzs.Fix = 0x88;
-    pzs.hasPosCov = true;
-    obs.setMsg(pzs);
+    CObservationGPS obs = topconWithPzs();
     gnss::Message_TOPCON_SATS sats;
     sats.USIs = {7, 8, 9};
     sats.ELs = {10, 20, 30};
@@ -798,12 +806,7 @@ namespace
 TEST(RawlogHostileSensorsTest, ValueBytesLikeAnEndFlagDoNotEndAFrameElement)
 {
     using namespace mrpt::obs;
-    CObservationGPS gps;
-    gps.sensorLabel = "topcon";
-    gnss::Message_TOPCON_PZS pzs;
-    pzs.Fix = 0x88;
-    gps.setMsg(pzs);
-    expectReads(inFrame(gps));
+    expectReads(inFrame(topconWithPzs()));
 
     CObservationCANBusJ1939 can;
     can.m_data = {0x88, 0x01};
