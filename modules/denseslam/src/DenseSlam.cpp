@@ -24,11 +24,13 @@ namespace hymm::denseslam
 DenseSlam::DenseSlam(const Options& opts, const ekf::EkfSlam::Options& ekf_opts,
                      const DenseOptions& dense_opts,
                      const mrpt::config::CConfigFileBase* sources_cfg)
-    : options_(opts), ekf_(ekf_opts), virtual_options_(dense_opts.virtual_landmarks)
+    : options_(opts),
+      ekf_(ekf_opts),
+      virtual_options_(dense_opts.virtual_landmarks),
+      profiler_(opts.enable_profiler, "hymm::DenseSlam")
 {
     if (options_.denseLayers() && dense_opts.delayed.enabled)
         store_ = std::make_unique<uif::DelayedDenseStore>(dense_opts.delayed);
-    profiler_.enable(options_.enable_profiler);
     if (options_.denseLayers())
     {
         partition_ = std::make_unique<ltr::RegionPartition>(dense_opts.partition);

@@ -69,6 +69,9 @@ public:
     {
         if (auto* l = logger.active()) entry_.emplace(*l, name);
     }
+    // A copy would stop (and record) the same section twice.
+    TimedSection(const TimedSection&) = delete;
+    TimedSection& operator=(const TimedSection&) = delete;
     void stop()
     {
         if (entry_) entry_->stop();
