@@ -23,9 +23,9 @@
 #include <mrpt/obs/CObservationRotatingScan.h>
 #include <mrpt/obs/CObservationStereoImages.h>
 #include <mrpt/obs/CObservationStereoImagesFeatures.h>
-#include <mrpt/obs/gnss_messages_topcon.h>
 #include <mrpt/obs/CObservationVelodyneScan.h>
 #include <mrpt/obs/CSensoryFrame.h>
+#include <mrpt/obs/gnss_messages_topcon.h>
 #include <mrpt/serialization/CArchive.h>
 
 #include <Eigen/Core>
@@ -60,15 +60,20 @@ void cutRawlog(const fs::path& rawlog, size_t n, const fs::path& out)
     }
 }
 
-mrpt::obs::CObservationImage::Ptr imageObservation(int w, int h, mrpt::img::TImageChannels ch)
+mrpt::img::CImage patternImage(int w, int h, mrpt::img::TImageChannels ch)
 {
-    auto obs = mrpt::obs::CObservationImage::Create();
-    obs->sensorLabel = "camera";
     mrpt::img::CImage img(w, h, ch);
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x)
             for (int c = 0; c < static_cast<int>(ch); ++c) *img(x, y, c) = static_cast<uint8_t>(17 * x + 5 * y + c);
-    obs->image = img;
+    return img;
+}
+
+mrpt::obs::CObservationImage::Ptr imageObservation(int w, int h, mrpt::img::TImageChannels ch)
+{
+    auto obs = mrpt::obs::CObservationImage::Create();
+    obs->sensorLabel = "camera";
+    obs->image = patternImage(w, h, ch);
     return obs;
 }
 
@@ -155,7 +160,7 @@ void sensorSeeds(const fs::path& dir)
     CSensoryFrame stereo;
     auto pair = CObservationStereoImages::Create();
     pair->sensorLabel = "stereo";
-    pair->imageLeft = imageObservation(8, 6, mrpt::img::CH_GRAY)->image;
+    pair->imageLeft = patternImage(8, 6, mrpt::img::CH_GRAY);
     pair->imageRight = pair->imageLeft;
     stereo.insert(pair);
     auto features = CObservationStereoImagesFeatures::Create();

@@ -295,7 +295,7 @@ private:
     std::set<long> virtual_ids_;  //!< passive blocks of ekf_ that are virtual landmarks
     /** Virtual landmarks live in the passive-state id space, far above real landmark ids. */
     long next_virtual_id_ = 1L << 40;
-    core::LazyTimeLogger profiler_{false, "hymm::DenseSlam"};
+    core::LazyTimeLogger profiler_;  //!< made in the constructor, from Options::enable_profiler
     std::vector<std::unique_ptr<PointLandmarkSource>> point_sources_;  //!< registry order
     std::vector<std::unique_ptr<ScanLandmarkSource>> sources_;  //!< registered per-scan sources
 };
