@@ -4,9 +4,13 @@
 
 #include <map>
 #include <string>
+#include <type_traits>
 
 using hymm::core::LazyTimeLogger;
 using hymm::core::TimedSection;
+
+// A copied section would stop, and record, the same section twice.
+static_assert(!std::is_copy_constructible_v<TimedSection> && !std::is_copy_assignable_v<TimedSection>);
 
 namespace
 {
