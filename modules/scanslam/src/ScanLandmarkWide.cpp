@@ -82,6 +82,8 @@ void declareWideKeys(core::OptionTable& t, ScanLandmarkMap::Options& o)
            "> 0: the wide search only places a template within this of where it was made in the sensor frame");
     t.real("wide_view_window_phi_deg", o.wide_view_window_phi, "deg", above(0, 180),
            "and within this of its heading then", M_PI / 180);
+    t.real("wide_cov_inflation", o.wide_cov_inflation, "", atLeast(1, 1e6),
+           "a wide answer's covariance (with the viewpoint term) times this before its update");
 }
 
 bool ScanLandmarkMap::confirmWide(const ekf::EkfSlam& ekf, long id, const Vec3& z, const Vec3& sensor)
@@ -146,7 +148,7 @@ Vec3 ScanLandmarkMap::observeWide(ekf::EkfSlam& ekf, long id, const ScanTemplate
     }
     if (options_.wide_confirm_scans > 0 && !confirmWide(ekf, id, res.z, sensor)) return z_hat;
     ++stats_.aligned;
-    const Mat3 R = viewCovariance(res.R, viewChange(tpl, res.z));
+    const Mat3 R = options_.wide_cov_inflation * viewCovariance(res.R, viewChange(tpl, res.z));
     const auto rep = ekf.updatePoseLandmark(id, res.z, R, sensor, options_.gate_prob, options_.wide_update_iterations);
     using O = ekf::PoseUpdateReport::Outcome;
     last_aligned_.push_back({id, res.z, R, z_hat, rep.outcome == O::updated, true});

@@ -148,6 +148,8 @@ struct DriftRun
     std::vector<std::map<std::string, size_t>> wide;  //!< outcomes after each scan
     Vec3 x = Vec3::Zero();                            //!< vehicle pose at the end
     bool cov_finite = false;                          //!< the filter's covariance at the end
+    Mat3 P = Mat3::Zero();                            //!< the vehicle's covariance at the end
+    std::vector<Mat3> wide_R;                         //!< R of each wide answer, as fused
 };
 
 /** What the odometry believes after the templates were made: a move `move` with std
@@ -177,9 +179,12 @@ DriftRun closeAfterDrift(const hymm::sim::World& w, const std::vector<Vec2>& nea
     {
         map.processScan(ekf, *scanAtOrigin(w, drift.first_seed + k, drift.scan_pose));
         run.wide.push_back(map.stats().wide);
+        for (const auto& a : map.lastAligned())
+            if (a.wide) run.wide_R.push_back(a.R);
     }
     run.x = ekf.vehiclePose();
     run.cov_finite = ekf.cov().allFinite();
+    run.P = ekf.cov().topLeftCorner<3, 3>();
     return run;
 }
 
@@ -213,6 +218,31 @@ TEST(ScanWideSearch, ClosesTheLoopOfADriftedFilter)
     EXPECT_LT(run.x.head<2>().norm(), 1.0) << run.x.transpose();
     EXPECT_LT(std::abs(run.x.z()), 2 * kDeg) << run.x.transpose();
     EXPECT_TRUE(run.cov_finite);
+}
+
+TEST(ScanWideSearch, CovarianceInflationScalesTheWideAnswersR)
+{
+    // The same closure as above with the wide answer's R times 4: the same answer (same
+    // scan, same search) is fused with 4 R, so the vehicle keeps more of its uncertainty
+    // and moves less of the way in this one update.
+    Drift drift;
+    drift.move = Vec3(3, -2, 0.2);
+    drift.std_phi = 12 * kDeg;
+    drift.first_seed = 2;
+    const DriftRun plain = closeAfterDrift(scene(), {Vec2(12, 4)}, driftOptions(0, 0), 1, drift);
+    ScanLandmarkMap::Options o = driftOptions(0, 0);
+    o.wide_cov_inflation = 4;
+    const DriftRun inflated = closeAfterDrift(scene(), {Vec2(12, 4)}, o, 1, drift);
+    ASSERT_EQ(plain.wide_R.size(), 1u);
+    ASSERT_EQ(inflated.wide_R.size(), 1u);
+    EXPECT_TRUE(inflated.wide_R[0].isApprox(4 * plain.wide_R[0], 1e-9))
+        << plain.wide_R[0] << "\n" << inflated.wide_R[0];
+    EXPECT_EQ(count(inflated.wide[0], "closed"), 1u) << str(inflated.wide[0]);
+    EXPECT_GT(inflated.P.trace(), plain.P.trace());
+    EXPECT_GT(inflated.P(2, 2), plain.P(2, 2));
+    // The drift believed was (3, -2, 0.2): the vehicle ends nearer to it.
+    EXPECT_GT(inflated.x.head<2>().norm(), plain.x.head<2>().norm());
+    EXPECT_TRUE(inflated.cov_finite);
 }
 
 TEST(ScanWideSearch, AnswerWaitsForTheAgreementOfOtherTemplates)

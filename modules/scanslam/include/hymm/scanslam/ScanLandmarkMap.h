@@ -121,6 +121,7 @@ public:
          *  window of a very uncertain prediction. 0: the +-3 sigma window alone. */
         double wide_view_window_m = 0;
         double wide_view_window_phi = 10 * M_PI / 180;  //!< [rad] (ini: wide_view_window_phi_deg)
+        double wide_cov_inflation = 1;     //!< a wide answer's R (with the viewpoint term) times this
         /** > 0: a template whose predicted position has a standard deviation (largest
          *  axis of H P H^T) above this is aligned with the dense map around it added
          *  (thesis 6.2: once the vehicle is no longer well correlated with the landmark,
