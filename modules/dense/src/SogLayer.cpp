@@ -110,6 +110,9 @@ hymm::core::OptionTable SogLayer::Options::table()
            "their means occupy: beyond, the closest pairs are merged into one Gaussian with their mean and "
            "covariance (the subsampling Sec. 4.3.3 leaves out), so revisits do not add components where the area "
            "is covered; 0 = unbounded (the thesis)");
+    t.real("max_range_m", max_range_m, "m", between(0, 1e6),
+           "returns farther than this from the sensor add no Gaussian; the other layers still take them (0 = every "
+           "return the map is given, the thesis)");
     return t;
 }
 
@@ -142,6 +145,8 @@ void SogLayer::Options::validate(const std::string& s) const
         throwConfigError(s, "merge_within_m", std::to_string(merge_within_m), "must be in [0, d_min_m]");
     if (!(max_mean_per_cell >= 0) || !std::isfinite(max_mean_per_cell))
         throwConfigError(s, "max_mean_per_cell", std::to_string(max_mean_per_cell), "must be finite and >= 0");
+    if (!(max_range_m >= 0) || !std::isfinite(max_range_m))
+        throwConfigError(s, "max_range_m", std::to_string(max_range_m), "must be finite and >= 0");
 }
 
 RangeBearingNoise SogLayer::Options::noise() const { return {range_std_m, bearing_std_deg * M_PI / 180.0}; }
@@ -163,6 +168,7 @@ std::vector<SogLayer::Gaussian> SogLayer::observationGaussians(const RegionScan&
         const Eigen::Vector2d d = to_cur * (h - scan.sensor);
         const double r = d.norm();
         if (!(r > 0)) continue;
+        if (options_.max_range_m > 0 && r > options_.max_range_m) continue;
         // Eq. 4.15-4.16 in the current frame, then into the reference frame.
         const Eigen::Matrix2d p = polarToCartesianCovariance(r, std::atan2(d.y(), d.x()), noise);
         out.push_back({h, transformCovariance(to_ref, p)});

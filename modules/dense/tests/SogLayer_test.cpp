@@ -157,6 +157,38 @@ TEST(SogLayerTest, RepeatedScansFuseInsteadOfGrowing)
     EXPECT_EQ(layer.size(), 2 * n);
 }
 
+TEST(SogLayerTest, ReturnsBeyondMaxRangeAddNoGaussian)
+{
+    // The wall at 5 m, returns every 2 deg: within 5.1 m of the sensor are the 11 of
+    // +-10 deg (5.077 m at 10 deg, 5.112 m at 12 deg).
+    SogLayer::Options o = opts();
+    o.max_range_m = 5.1;
+    SogLayer layer(o);
+    layer.insert(wallScan(5.0, 0.0));
+    ASSERT_EQ(layer.size(), 11u);
+    for (const G& g : layer.gaussians()) EXPECT_LE(g.mean.norm(), 5.1);
+    // The range is measured in the current (metric) frame: a region that has grown to
+    // twice its reference size sees the same returns at twice the range.
+    RegionScan grown = wallScan(5.0, 0.0);
+    grown.to_reference_linear = 0.5 * M2::Identity();
+    SogLayer at_5_1(o);
+    at_5_1.insert(grown);
+    EXPECT_EQ(at_5_1.size(), 0u);
+    o.max_range_m = 10.2;
+    SogLayer at_10_2(o);
+    at_10_2.insert(grown);
+    EXPECT_EQ(at_10_2.size(), 11u);
+    // 0 keeps every return (the thesis); a negative or NaN range is a configuration error.
+    o.max_range_m = 0;
+    SogLayer all(o);
+    all.insert(wallScan(5.0, 0.0));
+    EXPECT_EQ(all.size(), 21u);
+    o.max_range_m = -1;
+    EXPECT_THROW(SogLayer{o}, std::invalid_argument);
+    o.max_range_m = std::nan("");
+    EXPECT_THROW(SogLayer{o}, std::invalid_argument);
+}
+
 TEST(SogLayerTest, RevisitsAreAbsorbedWithinDMin)
 {
     // Returns 0.5 deg apart (0.04 m at 5 m), each revisit with its beams shifted along

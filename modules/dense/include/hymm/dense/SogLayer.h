@@ -108,6 +108,11 @@ public:
          *  of side d_min their means occupy: beyond, the closest pairs are merged into
          *  one Gaussian with their mean and covariance (revisits; 0 = unbounded, the thesis) */
         double max_mean_per_cell = 3;
+        /** [m] returns farther than this from the sensor add no Gaussian (0 = every
+         *  return the map is given, the thesis): far returns are the widest Gaussians
+         *  and each stays a component of its own (docs/results.md, "Why the SOG layer
+         *  misses 0.3 m") */
+        double max_range_m = 0;
 
         /** Every ini key, declared once: loader, saver and README table come from it. */
         hymm::core::OptionTable table();
