@@ -205,15 +205,20 @@ std::string str(const std::map<std::string, size_t>& m)
     return out;
 }
 
-TEST(ScanWideSearch, ClosesTheLoopOfADriftedFilter)
+/** Odometry believes the vehicle moved 3.6 m and 11.5 deg (std 3 m, 12 deg): it did not.
+ *  One template in the scene (the pentagon): nothing to confirm with. */
+DriftRun closeOneTemplate(const ScanLandmarkMap::Options& o)
 {
-    // Odometry believes the vehicle moved 3.6 m and 11.5 deg (std 3 m, 12 deg): it did
-    // not. One template in the scene: nothing to confirm with.
     Drift drift;
     drift.move = Vec3(3, -2, 0.2);
     drift.std_phi = 12 * kDeg;
     drift.first_seed = 2;
-    const DriftRun run = closeAfterDrift(scene(), {Vec2(12, 4)}, driftOptions(0, 0), 1, drift);  // the pentagon
+    return closeAfterDrift(scene(), {Vec2(12, 4)}, o, 1, drift);
+}
+
+TEST(ScanWideSearch, ClosesTheLoopOfADriftedFilter)
+{
+    const DriftRun run = closeOneTemplate(driftOptions(0, 0));
     EXPECT_EQ(count(run.wide[0], "closed"), 1u) << str(run.wide[0]);
     EXPECT_LT(run.x.head<2>().norm(), 1.0) << run.x.transpose();
     EXPECT_LT(std::abs(run.x.z()), 2 * kDeg) << run.x.transpose();
@@ -225,14 +230,10 @@ TEST(ScanWideSearch, CovarianceInflationScalesTheWideAnswersR)
     // The same closure as above with the wide answer's R times 4: the same answer (same
     // scan, same search) is fused with 4 R, so the vehicle keeps more of its uncertainty
     // and moves less of the way in this one update.
-    Drift drift;
-    drift.move = Vec3(3, -2, 0.2);
-    drift.std_phi = 12 * kDeg;
-    drift.first_seed = 2;
-    const DriftRun plain = closeAfterDrift(scene(), {Vec2(12, 4)}, driftOptions(0, 0), 1, drift);
+    const DriftRun plain = closeOneTemplate(driftOptions(0, 0));
     ScanLandmarkMap::Options o = driftOptions(0, 0);
     o.wide_cov_inflation = 4;
-    const DriftRun inflated = closeAfterDrift(scene(), {Vec2(12, 4)}, o, 1, drift);
+    const DriftRun inflated = closeOneTemplate(o);
     ASSERT_EQ(plain.wide_R.size(), 1u);
     ASSERT_EQ(inflated.wide_R.size(), 1u);
     EXPECT_TRUE(inflated.wide_R[0].isApprox(4 * plain.wide_R[0], 1e-9))
