@@ -3,7 +3,8 @@
 // (hymm::app::runScanSlamStudy). Prints one CSV line per seed and a markdown table of
 // medians and spreads; the vehicle NEES is averaged over the runs step by step and
 // compared with the 95 % band of the run-averaged chi-square(3). -p S also prints that
-// NEES (3 DOF, position, heading) in bins of S seconds: where the runs leave the band.
+// NEES (3 DOF, position, heading) in bins of S seconds: where the runs leave the band;
+// --closure-profile S the same in bins of time relative to each run's loop closure.
 //   hymm-scanslam-eval -c configs/ch5_scanslam.ini -s configs/sim/ch5_scanslam.ini -n 20
 #include <hymm/app/ScanSlamStudy.h>
 #include <hymm/core/config_utils.h>
@@ -21,6 +22,7 @@
 #include <cstdio>
 #include <iostream>
 #include <numeric>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -185,6 +187,47 @@ void neesProfile(const std::vector<hymm::app::ScanSlamRun>& runs, double bin_s)
         }
     }
 }
+
+// Vehicle NEES averaged over the runs that close their loop, in bins of `bin_s` seconds of
+// time relative to each run's closure (its first fused wide answer): the runs close at
+// different times, so the absolute-time profile smears what a closure does to the
+// filter. Each bin averages the runs' mean NEES over the bin (3 DOF, position, heading)
+// and gives how many runs reach it; the band is that of the run count.
+void closureProfile(const std::vector<hymm::app::ScanSlamRun>& runs, double bin_s)
+{
+    struct Bin
+    {
+        double s3 = 0, s2 = 0, s1 = 0;
+        size_t steps = 0;
+        std::set<size_t> runs;
+    };
+    std::map<long, Bin> bins;
+    for (size_t ri = 0; ri < runs.size(); ++ri)
+    {
+        const auto& r = runs[ri];
+        if (r.closure_t < 0) continue;
+        for (const auto& st : r.steps)
+        {
+            Eigen::Vector3d e = st.truth - st.estimate;
+            e[2] = mrpt::math::wrapToPi(e[2]);
+            auto& b = bins[static_cast<long>(std::floor((st.t - r.closure_t) / bin_s))];
+            b.s3 += st.nees;
+            b.s2 += hymm::eval::nees(e.head<2>(), st.cov.topLeftCorner<2, 2>()).value;
+            b.s1 += hymm::eval::nees(e.tail<1>(), st.cov.bottomRightCorner<1, 1>()).value;
+            ++b.steps, b.runs.insert(ri);
+        }
+    }
+    std::cout << "\n| t - closure [s] | runs | NEES (3 DOF) | position (2 DOF) | heading (1 DOF) | 95 % band |\n"
+                 "|---|---|---|---|---|---|\n";
+    for (const auto& [k, b] : bins)
+    {
+        if (b.runs.size() < 2) continue;
+        const auto band = hymm::eval::averageNeesBounds(3, static_cast<int>(b.runs.size()), 0.95);
+        const double n = static_cast<double>(b.steps);
+        std::printf("| %+.0f..%+.0f | %zu | %.2f | %.2f | %.2f | %.2f-%.2f |\n", k * bin_s, (k + 1) * bin_s,
+                    b.runs.size(), b.s3 / n, b.s2 / n, b.s1 / n, band.lower, band.upper);
+    }
+}
 }  // namespace
 
 int main(int argc, char** argv)
@@ -206,6 +249,11 @@ int main(int argc, char** argv)
                                         "also print the run-averaged vehicle NEES (3 DOF, position, heading) "
                                         "in bins of this many seconds",
                                         false, 0, "S", cmd);
+        TCLAP::ValueArg<double> closure_profile(
+            "", "closure-profile",
+            "also print the vehicle NEES of the runs that close their loop in bins of this many "
+            "seconds of time relative to each run's closure",
+            false, 0, "S", cmd);
         if (!cmd.parse(argc, argv)) return 0;
         if (seeds.getValue() < 1) throw std::invalid_argument("--seeds must be >= 1");
         const auto cfg = hymm::core::openConfigFile(config.getValue());
@@ -319,6 +367,7 @@ int main(int argc, char** argv)
         if (aug["augmented"] + aug["augment_empty"] > 0) printCounts("template augmentation", aug);
         if (obs_table.getValue()) observationTables(runs);
         if (profile.getValue() > 0) neesProfile(runs, profile.getValue());
+        if (closure_profile.getValue() > 0) closureProfile(runs, closure_profile.getValue());
         return 0;
     }
     catch (const std::exception& e)

@@ -47,6 +47,11 @@ hymm::core::OptionTable EkfSlam::Options::table()
              {{"off", SecondOrderTerms::Off}, {"covariance", SecondOrderTerms::Covariance},
               {"full", SecondOrderTerms::Full}},
              "second-order terms of the pose-landmark update: none, S only, or S and the predicted observation");
+    t.choice("iterated_covariance", iterated_covariance,
+             {{"last_iterate", IteratedCovariance::LastIterate},
+              {"first_estimates", IteratedCovariance::FirstEstimates}},
+             "covariance of an iterated pose update: the last iterate's Jacobians, or the FEJ-EKF step's "
+             "(needs jacobians = first_estimates; the mean stays the iterated one)");
     return t;
 }
 
@@ -86,6 +91,8 @@ void EkfSlam::Options::validate(const std::string& s) const
     if (!(stabilising_std_phi >= 0.0))
         throwConfigError(s, "stabilising_std_phi_deg", str(mrpt::RAD2DEG(stabilising_std_phi)),
                          "must be >= 0");
+    if (iterated_covariance == IteratedCovariance::FirstEstimates && jacobians != LinearisationPoint::FirstEstimates)
+        throwConfigError(s, "iterated_covariance", "first_estimates", "needs jacobians = first_estimates");
 }
 
 }  // namespace hymm::ekf

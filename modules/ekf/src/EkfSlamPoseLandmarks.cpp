@@ -27,16 +27,14 @@ bool validCovariance3(const Eigen::Matrix3d& R)
     return llt.info() == Eigen::Success;
 }
 
-/** The passive blocks see the gain of a pose-landmark update (observer at offset ov: 0
- *  the vehicle; landmark at offset o) through their cross-covariance, read before P moves. */
-void updatePassive(PassiveStates& passive, const Eigen::Matrix3d& Hv, const Eigen::Matrix3d& Hl, Eigen::Index ov,
-                   Eigen::Index o, const Eigen::LLT<Eigen::Matrix3d>& llt, const Eigen::MatrixXd& Wt,
-                   const Eigen::Vector3d& y)
+/** W_p = P_pa H^T L^-T of the passive rows for one linearisation of a pose-landmark update
+ *  (observer at offset ov: 0 the vehicle; landmark at offset o), read before P moves. */
+Eigen::MatrixXd passiveGain(const PassiveStates& passive, const Eigen::Matrix3d& Hv, const Eigen::Matrix3d& Hl,
+                            Eigen::Index ov, Eigen::Index o, const Eigen::LLT<Eigen::Matrix3d>& llt)
 {
     const Eigen::MatrixXd& Cpa = passive.crossAll();
     const Eigen::MatrixXd PpHt = Cpa.middleCols<3>(ov) * Hv.transpose() + Cpa.middleCols<3>(o) * Hl.transpose();
-    const Eigen::MatrixXd Wp = llt.matrixL().solve(PpHt.transpose()).transpose();
-    passive.applyUpdate(Wp, Wt.transpose(), y);
+    return llt.matrixL().solve(PpHt.transpose()).transpose();
 }
 }  // namespace
 
@@ -115,6 +113,41 @@ double nextPoint(const PoseLinearisation& L, Eigen::Index o, const Eigen::Vector
     current = next;
     return step.lpNorm<Eigen::Infinity>();
 }
+/** x += K nu with linearisation Lm (the last iterate's), P -= W W^T with Lc (Lm itself,
+ *  or the FEJ step's: Options::iterated_covariance); passive blocks likewise. False, with
+ *  nothing changed, if a gain is not finite. */
+bool applyPoseUpdate(Eigen::VectorXd& x, Eigen::Block<Eigen::MatrixXd> P, PassiveStates& passive,
+                     const PoseLinearisation& Lm, const PoseLinearisation& Lc, Eigen::Index ov, Eigen::Index o)
+{
+    const bool one = &Lc == &Lm;
+    const Eigen::MatrixXd Wt = Lm.llt.matrixL().solve(Lm.PHt.transpose());
+    const Eigen::MatrixXd Wc = one ? Wt : Eigen::MatrixXd(Lc.llt.matrixL().solve(Lc.PHt.transpose()));
+    if (!Wt.allFinite() || !Wc.allFinite() || !Lm.y.allFinite()) return false;
+    if (passive.numBlocks() > 0)
+    {
+        const Eigen::MatrixXd Wp = passiveGain(passive, Lm.Hv, Lm.Hl, ov, o, Lm.llt);
+        const Eigen::MatrixXd Wpc = one ? Wp : passiveGain(passive, Lc.Hv, Lc.Hl, ov, o, Lc.llt);
+        if (!Wp.allFinite() || !Wpc.allFinite()) return false;
+        const Eigen::VectorXd y = Lm.y;
+        if (one)
+            passive.applyUpdate(Wp, Wt.transpose(), y);
+        else
+        {
+            passive.applyMeanUpdate(Wp, y);
+            passive.applyCovarianceUpdate(Wpc, Wc.transpose());
+        }
+    }
+    // x_0 + K nu with the last linearisation's gain and innovation.
+    x.noalias() += Wt.transpose() * Lm.y;
+    x[2] = mrpt::math::wrapToPi(x[2]);
+    x[ov + 2] = mrpt::math::wrapToPi(x[ov + 2]);
+    x[o + 2] = mrpt::math::wrapToPi(x[o + 2]);
+    // P -= W W^T, kept symmetric: the Joseph form for the optimal gain (see fuse()) when
+    // Lc is Lm; with the FEJ step's W, that step's covariance.
+    P.selfadjointView<Eigen::Lower>().rankUpdate(Wc.transpose(), -1.0);
+    P.triangularView<Eigen::StrictlyUpper>() = P.transpose().triangularView<Eigen::StrictlyUpper>();
+    return true;
+}
 }  // namespace
 
 std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>> EkfSlam::poseFejPoint(long observer, long id) const
@@ -175,7 +208,8 @@ PoseUpdateReport EkfSlam::updatePoseBlock(long observer, long id, const Eigen::V
     Eigen::Vector3d xv = xv0, xl = xl0;  // linearisation point (the prior at iteration 0)
     PoseLinearisation L;
     // First-estimates Jacobians for the EKF step; the iterated update relinearises at its
-    // iterates by definition, so it keeps them.
+    // iterates by definition (its gate too), so it does not use them here
+    // (iterated_covariance below may for its covariance).
     const std::optional<FejPoint> fej = max_iterations <= 1 ? poseFejPoint(observer, id) : std::nullopt;
     for (int it = 0;; ++it)
     {
@@ -192,18 +226,20 @@ PoseUpdateReport EkfSlam::updatePoseBlock(long observer, long id, const Eigen::V
         ++rep.iterations;
         if (moved < 1e-9) break;
     }
-    const Eigen::MatrixXd Wt = L.llt.matrixL().solve(L.PHt.transpose());
-    if (!Wt.allFinite() || !L.y.allFinite()) return fail(PoseUpdateReport::Outcome::numeric);
-    if (passive_.numBlocks() > 0) updatePassive(passive_, L.Hv, L.Hl, ov, o, L.llt, Wt, L.y);
-    // x_0 + K nu with the last linearisation's gain and innovation.
-    x_.noalias() += Wt.transpose() * L.y;
-    x_[2] = mrpt::math::wrapToPi(x_[2]);
-    x_[ov + 2] = mrpt::math::wrapToPi(x_[ov + 2]);
-    x_[o + 2] = mrpt::math::wrapToPi(x_[o + 2]);
-    // P -= W W^T (the Joseph form for the optimal gain; see fuse()), kept symmetric; with
-    // iterations, the gain of the last linearisation.
-    activeP().selfadjointView<Eigen::Lower>().rankUpdate(Wt.transpose(), -1.0);
-    activeP().triangularView<Eigen::StrictlyUpper>() = activeP().transpose().triangularView<Eigen::StrictlyUpper>();
+    // Options::iterated_covariance = first_estimates: the iterates give the mean (Gauss-Newton
+    // on the prior and z, right for a correction of metres and degrees), the covariance
+    // keeps the one-step FEJ-EKF's Jacobians, so that relinearising does not add the
+    // information along the unobservable directions that FEJ withholds (Huang et al. 2008).
+    const std::optional<FejPoint> fej_cov =
+        rep.iterations > 0 && options_.iterated_covariance == IteratedCovariance::FirstEstimates
+            ? poseFejPoint(observer, id)
+            : std::nullopt;
+    PoseLinearisation Lc;
+    if (fej_cov && !linearise(activeP(), ov, o, z, R, sensor, xv0, xl0, xv0, xl0, &*fej_cov,
+                              options_.pose_update_second_order, Lc))
+        return fail(PoseUpdateReport::Outcome::numeric);
+    if (!applyPoseUpdate(x_, activeP(), passive_, L, fej_cov ? Lc : L, ov, o))
+        return fail(PoseUpdateReport::Outcome::numeric);
     ++layout_.get(id).times_seen;
     rep.outcome = PoseUpdateReport::Outcome::updated;
     return rep;

@@ -124,8 +124,19 @@ void PassiveStates::predictVehicle(const Eigen::Matrix3d& F)
 void PassiveStates::applyUpdate(
     const Eigen::MatrixXd& W_p, const Eigen::MatrixXd& W_a, const Eigen::VectorXd& y)
 {
+    applyMeanUpdate(W_p, y);
+    applyCovarianceUpdate(W_p, W_a);
+}
+
+void PassiveStates::applyMeanUpdate(const Eigen::MatrixXd& W_p, const Eigen::VectorXd& y)
+{
     if (blocks_.empty()) return;
     mean_.noalias() += W_p * y;
+}
+
+void PassiveStates::applyCovarianceUpdate(const Eigen::MatrixXd& W_p, const Eigen::MatrixXd& W_a)
+{
+    if (blocks_.empty()) return;
     cross_.noalias() -= W_p * W_a.transpose();
     for (size_t k = 0; k < blocks_.size(); ++k)
     {

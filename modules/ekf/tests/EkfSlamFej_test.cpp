@@ -13,6 +13,7 @@
 #include <mrpt/math/wrap2pi.h>
 
 #include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 #include <Eigen/SVD>
 #include <cmath>
 #include <random>
@@ -32,19 +33,22 @@ const std::vector<Eigen::Vector2d> kLandmarks = {{8.0, 6.0}, {12.0, -5.0}, {3.0,
 const Eigen::Matrix2d kR = Eigen::Vector2d(0.2, 2.0 * kDeg).cwiseAbs2().asDiagonal();
 const Eigen::Matrix3d kOdoCov = Eigen::Vector3d(0.05, 0.02, 1.0 * kDeg).cwiseAbs2().asDiagonal();
 
-EkfSlam::Options fejOptions(LinearisationPoint j = LinearisationPoint::FirstEstimates)
+EkfSlam::Options fejOptions(LinearisationPoint j = LinearisationPoint::FirstEstimates,
+                            IteratedCovariance ic = IteratedCovariance::LastIterate)
 {
     EkfSlam::Options o;
     o.jacobians = j;
+    o.iterated_covariance = ic;
     return o;
 }
 
 Eigen::Matrix2d skew() { return (Eigen::Matrix2d() << 0.0, -1.0, 1.0, 0.0).finished(); }
 
 /** A filter at the true pose (0, 0, 0.1) with a small prior covariance; sets `truth`. */
-EkfSlam startNearOrigin(LinearisationPoint j, Eigen::Vector3d& truth)
+EkfSlam startNearOrigin(LinearisationPoint j, Eigen::Vector3d& truth,
+                        IteratedCovariance ic = IteratedCovariance::LastIterate)
 {
-    EkfSlam f(fejOptions(j));
+    EkfSlam f(fejOptions(j, ic));
     truth = Eigen::Vector3d(0.0, 0.0, 0.1);
     f.reset(truth, Eigen::Vector3d(0.01, 0.01, 0.5 * kDeg).cwiseAbs2().asDiagonal());
     return f;
@@ -426,9 +430,10 @@ Eigen::Vector3d observePose(const Eigen::Vector3d& truth, const Eigen::Vector3d&
 
 /** A filter with kPoseLandmarks added from the origin (ids 0-2), then moved and updated
  *  once, so that estimates, first estimates and the prediction all differ. */
-EkfSlam mappedPoseFilter(LinearisationPoint j, std::mt19937& rng, Eigen::Vector3d& truth)
+EkfSlam mappedPoseFilter(LinearisationPoint j, std::mt19937& rng, Eigen::Vector3d& truth,
+                         IteratedCovariance ic = IteratedCovariance::LastIterate)
 {
-    EkfSlam f = startNearOrigin(j, truth);
+    EkfSlam f = startNearOrigin(j, truth, ic);
     for (long id = 0; id < 3; ++id)
         f.addPoseLandmark(observePose(truth, kPoseLandmarks[static_cast<size_t>(id)], rng), kPoseR, kSensorVec, id);
     const Eigen::Vector3d d(1.0, 0.1, 3.0 * kDeg);
@@ -517,6 +522,65 @@ TEST(EkfSlamFejTest, PoseLandmarkUpdateUsesFirstEstimateJacobians)
         EXPECT_LT((iterated.mean() - iterated_std.mean()).norm(), 1e-12);
         EXPECT_LT((iterated.cov() - iterated_std.cov()).norm(), 1e-12);
     }
+}
+
+// iterated_covariance = first_estimates: the mean of the iterated update (it equals the
+// standard filter's, which relinearises at the same iterates) with the covariance of the
+// one-step FEJ-EKF, for the active states and for a passive block alike.
+TEST(EkfSlamFejTest, IteratedMeanKeepsTheFirstEstimatesCovariance)
+{
+    // The same filter three times (same seeds): the hybrid, the one-step FEJ-EKF and, from
+    // the hybrid's state, the standard iterated filter.
+    const auto mapped = [](IteratedCovariance ic, Eigen::Vector3d& truth)
+    {
+        std::mt19937 rng(29);
+        EkfSlam f = mappedPoseFilter(LinearisationPoint::FirstEstimates, rng, truth, ic);
+        // 6 deg of odometry heading error: a correction large enough for the iterates to move.
+        const Eigen::Vector3d d(2.0, 0.3, -5.0 * kDeg);
+        truth = composePose(truth, d);
+        f.predictOdometry(increment(d + Eigen::Vector3d(-0.3, 0.2, 6.0 * kDeg)));
+        f.addPassiveFromVehicle(9, f.vehiclePose(), Eigen::Matrix3d::Identity(),
+                                Eigen::Vector3d(0.05, 0.05, 0.01).cwiseAbs2().asDiagonal());
+        return f;
+    };
+    Eigen::Vector3d truth;
+    EkfSlam hybrid = mapped(IteratedCovariance::FirstEstimates, truth);
+    EkfSlam one_step = mapped(IteratedCovariance::LastIterate, truth);
+    EkfSlam iterated(fejOptions(LinearisationPoint::Current));
+    iterated.setActiveState(hybrid.mean(), hybrid.cov(), {{0, 3}, {1, 3}, {2, 3}});
+    iterated.addPassiveState(9, hybrid.passive().mean(9), hybrid.passive().cov(9), hybrid.passive().crossCov(9));
+    ASSERT_EQ(hybrid.mean(), one_step.mean());
+
+    const long id = 2;
+    std::mt19937 rng(31);
+    const Eigen::Vector3d z = observePose(truth, kPoseLandmarks[static_cast<size_t>(id)], rng);
+    const auto rep = hybrid.updatePoseLandmark(id, z, kPoseR, kSensorVec, 0.0, 10);
+    ASSERT_EQ(rep.outcome, PoseUpdateReport::Outcome::updated);
+    EXPECT_GT(rep.iterations, 1);
+    ASSERT_EQ(one_step.updatePoseLandmark(id, z, kPoseR, kSensorVec, 0.0, 1).outcome,
+              PoseUpdateReport::Outcome::updated);
+    ASSERT_EQ(iterated.updatePoseLandmark(id, z, kPoseR, kSensorVec, 0.0, 10).outcome,
+              PoseUpdateReport::Outcome::updated);
+
+    EXPECT_LT((hybrid.mean() - iterated.mean()).norm(), 1e-12);
+    EXPECT_LT((hybrid.cov() - one_step.cov()).norm(), 1e-12);
+    EXPECT_LT((hybrid.passive().mean(9) - iterated.passive().mean(9)).norm(), 1e-12);
+    EXPECT_LT((hybrid.passive().cov(9) - one_step.passive().cov(9)).norm(), 1e-12);
+    EXPECT_LT((hybrid.passive().crossCov(9) - one_step.passive().crossCov(9)).norm(), 1e-12);
+    // Neither reference alone: the two differ in each compared quantity.
+    EXPECT_GT((hybrid.mean() - one_step.mean()).norm(), 1e-4);
+    EXPECT_GT((hybrid.cov() - iterated.cov()).norm(), 1e-8);
+    EXPECT_GT((one_step.passive().mean(9) - iterated.passive().mean(9)).norm(), 1e-4);
+    EXPECT_GT((one_step.passive().cov(9) - iterated.passive().cov(9)).norm(), 1e-8);
+    EXPECT_GT((one_step.passive().crossCov(9) - iterated.passive().crossCov(9)).norm(), 1e-8);
+    const Eigen::MatrixXd P = hybrid.cov();
+    EXPECT_LT((P - P.transpose()).cwiseAbs().maxCoeff(), 1e-12);
+    EXPECT_GT(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(P).eigenvalues().minCoeff(), 0);
+
+    // The option is only defined on top of first-estimates Jacobians.
+    EXPECT_THROW(fejOptions(LinearisationPoint::Current, IteratedCovariance::FirstEstimates).validate(),
+                 std::invalid_argument);
+    EXPECT_NO_THROW(fejOptions(LinearisationPoint::FirstEstimates, IteratedCovariance::FirstEstimates).validate());
 }
 
 /** As observability(), with pose landmarks and the Jacobians the filter reports for their

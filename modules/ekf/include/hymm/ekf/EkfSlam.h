@@ -24,6 +24,7 @@
 #include <hymm/core/OptionTable.h>
 #include <hymm/core/UteVehicleModel.h>
 #include <hymm/ekf/DataAssociation.h>
+#include <hymm/ekf/LinearisationOptions.h>
 #include <hymm/ekf/PassiveStates.h>
 #include <hymm/ekf/StateLayout.h>
 #include <mrpt/config/CLoadableOptions.h>
@@ -89,33 +90,6 @@ struct PoseUpdateReport
     int iterations = 0;  //!< relinearisations done (iterated update; 0 for the EKF)
 };
 
-/**
- * Where the filter evaluates its Jacobians.
- *  - Current: the standard EKF, at the latest estimate.
- *  - FirstEstimates: the First-Estimates Jacobian EKF (Huang, Mourikis & Roumeliotis,
- *    "Analysis and improvement of the consistency of extended Kalman filter based SLAM",
- *    ICRA 2008). Measurement Jacobians at the predicted vehicle pose x_{k|k-1} and at each
- *    landmark's first estimate (its value when it was added); the position-heading block
- *    of the motion Jacobian is J (p_{k+1|k} - p_{k|k-1}), J = [0 -1; 1 0], so that the
- *    products of motion Jacobians telescope. The linearised system then keeps the
- *    3-dimensional unobservable subspace (global translation and heading) of the
- *    nonlinear one instead of the 2 of the standard EKF, which gains spurious heading
- *    information at every re-observation. Means and innovations use the latest estimate.
- */
-enum class LinearisationPoint
-{
-    Current,
-    FirstEstimates
-};
-
-/** Which second-order terms the pose-landmark update adds (Options). */
-enum class SecondOrderTerms
-{
-    Off,
-    Covariance,
-    Full
-};
-
 class EkfSlam
 {
 public:
@@ -152,6 +126,12 @@ public:
          *  S only (Covariance) or S and the predicted observation (Full). Ini: off |
          *  covariance | full (README, "Second-order terms of the pose update"). */
         SecondOrderTerms pose_update_second_order = SecondOrderTerms::Off;
+        /** Covariance of an iterated pose-landmark update (max_iterations > 1): the
+         *  Jacobians of the last iterate (the iterated EKF) or, with jacobians =
+         *  first_estimates, those of the one-step FEJ-EKF, the mean still the iterated one.
+         *  Ini: last_iterate | first_estimates (README, "Iterated updates with
+         *  first-estimates covariance"). */
+        IteratedCovariance iterated_covariance = IteratedCovariance::LastIterate;
 
         /** Every ini key, declared once: loader, saver and README table come from it. */
         hymm::core::OptionTable table();

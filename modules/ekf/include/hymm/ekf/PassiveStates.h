@@ -67,6 +67,11 @@ public:
      * P_pp -= W_p,blk W_p,blk^T (= K_p S K_p^T restricted to the block).
      */
     void applyUpdate(const Eigen::MatrixXd& W_p, const Eigen::MatrixXd& W_a, const Eigen::VectorXd& y);
+    /** applyUpdate's covariance part alone (an update whose mean comes from another
+     *  linearisation: EkfSlam::Options::iterated_covariance). */
+    void applyCovarianceUpdate(const Eigen::MatrixXd& W_p, const Eigen::MatrixXd& W_a);
+    /** x_p += W_p y: applyUpdate's mean part alone. */
+    void applyMeanUpdate(const Eigen::MatrixXd& W_p, const Eigen::VectorXd& y);
     /** A new active block was appended: its cross-covariance with the passive rows. */
     void appendActiveColumns(const Eigen::MatrixXd& new_cols);
     /** Active entries [offset, offset + dim) were removed (marginalised out). */
