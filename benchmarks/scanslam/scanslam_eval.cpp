@@ -22,8 +22,8 @@
 #include <cstdio>
 #include <iostream>
 #include <numeric>
-#include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace
@@ -150,6 +150,15 @@ size_t commonSteps(const std::vector<hymm::app::ScanSlamRun>& runs)
     return n;
 }
 
+/** The position (2 DOF) and heading (1 DOF) parts of a step's vehicle NEES. */
+std::pair<double, double> positionHeadingNees(const hymm::app::ScanSlamRun::Step& st)
+{
+    Eigen::Vector3d e = st.truth - st.estimate;
+    e[2] = mrpt::math::wrapToPi(e[2]);
+    return {hymm::eval::nees(e.head<2>(), st.cov.topLeftCorner<2, 2>()).value,
+            hymm::eval::nees(e.tail<1>(), st.cov.bottomRightCorner<1, 1>()).value};
+}
+
 // Run-averaged vehicle NEES in bins of `bin_s` seconds: the whole 3-DOF NEES, its position
 // (2 DOF) and heading (1 DOF) parts, each averaged over the runs step by step and then over
 // the bin; and the share of the bin's steps inside the 3-DOF band. Shows where a run
@@ -169,11 +178,10 @@ void neesProfile(const std::vector<hymm::app::ScanSlamRun>& runs, double bin_s)
         for (const auto& r : runs)
         {
             const auto& st = r.steps[i];
-            Eigen::Vector3d e = st.truth - st.estimate;
-            e[2] = mrpt::math::wrapToPi(e[2]);
+            const auto [pos, heading] = positionHeadingNees(st);
             a3 += st.nees / k;
-            a2 += hymm::eval::nees(e.head<2>(), st.cov.topLeftCorner<2, 2>()).value / k;
-            a1 += hymm::eval::nees(e.tail<1>(), st.cov.bottomRightCorner<1, 1>()).value / k;
+            a2 += pos / k;
+            a1 += heading / k;
         }
         sum3 += a3, sum2 += a2, sum1 += a1, ++m;
         in += (a3 >= band.lower && a3 <= band.upper) ? 1 : 0;
@@ -198,34 +206,30 @@ void closureProfile(const std::vector<hymm::app::ScanSlamRun>& runs, double bin_
     struct Bin
     {
         double s3 = 0, s2 = 0, s1 = 0;
-        size_t steps = 0;
-        std::set<size_t> runs;
+        size_t steps = 0, runs = 0;
+        const hymm::app::ScanSlamRun* last = nullptr;  //!< the run that reached it last
     };
     std::map<long, Bin> bins;
-    for (size_t ri = 0; ri < runs.size(); ++ri)
+    for (const auto& r : runs)
     {
-        const auto& r = runs[ri];
         if (r.closure_t < 0) continue;
         for (const auto& st : r.steps)
         {
-            Eigen::Vector3d e = st.truth - st.estimate;
-            e[2] = mrpt::math::wrapToPi(e[2]);
             auto& b = bins[static_cast<long>(std::floor((st.t - r.closure_t) / bin_s))];
-            b.s3 += st.nees;
-            b.s2 += hymm::eval::nees(e.head<2>(), st.cov.topLeftCorner<2, 2>()).value;
-            b.s1 += hymm::eval::nees(e.tail<1>(), st.cov.bottomRightCorner<1, 1>()).value;
-            ++b.steps, b.runs.insert(ri);
+            const auto [pos, heading] = positionHeadingNees(st);
+            b.s3 += st.nees, b.s2 += pos, b.s1 += heading, ++b.steps;
+            if (b.last != &r) ++b.runs, b.last = &r;
         }
     }
     std::cout << "\n| t - closure [s] | runs | NEES (3 DOF) | position (2 DOF) | heading (1 DOF) | 95 % band |\n"
                  "|---|---|---|---|---|---|\n";
     for (const auto& [k, b] : bins)
     {
-        if (b.runs.size() < 2) continue;
-        const auto band = hymm::eval::averageNeesBounds(3, static_cast<int>(b.runs.size()), 0.95);
+        if (b.runs < 2) continue;
+        const auto band = hymm::eval::averageNeesBounds(3, static_cast<int>(b.runs), 0.95);
         const double n = static_cast<double>(b.steps);
         std::printf("| %+.0f..%+.0f | %zu | %.2f | %.2f | %.2f | %.2f-%.2f |\n", k * bin_s, (k + 1) * bin_s,
-                    b.runs.size(), b.s3 / n, b.s2 / n, b.s1 / n, band.lower, band.upper);
+                    b.runs, b.s3 / n, b.s2 / n, b.s1 / n, band.lower, band.upper);
     }
 }
 }  // namespace

@@ -128,14 +128,8 @@ bool applyPoseUpdate(Eigen::VectorXd& x, Eigen::Block<Eigen::MatrixXd> P, Passiv
         const Eigen::MatrixXd Wp = passiveGain(passive, Lm.Hv, Lm.Hl, ov, o, Lm.llt);
         const Eigen::MatrixXd Wpc = one ? Wp : passiveGain(passive, Lc.Hv, Lc.Hl, ov, o, Lc.llt);
         if (!Wp.allFinite() || !Wpc.allFinite()) return false;
-        const Eigen::VectorXd y = Lm.y;
-        if (one)
-            passive.applyUpdate(Wp, Wt.transpose(), y);
-        else
-        {
-            passive.applyMeanUpdate(Wp, y);
-            passive.applyCovarianceUpdate(Wpc, Wc.transpose());
-        }
+        passive.applyMeanUpdate(Wp, Lm.y);
+        passive.applyCovarianceUpdate(Wpc, Wc.transpose());
     }
     // x_0 + K nu with the last linearisation's gain and innovation.
     x.noalias() += Wt.transpose() * Lm.y;
