@@ -28,10 +28,12 @@ const Eigen::Vector3d kSensorVec(0.5, 0.0, 0.0);
 /** A filter holding `n_lm` point landmarks with a valid, fully correlated covariance:
  *  built by the filter itself (batched augmentation of known-id observations, then a
  *  few updates), so P is PSD by construction. */
-EkfSlam buildFilter(int n_lm, bool profile, std::mt19937& rng)
+EkfSlam buildFilter(int n_lm, bool profile, std::mt19937& rng,
+                    LinearisationPoint jacobians = LinearisationPoint::Current)
 {
     EkfSlam::Options o;
     o.enable_profiler = profile;
+    o.jacobians = jacobians;
     o.prune_tentative = false;
     EkfSlam f(o);
     f.reset(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.01, 0.01, 1e-4).asDiagonal());
@@ -76,13 +78,13 @@ std::vector<RangeBearingObs> observe(const EkfSlam& f, int m, bool known, std::m
     return obs;
 }
 
-void BM_EkfStep(benchmark::State& state)
+void runStep(benchmark::State& state, LinearisationPoint jacobians)
 {
     const int n_lm = static_cast<int>(state.range(0));
     const int m = static_cast<int>(state.range(1));
     const bool known = state.range(2) != 0;
     std::mt19937 rng(42);
-    EkfSlam f = buildFilter(n_lm, true, rng);
+    EkfSlam f = buildFilter(n_lm, true, rng, jacobians);
     mrpt::math::CMatrixDouble33 C;
     C.asEigen() = Eigen::Vector3d(0.02, 0.02, 0.005).cwiseAbs2().asDiagonal();
     const mrpt::poses::CPosePDFGaussian inc(mrpt::poses::CPose2D(0.0, 0.0, 0.0), C);
@@ -108,6 +110,22 @@ void BM_EkfStep(benchmark::State& state)
     f.profiler().clear(true);  // no statistics dump from every benchmark run
     f.profiler().disable();
 }
+
+void BM_EkfStep(benchmark::State& state) { runStep(state, LinearisationPoint::Current); }
+
+/** The same step with each linearisation ([EkfSlam] jacobians; fourth argument 0 current,
+ *  1 first_estimates, 2 invariant): the invariant EKF adds a rank-2 update of P and a
+ *  mirror per update, O(n^2) beside the update's O(n^2 m). */
+void BM_EkfStepJacobians(benchmark::State& state)
+{
+    static const LinearisationPoint kJ[] = {LinearisationPoint::Current, LinearisationPoint::FirstEstimates,
+                                            LinearisationPoint::Invariant};
+    runStep(state, kJ[state.range(3)]);
+}
+BENCHMARK(BM_EkfStepJacobians)
+    ->ArgsProduct({{1000}, {5, 50}, {1}, {0, 1, 2}})
+    ->Unit(benchmark::kMillisecond)
+    ->MinTime(0.5);
 
 void sizes(benchmark::internal::Benchmark* b)
 {

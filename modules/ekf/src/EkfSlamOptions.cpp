@@ -41,8 +41,11 @@ hymm::core::OptionTable EkfSlam::Options::table()
               "additive stabilising heading noise per prediction, std dev");
     t.flag("enable_profiler", enable_profiler, "CTimeLogger sections `ekf.*`");
     t.choice("jacobians", jacobians,
-             {{"current", LinearisationPoint::Current}, {"first_estimates", LinearisationPoint::FirstEstimates}},
-             "linearisation points of the Jacobians (standard EKF or First-Estimates Jacobian EKF)");
+             {{"current", LinearisationPoint::Current},
+              {"first_estimates", LinearisationPoint::FirstEstimates},
+              {"invariant", LinearisationPoint::Invariant}},
+             "linearisation points of the Jacobians (standard EKF, First-Estimates Jacobian EKF, or the "
+             "right-invariant EKF: current Jacobians, updates applied on SE(2))");
     t.choice("pose_update_second_order", pose_update_second_order,
              {{"off", SecondOrderTerms::Off}, {"covariance", SecondOrderTerms::Covariance},
               {"full", SecondOrderTerms::Full}},
@@ -50,8 +53,9 @@ hymm::core::OptionTable EkfSlam::Options::table()
     t.choice("iterated_covariance", iterated_covariance,
              {{"last_iterate", IteratedCovariance::LastIterate},
               {"first_estimates", IteratedCovariance::FirstEstimates}},
-             "covariance of an iterated pose update: the last iterate's Jacobians, or the FEJ-EKF step's "
-             "(needs jacobians = first_estimates; the mean stays the iterated one)");
+             "covariance of an iterated pose update: the last iterate's Jacobians, or the one-step update's "
+             "(the FEJ-EKF's, or the invariant EKF's at the prior; needs jacobians = first_estimates or "
+             "invariant; the mean stays the iterated one)");
     return t;
 }
 
@@ -91,8 +95,8 @@ void EkfSlam::Options::validate(const std::string& s) const
     if (!(stabilising_std_phi >= 0.0))
         throwConfigError(s, "stabilising_std_phi_deg", str(mrpt::RAD2DEG(stabilising_std_phi)),
                          "must be >= 0");
-    if (iterated_covariance == IteratedCovariance::FirstEstimates && jacobians != LinearisationPoint::FirstEstimates)
-        throwConfigError(s, "iterated_covariance", "first_estimates", "needs jacobians = first_estimates");
+    if (iterated_covariance == IteratedCovariance::FirstEstimates && jacobians == LinearisationPoint::Current)
+        throwConfigError(s, "iterated_covariance", "first_estimates", "needs jacobians = first_estimates or invariant");
 }
 
 }  // namespace hymm::ekf

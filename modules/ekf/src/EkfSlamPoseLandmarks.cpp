@@ -114,10 +114,12 @@ double nextPoint(const PoseLinearisation& L, Eigen::Index o, const Eigen::Vector
     return step.lpNorm<Eigen::Infinity>();
 }
 /** x += K nu with linearisation Lm (the last iterate's), P -= W W^T with Lc (Lm itself,
- *  or the FEJ step's: Options::iterated_covariance); passive blocks likewise. False, with
- *  nothing changed, if a gain is not finite. */
+ *  or the FEJ step's: Options::iterated_covariance); passive blocks likewise. With
+ *  `Wc_out`, P is left to the caller, who gets W^T there (EkfSlam::invariantUpdate). False,
+ *  with nothing changed, if a gain is not finite. */
 bool applyPoseUpdate(Eigen::VectorXd& x, Eigen::Block<Eigen::MatrixXd> P, PassiveStates& passive,
-                     const PoseLinearisation& Lm, const PoseLinearisation& Lc, Eigen::Index ov, Eigen::Index o)
+                     const PoseLinearisation& Lm, const PoseLinearisation& Lc, Eigen::Index ov, Eigen::Index o,
+                     Eigen::MatrixXd* Wc_out)
 {
     const bool one = &Lc == &Lm;
     const Eigen::MatrixXd Wt = Lm.llt.matrixL().solve(Lm.PHt.transpose());
@@ -136,6 +138,11 @@ bool applyPoseUpdate(Eigen::VectorXd& x, Eigen::Block<Eigen::MatrixXd> P, Passiv
     x[2] = mrpt::math::wrapToPi(x[2]);
     x[ov + 2] = mrpt::math::wrapToPi(x[ov + 2]);
     x[o + 2] = mrpt::math::wrapToPi(x[o + 2]);
+    if (Wc_out)
+    {
+        *Wc_out = Wc;
+        return true;
+    }
     // P -= W W^T, kept symmetric: the Joseph form for the optimal gain (see fuse()) when
     // Lc is Lm; with the FEJ step's W, that step's covariance.
     P.selfadjointView<Eigen::Lower>().rankUpdate(Wc.transpose(), -1.0);
@@ -224,16 +231,18 @@ PoseUpdateReport EkfSlam::updatePoseBlock(long observer, long id, const Eigen::V
     // on the prior and z, right for a correction of metres and degrees), the covariance
     // keeps the one-step FEJ-EKF's Jacobians, so that relinearising does not add the
     // information along the unobservable directions that FEJ withholds (Huang et al. 2008).
-    const std::optional<FejPoint> fej_cov =
-        rep.iterations > 0 && options_.iterated_covariance == IteratedCovariance::FirstEstimates
-            ? poseFejPoint(observer, id)
-            : std::nullopt;
+    const bool one_step_cov =
+        rep.iterations > 0 && options_.iterated_covariance == IteratedCovariance::FirstEstimates;
+    const std::optional<FejPoint> fej_cov = one_step_cov ? poseFejPoint(observer, id) : std::nullopt;
     PoseLinearisation Lc;
-    if (fej_cov && !linearise(activeP(), ov, o, z, R, sensor, xv0, xl0, xv0, xl0, &*fej_cov,
-                              options_.pose_update_second_order, Lc))
+    if (one_step_cov && !linearise(activeP(), ov, o, z, R, sensor, xv0, xl0, xv0, xl0, fej_cov ? &*fej_cov : nullptr,
+                                   options_.pose_update_second_order, Lc))
         return fail(PoseUpdateReport::Outcome::numeric);
-    if (!applyPoseUpdate(x_, activeP(), passive_, L, fej_cov ? Lc : L, ov, o))
+    const auto before = invariantSnapshot();
+    Eigen::MatrixXd Wc;
+    if (!applyPoseUpdate(x_, activeP(), passive_, L, one_step_cov ? Lc : L, ov, o, before ? &Wc : nullptr))
         return fail(PoseUpdateReport::Outcome::numeric);
+    if (before) invariantUpdate(before->first, before->second, Wc, rep.iterations == 0);
     ++layout_.get(id).times_seen;
     rep.outcome = PoseUpdateReport::Outcome::updated;
     return rep;

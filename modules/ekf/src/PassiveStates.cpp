@@ -146,6 +146,33 @@ void PassiveStates::applyCovarianceUpdate(const Eigen::MatrixXd& W_p, const Eige
     }
 }
 
+void PassiveStates::invariantRetraction(const Eigen::VectorXd& before, const Eigen::Matrix2d& V,
+                                        const Eigen::VectorXd& b_a, const Eigen::VectorXd& c_a, double sigma)
+{
+    if (blocks_.empty()) return;
+    const Eigen::Matrix2d J = (Eigen::Matrix2d() << 0, -1, 1, 0).finished();
+    Eigen::VectorXd b_p = Eigen::VectorXd::Zero(mean_.size());
+    for (const Block& blk : blocks_)
+    {
+        if (blk.dim < 2) continue;
+        const auto r = static_cast<Eigen::Index>(blk.row);
+        const Eigen::Vector2d step = V * (mean_.segment<2>(r) - before.segment<2>(r));
+        mean_.segment<2>(r) = before.segment<2>(r) + step;
+        b_p.segment<2>(r) = J * step;
+    }
+    // The joint M P M^T: the passive rows of c = P e read before the cross terms move.
+    const Eigen::VectorXd c_p = cross_.col(2);
+    for (size_t k = 0; k < blocks_.size(); ++k)
+    {
+        const auto r = static_cast<Eigen::Index>(blocks_[k].row);
+        const Eigen::Index d = blocks_[k].dim;
+        const Eigen::VectorXd bk = b_p.segment(r, d), ck = c_p.segment(r, d);
+        own_[k] += bk * ck.transpose() + ck * bk.transpose() + sigma * bk * bk.transpose();
+        own_[k] = (0.5 * (own_[k] + own_[k].transpose())).eval();
+    }
+    cross_ += b_p * c_a.transpose() + c_p * b_a.transpose() + sigma * b_p * b_a.transpose();
+}
+
 void PassiveStates::appendActiveColumns(const Eigen::MatrixXd& new_cols)
 {
     if (blocks_.empty()) return;

@@ -246,4 +246,9 @@ TEST(EkfSlamConsistencyTest, FirstEstimatesJacobiansThreeLapsStayConsistentWithN
     checkConsistency(false, threeLaps(LinearisationPoint::FirstEstimates));
 }
 
+TEST(EkfSlamConsistencyTest, InvariantEkfThreeLapsStayConsistentWithNearestNeighbour)
+{
+    checkConsistency(false, threeLaps(LinearisationPoint::Invariant));
+}
+
 }  // namespace

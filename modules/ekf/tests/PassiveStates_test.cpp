@@ -152,6 +152,13 @@ TEST(PassiveStatesTest, SameWithFirstEstimatesJacobians)
     checkPassiveStates(LinearisationPoint::FirstEstimates);
 }
 
+TEST(PassiveStatesTest, SameWithTheInvariantEkf)
+{
+    // Right-invariant EKF: the passive positions are retracted with the same V and the
+    // passive rows carried by the same M as the joint filter's.
+    checkPassiveStates(LinearisationPoint::Invariant);
+}
+
 TEST(PassiveStatesTest, RejectsBadBlocks)
 {
     EkfSlam f{EkfSlam::Options{}};

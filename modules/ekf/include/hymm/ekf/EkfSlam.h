@@ -120,15 +120,16 @@ public:
         double stabilising_std_phi = 0.0;  //!< [rad] (ini: stabilising_std_phi_deg)
         bool enable_profiler = false;      //!< CTimeLogger sections "ekf.*"
         /** Linearisation points of the Jacobians. Ini: jacobians = current |
-         *  first_estimates. */
+         *  first_estimates | invariant. */
         LinearisationPoint jacobians = LinearisationPoint::Current;
         /** Second-order EKF terms of the pose-landmark update (poseObservationSecondOrder):
          *  S only (Covariance) or S and the predicted observation (Full). Ini: off |
          *  covariance | full (README, "Second-order terms of the pose update"). */
         SecondOrderTerms pose_update_second_order = SecondOrderTerms::Off;
         /** Covariance of an iterated pose-landmark update (max_iterations > 1): the
-         *  Jacobians of the last iterate (the iterated EKF) or, with jacobians =
-         *  first_estimates, those of the one-step FEJ-EKF, the mean still the iterated one.
+         *  Jacobians of the last iterate (the iterated EKF) or those of the one-step update
+         *  (FEJ-EKF's with jacobians = first_estimates, at the prior with invariant), the
+         *  mean still the iterated one.
          *  Ini: last_iterate | first_estimates (README, "Iterated updates with
          *  first-estimates covariance"). */
         IteratedCovariance iterated_covariance = IteratedCovariance::LastIterate;
@@ -347,6 +348,15 @@ private:
      *  Jacobians with first-estimates Jacobians: (x_{k|k-1} or the observer's first
      *  estimate, the landmark's first estimate); nothing with `current`. */
     std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>> poseFejPoint(long observer, long id) const;
+    /** LinearisationPoint::Invariant: the active and passive means before an update (none
+     *  with other Jacobians). */
+    std::optional<std::pair<Eigen::VectorXd, Eigen::VectorXd>> invariantSnapshot() const;
+    /** LinearisationPoint::Invariant, after the mean update x_before -> x_ with gain factor
+     *  Wt (M x n, P -= Wt^T Wt not yet applied): re-applies the mean update on the group
+     *  (unless !retract_mean: an iterated update's mean is kept as it is), applies P -= W W^T
+     *  and carries P (active and passive) to the new estimate's coordinates. */
+    void invariantUpdate(const Eigen::VectorXd& x_before, const Eigen::VectorXd& passive_before,
+                         const Eigen::MatrixXd& Wt, bool retract_mean);
     /** updatePoseLandmark / updateRelativePose: observer -1 is the vehicle. */
     PoseUpdateReport updatePoseBlock(long observer, long id, const Eigen::Vector3d& z, const Eigen::Matrix3d& R,
                                      const Eigen::Vector3d& sensor, double gate_prob, int max_iterations);

@@ -19,14 +19,24 @@ namespace hymm::ekf
  *    3-dimensional unobservable subspace (global translation and heading) of the
  *    nonlinear one instead of the 2 of the standard EKF, which gains spurious heading
  *    information at every re-observation. Means and innovations use the latest estimate.
+ *  - Invariant: the right-invariant EKF (Barrau & Bonnabel, "An EKF-SLAM algorithm with
+ *    consistency properties", 2015), written in the filter's (x, y, phi) coordinates.
+ *    Jacobians at the latest estimate; every update is applied on the group (each
+ *    position p moves by V(w) dp, w the vehicle's heading correction, V the SE(2)
+ *    exponential's left Jacobian) and P is carried to the new estimate's coordinates,
+ *    P <- M P M^T with M = I + b e_phi^T, b = J (p+ - p-) at every position. In the
+ *    invariant coordinates xi_p = dp - dphi_v J p the unobservable subspace is constant,
+ *    so current-estimate Jacobians keep it and no first estimate is needed.
  */
 enum class LinearisationPoint
 {
     Current,
-    FirstEstimates
+    FirstEstimates,
+    Invariant
 };
 
-/** Which Jacobians the covariance of an iterated pose-landmark update uses (Options). */
+/** Which Jacobians the covariance of an iterated pose-landmark update uses (Options):
+ *  the last iterate's, or the one-step update's (FEJ, or invariant at the prior). */
 enum class IteratedCovariance
 {
     LastIterate,

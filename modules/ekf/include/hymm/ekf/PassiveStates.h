@@ -72,6 +72,16 @@ public:
     void applyCovarianceUpdate(const Eigen::MatrixXd& W_p, const Eigen::MatrixXd& W_a);
     /** x_p += W_p y: applyUpdate's mean part alone. */
     void applyMeanUpdate(const Eigen::MatrixXd& W_p, const Eigen::VectorXd& y);
+    /** All passive means stacked (N_p). */
+    const Eigen::VectorXd& meanAll() const { return mean_; }
+    /**
+     * EkfSlam's LinearisationPoint::Invariant, after an update: each block's position (its
+     * first two entries) moved from `before` is moved by V dp instead of dp, and the
+     * covariances are carried by M = I + b e^T (e the vehicle heading): b_a is the active
+     * part of b, c_a = P_aa e and sigma = e^T P_aa e, read before P_aa is carried.
+     */
+    void invariantRetraction(const Eigen::VectorXd& before, const Eigen::Matrix2d& V, const Eigen::VectorXd& b_a,
+                             const Eigen::VectorXd& c_a, double sigma);
     /** A new active block was appended: its cross-covariance with the passive rows. */
     void appendActiveColumns(const Eigen::MatrixXd& new_cols);
     /** Active entries [offset, offset + dim) were removed (marginalised out). */
