@@ -114,8 +114,8 @@ void runStep(benchmark::State& state, LinearisationPoint jacobians)
 void BM_EkfStep(benchmark::State& state) { runStep(state, LinearisationPoint::Current); }
 
 /** The same step with each linearisation ([EkfSlam] jacobians; fourth argument 0 current,
- *  1 first_estimates, 2 invariant): the invariant EKF adds a rank-2 update of P and a
- *  mirror per update, O(n^2) beside the update's O(n^2 m). */
+ *  1 first_estimates, 2 invariant): the invariant EKF's transform M widens the update's
+ *  covariance product by two columns, O(n^2) beside its O(n^2 m). */
 void BM_EkfStepJacobians(benchmark::State& state)
 {
     static const LinearisationPoint kJ[] = {LinearisationPoint::Current, LinearisationPoint::FirstEstimates,

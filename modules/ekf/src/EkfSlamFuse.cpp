@@ -6,6 +6,7 @@
 
 #include <Eigen/Cholesky>
 #include <algorithm>
+#include <cmath>
 #include <optional>
 #include <string>
 #include <utility>
@@ -153,7 +154,7 @@ void EkfSlam::invariantUpdate(const Eigen::VectorXd& x_before, const Eigen::Vect
     // M = T(x+)^-1 T(x-) = I + b e_phi^T, b = J (p+ - p-).
     const double w = mrpt::math::wrapToPi(x_[2] - x_before[2]);
     const double s = std::abs(w) < 1e-6 ? 1 - w * w / 6 : std::sin(w) / w;
-    const double c = std::abs(w) < 1e-6 ? w / 2 : (1 - std::cos(w)) / w;
+    const double c = std::abs(w) < 1e-6 ? w / 2 : 2 * std::pow(std::sin(w / 2), 2) / w;  // (1 - cos w) / w
     const Eigen::Matrix2d V =
         retract_mean ? Eigen::Matrix2d((Eigen::Matrix2d() << s, -c, c, s).finished()) : Eigen::Matrix2d::Identity();
     const Eigen::Matrix2d J = (Eigen::Matrix2d() << 0, -1, 1, 0).finished();
