@@ -83,24 +83,33 @@ struct MrclamResult
     double rmse = 0, nees_mean = 0, inside = 0, landmark_mean = 0;
 };
 
-/** MRCLAM dataset 1, robot 1, with configs/mrclam.ini and `[EkfSlam] jacobians`. */
-MrclamResult runMrclam(const std::string& jacobians, bool figure)
+/** MRCLAM dataset `ds`, robot `robot`, with configs/mrclam.ini and `[EkfSlam] jacobians`
+ *  (empty: the config's own). */
+MrclamResult runMrclam(const std::string& jacobians, bool figure, int ds = 1, int robot = 1)
 {
-    const std::string tag = "[mrclam " + jacobians + "] ";
-    ScratchDir dir("mrclam_" + jacobians);
-    hymm::datasets::importDataset("mrclam", {datasets() + "/utias_mrclam/MRCLAM_Dataset1"},
-                                  dir.file("data"), sourceFile("configs/datasets/mrclam.ini"));
+    const std::string rb = std::to_string(robot);
+    const std::string name = (jacobians.empty() ? std::string("shipped") : jacobians) +
+                             (ds == 1 && robot == 1 ? "" : " ds" + std::to_string(ds) + " robot " + rb);
+    const std::string tag = "[mrclam " + name + "] ";
+    ScratchDir dir("mrclam_" + std::to_string(ds) + "_" + rb + "_" + jacobians);
+    // configs/datasets/mrclam.ini for this robot.
+    mrpt::config::CConfigFileMemory import_cfg(readConfig(sourceFile("configs/datasets/mrclam.ini")));
+    import_cfg.write("MrclamImporter", "robot", rb);
+    std::ofstream(dir.file("import.ini")) << import_cfg.getContent();
+    hymm::datasets::importDataset("mrclam", {datasets() + "/utias_mrclam/MRCLAM_Dataset" + std::to_string(ds)},
+                                  dir.file("data"), dir.file("import.ini"));
     // configs/mrclam.ini with only the linearisation point set.
     mrpt::config::CConfigFileMemory cfg(readConfig(sourceFile("configs/mrclam.ini")));
-    cfg.write("EkfSlam", "jacobians", jacobians);
+    if (!jacobians.empty()) cfg.write("EkfSlam", "jacobians", jacobians);
     std::ofstream(dir.file("mrclam.ini")) << cfg.getContent();
-    const auto run = runSlam(dir.file("mrclam.ini"), dir.file("data/mrclam_robot1.rawlog"), dir.file("slam"));
-    printSummary("mrclam " + jacobians, run);
+    const auto run =
+        runSlam(dir.file("mrclam.ini"), dir.file("data/mrclam_robot" + rb + ".rawlog"), dir.file("slam"));
+    printSummary("mrclam " + name, run);
     const auto path = estimatedPath(run.slam());
 
     // The filter starts at the origin with zero covariance: its frame is the robot's first
     // pose, so the Vicon path is expressed in that frame (exact, no fitting).
-    const auto vicon = hymm::io::readTum(dir.file("data/mrclam_robot1_groundtruth.tum"));
+    const auto vicon = hymm::io::readTum(dir.file("data/mrclam_robot" + rb + "_groundtruth.tum"));
     EXPECT_FALSE(vicon.empty());
     if (vicon.empty()) return {};
     const StampedPose2D origin = vicon.front();
@@ -162,7 +171,7 @@ MrclamResult runMrclam(const std::string& jacobians, bool figure)
     std::cout << "\n";
 
     // Landmarks in the Vicon frame, matched by id (the barcode subject number).
-    const auto true_lm = hymm::io::readLandmarksCsv(dir.file("data/mrclam_robot1_landmarks.csv"));
+    const auto true_lm = hymm::io::readLandmarksCsv(dir.file("data/mrclam_robot" + rb + "_landmarks.csv"));
     const Se2Transform to_world{origin.x, origin.y, origin.phi};
     LandmarkEvaluator::Options lo;
     lo.association = LandmarkEvaluator::Association::Id;
@@ -178,20 +187,57 @@ MrclamResult runMrclam(const std::string& jacobians, bool figure)
 }
 
 // Noise model of configs/datasets/mrclam.ini calibrated on dataset 2, robot 1 (the same
-// robot in another run; hymm-calibrate), barcode swap of dataset 1 fixed.
+// robot in another run; hymm-calibrate), barcode swap of dataset 1 fixed. The shipped
+// config (the right-invariant EKF).
 TEST(RealDataSlamTest, MrclamDataset1Robot1KnownIds)
 {
     if (datasets().empty()) GTEST_SKIP() << "HYMM_DATASETS not set";
-    const auto r = runMrclam("current", true);
+    const auto r = runMrclam("", true);
+    EXPECT_EQ(r.landmarks, 15u);
+    EXPECT_GT(r.matched, 3000u);
+    EXPECT_LT(r.rmse, 0.3);  // 0.22 m
+    EXPECT_EQ(r.landmarks_matched, 15u);
+    EXPECT_LT(r.landmark_mean, 0.3);  // 0.24 m; 1.25 m before the barcode fix (one label 6 m off)
+    EXPECT_LT(r.nees_mean, 7.0);      // 4.95 against 3
+    EXPECT_GT(r.inside, 0.75);        // 81.5 %
+}
+
+// The standard EKF, the config's linearisation until 2026-12-06.
+TEST(RealDataSlamTest, MrclamDataset1Robot1KnownIdsStandardEkf)
+{
+    if (datasets().empty()) GTEST_SKIP() << "HYMM_DATASETS not set";
+    const auto r = runMrclam("current", false);
     EXPECT_EQ(r.landmarks, 15u);
     EXPECT_GT(r.matched, 3000u);
     EXPECT_LT(r.rmse, 0.4);  // 0.28 m; 0.56 m when the rawlog lost the odometry covariance
     EXPECT_EQ(r.landmarks_matched, 15u);
-    EXPECT_LT(r.landmark_mean, 0.3);  // 1.25 m before the barcode fix (one label 6 m off)
-    // Still over-confident (mean 8.7 against 3, docs/results.md): these bounds catch a
+    EXPECT_LT(r.landmark_mean, 0.3);  // 0.19 m
+    // Over-confident (mean 8.7 against 3, docs/results.md): these bounds catch a
     // regression (45 / 7.5 % with MRPT's default odometry covariance), not consistency.
     EXPECT_LT(r.nees_mean, 12.0);
     EXPECT_GT(r.inside, 0.55);
+}
+
+// The shipped config on the ten robot runs of datasets 1 and 2 (dataset 2 robot 1 is the
+// one the noise model was calibrated on; the others are held out).
+TEST(RealDataSlamTest, MrclamTenRobotRunsWithTheShippedConfig)
+{
+    if (datasets().empty()) GTEST_SKIP() << "HYMM_DATASETS not set";
+    std::vector<double> rmse, inside;
+    for (int ds : {1, 2})
+        for (int robot = 1; robot <= 5; ++robot)
+        {
+            const auto r = runMrclam("", false, ds, robot);
+            EXPECT_GT(r.matched, 2000u) << "dataset " << ds << " robot " << robot;
+            rmse.push_back(r.rmse);
+            inside.push_back(r.inside);
+        }
+    std::sort(rmse.begin(), rmse.end());
+    std::sort(inside.begin(), inside.end());
+    // Medians 0.36 m and 40 % (the standard EKF: 0.88 m and 3.5 %), worst 0.94 m.
+    EXPECT_LT(0.5 * (rmse[4] + rmse[5]), 0.45);
+    EXPECT_LT(rmse.back(), 1.2);
+    EXPECT_GT(0.5 * (inside[4] + inside[5]), 0.3);
 }
 
 // The same with first-estimates Jacobians (FEJ-EKF).
