@@ -899,15 +899,17 @@ TEST(EkfSlamInvariantTest, UpdatesAddNoInformationAboutTheGlobalRotation)
         const double pose_before = rotationInformation(g);
         g.updatePoseLandmark(1, observePose(truth, kPoseLandmarks[1], rng), kPoseR, kSensorVec, 0.0);
         const double pose_change = std::abs(rotationInformation(g) / pose_before - 1);
+        // Relative changes measured: invariant 3e-16 and 0; standard 1.0e-4-1.4e-3 and
+        // 3.2e-3-3.5e-3 (the noise draws differ between compilers: argument evaluation order).
         if (j == LinearisationPoint::Invariant)
         {
-            EXPECT_LT(rb_change, 1e-6);
-            EXPECT_LT(pose_change, 1e-6);
+            EXPECT_LT(rb_change, 1e-10);
+            EXPECT_LT(pose_change, 1e-10);
         }
         else
         {
-            EXPECT_GT(rb_change, 3e-4);  // 1.4e-3 and 3.5e-3 with these seeds
-            EXPECT_GT(pose_change, 3e-4);
+            EXPECT_GT(rb_change, 1e-5);
+            EXPECT_GT(pose_change, 1e-5);
         }
     }
 }
