@@ -6,12 +6,11 @@
 
 #include <Eigen/Cholesky>
 #include <algorithm>
-#include <cmath>
 #include <optional>
 #include <string>
-#include <utility>
 
 #include "batch_products.h"
+#include "se2_retraction.h"
 
 namespace hymm::ekf
 {
@@ -111,7 +110,7 @@ bool EkfSlam::fuse(
         reason = "non-finite Kalman gain";
         return false;
     }
-    const auto before = invariantSnapshot();
+    const auto prior = invariantPrior();
     // Passive blocks see the same gain through their cross-covariance (read before P moves).
     if (passive_.numBlocks() > 0)
     {
@@ -126,54 +125,43 @@ bool EkfSlam::fuse(
     // mirrored. This is algebraically the Joseph form for the optimal gain, keeps P exactly
     // symmetric and subtracts a PSD term built from a Cholesky factor; the explicit Joseph
     // form (I-KH)P(I-KH)^T + KRK^T would cost O(n^3) with a dense I-KH.
-    if (before)
-        invariantUpdate(before->first, before->second, Wt, true);
-    else
-    {
-        activeP().selfadjointView<Eigen::Lower>().rankUpdate(Wt.transpose(), -1.0);
-        mirrorLowerToUpper(activeP());
-    }
+    updateCovariance(Wt, prior, true);
     return true;
 }
 
-std::optional<std::pair<Eigen::VectorXd, Eigen::VectorXd>> EkfSlam::invariantSnapshot() const
+std::optional<EkfSlam::PriorMeans> EkfSlam::invariantPrior() const
 {
     if (options_.jacobians != LinearisationPoint::Invariant) return std::nullopt;
-    return std::make_pair(x_, passive_.meanAll());
+    return PriorMeans{x_, passive_.meanAll()};
 }
 
-void EkfSlam::invariantUpdate(const Eigen::VectorXd& x_before, const Eigen::VectorXd& passive_before,
-                              const Eigen::MatrixXd& Wt, bool retract_mean)
+void EkfSlam::updateCovariance(const Eigen::MatrixXd& Wt, const std::optional<PriorMeans>& prior, bool retract_mean)
 {
-    // Right-invariant EKF (LinearisationPoint::Invariant). The standard update from x_before
-    // with gain factor W (x_ already holds x_before + K nu) is the invariant one written in
+    auto P = activeP();
+    if (!prior)
+    {
+        P.selfadjointView<Eigen::Lower>().rankUpdate(Wt.transpose(), -1.0);
+        mirrorLowerToUpper(P);
+        return;
+    }
+    // Right-invariant EKF (LinearisationPoint::Invariant). The standard update from the
+    // prior with gain factor W (x_ already holds x- + K nu) is the invariant one written in
     // (x, y, phi): with xi_p = dp - dphi_v J p the gain is T K and the posterior T P+ T^T,
     // P+ = P - W W^T. Applied on the group, X+ = exp(xi) X, a position moves by V(w) dp (w
-    // the vehicle's heading correction, V = sin w / w I + (1 - cos w) / w J; exp's identity
-    // R(w) p - w V J p = p), and the posterior written at the new estimate is M P+ M^T,
-    // M = T(x+)^-1 T(x-) = I + b e_phi^T, b = J (p+ - p-).
-    const double w = mrpt::math::wrapToPi(x_[2] - x_before[2]);
-    const double s = std::abs(w) < 1e-6 ? 1 - w * w / 6 : std::sin(w) / w;
-    const double c = std::abs(w) < 1e-6 ? w / 2 : 2 * std::pow(std::sin(w / 2), 2) / w;  // (1 - cos w) / w
-    const Eigen::Matrix2d V =
-        retract_mean ? Eigen::Matrix2d((Eigen::Matrix2d() << s, -c, c, s).finished()) : Eigen::Matrix2d::Identity();
-    const Eigen::Matrix2d J = (Eigen::Matrix2d() << 0, -1, 1, 0).finished();
+    // the vehicle's heading correction; exp's identity R(w) p - w V J p = p), and the
+    // posterior written at the new estimate is M P+ M^T, M = T(x+)^-1 T(x-) = I + b e_phi^T,
+    // b = J (p+ - p-).
+    const Eigen::Matrix2d V = retract_mean ? detail::se2V(mrpt::math::wrapToPi(x_[2] - prior->active[2]))
+                                           : Eigen::Matrix2d::Identity();
     const Eigen::Index n = x_.size(), m = Wt.rows();
     Eigen::VectorXd b = Eigen::VectorXd::Zero(n);
-    const auto retract = [&](Eigen::Index o)
-    {
-        const Eigen::Vector2d step = V * (x_.segment<2>(o) - x_before.segment<2>(o));
-        x_.segment<2>(o) = x_before.segment<2>(o) + step;
-        b.segment<2>(o) = J * step;
-    };
-    retract(0);
+    detail::retractPosition(x_, prior->active, V, 0, b);
     for (const LandmarkBlock& blk : layout_.blocks())
-        if (blk.dim >= 2) retract(static_cast<Eigen::Index>(blk.offset));
+        if (blk.dim >= 2) detail::retractPosition(x_, prior->active, V, static_cast<Eigen::Index>(blk.offset), b);
     // c+ = P+ e and sigma+ = e^T P+ e of the posterior, from P (still the prior) and W.
-    auto P = activeP();
     const Eigen::VectorXd col = P.col(2) - Wt.transpose() * Wt.col(2);
     const double sigma = P(2, 2) - Wt.col(2).squaredNorm();
-    passive_.invariantRetraction(passive_before, V, b, col, sigma);
+    passive_.invariantRetraction(prior->passive, V, b, col, sigma);
     // M P+ M^T = P - W W^T + b c^T + c b^T + sigma b b^T = P + X Y^T with X = [-W, b, c'],
     // Y = [W, c', b], c' = c+ + sigma+ b / 2: one blocked pass over the lower triangle (the
     // Kalman update's own, two columns wider), then mirrored.

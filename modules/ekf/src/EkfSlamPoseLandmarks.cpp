@@ -113,23 +113,22 @@ double nextPoint(const PoseLinearisation& L, Eigen::Index o, const Eigen::Vector
     current = next;
     return step.lpNorm<Eigen::Infinity>();
 }
-/** x += K nu with linearisation Lm (the last iterate's), P -= W W^T with Lc (Lm itself,
- *  or the FEJ step's: Options::iterated_covariance); passive blocks likewise. With
- *  `Wc_out`, P is left to the caller, who gets W^T there (EkfSlam::invariantUpdate). False,
- *  with nothing changed, if a gain is not finite. */
-bool applyPoseUpdate(Eigen::VectorXd& x, Eigen::Block<Eigen::MatrixXd> P, PassiveStates& passive,
-                     const PoseLinearisation& Lm, const PoseLinearisation& Lc, Eigen::Index ov, Eigen::Index o,
-                     Eigen::MatrixXd* Wc_out)
+/** The mean part of a pose-landmark update: x += K nu with linearisation Lm (the last
+ *  iterate's), and the passive blocks' mean (Lm) and covariance (Lc). Returns W^T of Lc (Lm
+ *  itself, or the FEJ or one-step update's: Options::iterated_covariance) for
+ *  EkfSlam::updateCovariance; empty, with nothing changed, if a gain is not finite. */
+Eigen::MatrixXd applyPoseMeanUpdate(Eigen::VectorXd& x, PassiveStates& passive, const PoseLinearisation& Lm,
+                                    const PoseLinearisation& Lc, Eigen::Index ov, Eigen::Index o)
 {
     const bool one = &Lc == &Lm;
     const Eigen::MatrixXd Wt = Lm.llt.matrixL().solve(Lm.PHt.transpose());
     const Eigen::MatrixXd Wc = one ? Wt : Eigen::MatrixXd(Lc.llt.matrixL().solve(Lc.PHt.transpose()));
-    if (!Wt.allFinite() || !Wc.allFinite() || !Lm.y.allFinite()) return false;
+    if (!Wt.allFinite() || !Wc.allFinite() || !Lm.y.allFinite()) return {};
     if (passive.numBlocks() > 0)
     {
         const Eigen::MatrixXd Wp = passiveGain(passive, Lm.Hv, Lm.Hl, ov, o, Lm.llt);
         const Eigen::MatrixXd Wpc = one ? Wp : passiveGain(passive, Lc.Hv, Lc.Hl, ov, o, Lc.llt);
-        if (!Wp.allFinite() || !Wpc.allFinite()) return false;
+        if (!Wp.allFinite() || !Wpc.allFinite()) return {};
         passive.applyMeanUpdate(Wp, Lm.y);
         passive.applyCovarianceUpdate(Wpc, Wc.transpose());
     }
@@ -138,16 +137,7 @@ bool applyPoseUpdate(Eigen::VectorXd& x, Eigen::Block<Eigen::MatrixXd> P, Passiv
     x[2] = mrpt::math::wrapToPi(x[2]);
     x[ov + 2] = mrpt::math::wrapToPi(x[ov + 2]);
     x[o + 2] = mrpt::math::wrapToPi(x[o + 2]);
-    if (Wc_out)
-    {
-        *Wc_out = Wc;
-        return true;
-    }
-    // P -= W W^T, kept symmetric: the Joseph form for the optimal gain (see fuse()) when
-    // Lc is Lm; with the FEJ step's W, that step's covariance.
-    P.selfadjointView<Eigen::Lower>().rankUpdate(Wc.transpose(), -1.0);
-    P.triangularView<Eigen::StrictlyUpper>() = P.transpose().triangularView<Eigen::StrictlyUpper>();
-    return true;
+    return Wc;
 }
 }  // namespace
 
@@ -228,9 +218,9 @@ PoseUpdateReport EkfSlam::updatePoseBlock(long observer, long id, const Eigen::V
         if (moved < 1e-9) break;
     }
     // Options::iterated_covariance = first_estimates: the iterates give the mean (Gauss-Newton
-    // on the prior and z, right for a correction of metres and degrees), the covariance
-    // keeps the one-step FEJ-EKF's Jacobians, so that relinearising does not add the
-    // information along the unobservable directions that FEJ withholds (Huang et al. 2008).
+    // on the prior and z, right for a correction of metres and degrees), the covariance the
+    // one-step update's Jacobians (FEJ's, or the prior's with the invariant EKF), so that
+    // relinearising adds no information along the unobservable directions (Huang et al. 2008).
     const bool one_step_cov =
         rep.iterations > 0 && options_.iterated_covariance == IteratedCovariance::FirstEstimates;
     const std::optional<FejPoint> fej_cov = one_step_cov ? poseFejPoint(observer, id) : std::nullopt;
@@ -238,11 +228,11 @@ PoseUpdateReport EkfSlam::updatePoseBlock(long observer, long id, const Eigen::V
     if (one_step_cov && !linearise(activeP(), ov, o, z, R, sensor, xv0, xl0, xv0, xl0, fej_cov ? &*fej_cov : nullptr,
                                    options_.pose_update_second_order, Lc))
         return fail(PoseUpdateReport::Outcome::numeric);
-    const auto before = invariantSnapshot();
-    Eigen::MatrixXd Wc;
-    if (!applyPoseUpdate(x_, activeP(), passive_, L, one_step_cov ? Lc : L, ov, o, before ? &Wc : nullptr))
-        return fail(PoseUpdateReport::Outcome::numeric);
-    if (before) invariantUpdate(before->first, before->second, Wc, rep.iterations == 0);
+    const auto prior = invariantPrior();
+    const Eigen::MatrixXd Wc = applyPoseMeanUpdate(x_, passive_, L, one_step_cov ? Lc : L, ov, o);
+    if (Wc.size() == 0) return fail(PoseUpdateReport::Outcome::numeric);
+    // P -= W W^T of Lc (see fuse()), carried by the invariant EKF's M.
+    updateCovariance(Wc, prior, rep.iterations == 0);
     ++layout_.get(id).times_seen;
     rep.outcome = PoseUpdateReport::Outcome::updated;
     return rep;

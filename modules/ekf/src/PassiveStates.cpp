@@ -3,6 +3,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "se2_retraction.h"
+
 namespace hymm::ekf
 {
 namespace
@@ -150,16 +152,9 @@ void PassiveStates::invariantRetraction(const Eigen::VectorXd& before, const Eig
                                         const Eigen::VectorXd& b_a, const Eigen::VectorXd& c_a, double sigma)
 {
     if (blocks_.empty()) return;
-    const Eigen::Matrix2d J = (Eigen::Matrix2d() << 0, -1, 1, 0).finished();
     Eigen::VectorXd b_p = Eigen::VectorXd::Zero(mean_.size());
     for (const Block& blk : blocks_)
-    {
-        if (blk.dim < 2) continue;
-        const auto r = static_cast<Eigen::Index>(blk.row);
-        const Eigen::Vector2d step = V * (mean_.segment<2>(r) - before.segment<2>(r));
-        mean_.segment<2>(r) = before.segment<2>(r) + step;
-        b_p.segment<2>(r) = J * step;
-    }
+        if (blk.dim >= 2) detail::retractPosition(mean_, before, V, static_cast<Eigen::Index>(blk.row), b_p);
     // The joint M P M^T: the passive rows of c = P e read before the cross terms move.
     const Eigen::VectorXd c_p = cross_.col(2);
     for (size_t k = 0; k < blocks_.size(); ++k)

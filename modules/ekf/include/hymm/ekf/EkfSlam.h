@@ -348,15 +348,20 @@ private:
      *  Jacobians with first-estimates Jacobians: (x_{k|k-1} or the observer's first
      *  estimate, the landmark's first estimate); nothing with `current`. */
     std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>> poseFejPoint(long observer, long id) const;
-    /** LinearisationPoint::Invariant: the active and passive means before an update (none
-     *  with other Jacobians). */
-    std::optional<std::pair<Eigen::VectorXd, Eigen::VectorXd>> invariantSnapshot() const;
-    /** LinearisationPoint::Invariant, after the mean update x_before -> x_ with gain factor
-     *  Wt (M x n, P -= Wt^T Wt not yet applied): re-applies the mean update on the group
-     *  (unless !retract_mean: an iterated update's mean is kept as it is), applies P -= W W^T
-     *  and carries P (active and passive) to the new estimate's coordinates. */
-    void invariantUpdate(const Eigen::VectorXd& x_before, const Eigen::VectorXd& passive_before,
-                         const Eigen::MatrixXd& Wt, bool retract_mean);
+    /** The active and passive means before an update: what the invariant EKF's update needs
+     *  of the prior. */
+    struct PriorMeans
+    {
+        Eigen::VectorXd active, passive;
+    };
+    /** LinearisationPoint::Invariant: the means before an update; none with other Jacobians. */
+    std::optional<PriorMeans> invariantPrior() const;
+    /** The covariance part of an update whose mean part (x_ += K nu, passive blocks fully
+     *  updated) is done: P -= W W^T with W^T = Wt (M x n). With the invariant EKF's `prior`,
+     *  the mean update is re-applied on the group first (unless !retract_mean: an iterated
+     *  update keeps its mean) and P is carried to the new estimate's coordinates (active and
+     *  passive). EkfSlamFuse.cpp. */
+    void updateCovariance(const Eigen::MatrixXd& Wt, const std::optional<PriorMeans>& prior, bool retract_mean);
     /** updatePoseLandmark / updateRelativePose: observer -1 is the vehicle. */
     PoseUpdateReport updatePoseBlock(long observer, long id, const Eigen::Vector3d& z, const Eigen::Matrix3d& R,
                                      const Eigen::Vector3d& sensor, double gate_prob, int max_iterations);
