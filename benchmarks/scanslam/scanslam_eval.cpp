@@ -134,6 +134,49 @@ void printCounts(const std::string& title, const std::map<std::string, size_t>& 
     std::cout << "\n";
 }
 
+/** How alike the errors of two fused alignments of the same template are, by the true
+ *  sensor travel between them: per axis, the correlation of the normalised errors
+ *  e_i / sqrt(R_ii) over all such pairs (0: independent, as the EKF assumes; 1: the same
+ *  error again). Local alignments only (the wide search's start is another). */
+void errorCorrelationTable(const std::vector<hymm::app::ScanSlamRun>& runs)
+{
+    const std::vector<double> edges{0, 0.5, 1, 2, 4, 8, 16, 1e9};
+    const size_t nb = edges.size() - 1;
+    std::vector<Eigen::Vector3d> sab(nb, Eigen::Vector3d::Zero()), saa(nb, Eigen::Vector3d::Zero()),
+        sbb(nb, Eigen::Vector3d::Zero());
+    std::vector<size_t> pairs(nb, 0);
+    for (const auto& r : runs)
+    {
+        std::map<long, std::vector<const hymm::app::ScanSlamRun::Observation*>> by_id;
+        for (const auto& o : r.observations)
+            if (o.updated && !o.wide) by_id[o.id].push_back(&o);
+        for (const auto& [id, obs] : by_id)
+            for (size_t a = 0; a < obs.size(); ++a)
+                for (size_t b = a + 1; b < obs.size(); ++b)
+                {
+                    const double d = (obs[b]->sensor - obs[a]->sensor).norm();
+                    const auto it = std::upper_bound(edges.begin(), edges.end(), d);
+                    const size_t k = static_cast<size_t>(it - edges.begin()) - 1;
+                    if (k >= nb) continue;
+                    ++pairs[k];
+                    for (int i = 0; i < 3; ++i)
+                    {
+                        const double ua = obs[a]->error[i] / std::sqrt(obs[a]->R(i, i));
+                        const double ub = obs[b]->error[i] / std::sqrt(obs[b]->R(i, i));
+                        sab[k][i] += ua * ub, saa[k][i] += ua * ua, sbb[k][i] += ub * ub;
+                    }
+                }
+    }
+    std::printf("\n| sensor travel between two fused alignments of one template [m] | pairs | error correlation x / y / phi |\n|---|---|---|\n");
+    for (size_t k = 0; k < nb; ++k)
+    {
+        if (pairs[k] == 0) continue;
+        Eigen::Vector3d c;
+        for (int i = 0; i < 3; ++i) c[i] = sab[k][i] / std::sqrt(saa[k][i] * sbb[k][i]);
+        std::printf("| %g-%g | %zu | %.2f / %.2f / %.2f |\n", edges[k], edges[k + 1], pairs[k], c[0], c[1], c[2]);
+    }
+}
+
 void observationTables(const std::vector<hymm::app::ScanSlamRun>& runs)
 {
     using O = hymm::app::ScanSlamRun::Observation;
@@ -141,6 +184,7 @@ void observationTables(const std::vector<hymm::app::ScanSlamRun>& runs)
                      [](const O& o) { return o.travel_m; });
     observationTable(runs, "view change since creation [deg]", {0, 5, 10, 20, 40, 90, 180},
                      [](const O& o) { return o.view_change * 180 / M_PI; });
+    errorCorrelationTable(runs);
 }
 // Steps every run has (the runs share the frame times).
 size_t commonSteps(const std::vector<hymm::app::ScanSlamRun>& runs)

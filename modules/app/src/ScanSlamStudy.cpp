@@ -71,6 +71,8 @@ void scoreObservations(const scanslam::ScanLandmarkMap& map, double t, const Eig
         const Eigen::Vector3d& s0 = made_from.at(a.id);
         ScanSlamRun::Observation o;
         o.t = t;
+        o.id = a.id;
+        o.sensor = sensor_true.head<2>();
         o.travel_m = (sensor_true - s0).head<2>().norm();
         const Eigen::Vector2d d0 = s0.head<2>() - lt->second.head<2>();
         const Eigen::Vector2d d1 = sensor_true.head<2>() - lt->second.head<2>();

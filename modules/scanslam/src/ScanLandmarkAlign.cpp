@@ -26,13 +26,18 @@ Vec3 ScanLandmarkMap::alignAndUpdate(ekf::EkfSlam& ekf, long id, const ScanTempl
         return z_hat;
     }
     ++stats_.aligned;
-    const Mat3 R = viewCovariance(res.R, viewChange(tpl, z_hat));
+    // The viewpoint: the sensor's position in the template frame, as aligned.
+    const Vec2 view = inverse(res.z).head<2>();
+    const Mat3 R = viewCorrelationFactor(id, view) * viewCovariance(res.R, viewChange(tpl, z_hat));
     const auto rep = ekf.updatePoseLandmark(id, res.z, R, sensor, options_.gate_prob, options_.update_iterations);
     using O = ekf::PoseUpdateReport::Outcome;
     last_aligned_.push_back({id, res.z, R, z_hat, rep.outcome == O::updated});
     switch (rep.outcome)
     {
-        case O::updated: ++stats_.updated; return res.z;
+        case O::updated:
+            ++stats_.updated;
+            if (options_.view_corr_share > 0) fused_views_[id].push_back(view);
+            return res.z;
         case O::gated: ++stats_.gated; break;
         case O::numeric: ++stats_.update_numeric; break;
         case O::invalid: ++stats_.update_invalid; break;

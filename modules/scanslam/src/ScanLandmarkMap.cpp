@@ -65,6 +65,12 @@ core::OptionTable ScanLandmarkMap::Options::table()
     t.real("view_std_phi_deg", view_std_phi, "deg", atLeast(0, 180), "same for the angle", M_PI / 180);
     t.real("view_std_phi_deg_per_m", view_std_phi_per_m, "deg/m", atLeast(0, 180),
            "growth of the angle's std per metre of viewpoint change", M_PI / 180);
+    t.real("view_corr_share", view_corr_share, "", between(0, 1),
+           "correlated share c of an alignment's error between nearby viewpoints (0: independent)");
+    t.real("view_corr_length_m", view_corr_length_m, "m", above(0, 10000),
+           "correlation length L of that share over the viewpoint");
+    t.real("view_corr_max_factor", view_corr_max_factor, "", atLeast(1, 1e9),
+           "cap of the factor on R for a viewpoint seen before");
     t.real("max_view_change_m", max_view_change_m, "m", atLeast(0, 10000),
            "> 0: templates whose frame moved more than this in the sensor frame are not aligned");
     t.real("max_prediction_std_m", max_prediction_std_m, "m", atLeast(0, 10000),
@@ -211,6 +217,8 @@ void ScanLandmarkMap::processScan(ekf::EkfSlam& ekf, const mrpt::obs::CObservati
         it = ekf.hasLandmark(it->first) ? std::next(it) : templates_.erase(it);
     for (auto it = wide_last_.begin(); it != wide_last_.end();)
         it = templates_.count(it->first) ? std::next(it) : wide_last_.erase(it);
+    for (auto it = fused_views_.begin(); it != fused_views_.end();)
+        it = templates_.count(it->first) ? std::next(it) : fused_views_.erase(it);
     for (auto it = merge_last_.begin(); it != merge_last_.end();)
         it = templates_.count(it->first.first) && templates_.count(it->first.second) ? std::next(it)
                                                                                      : merge_last_.erase(it);
@@ -323,6 +331,19 @@ Mat3 ScanLandmarkMap::viewCovariance(const Mat3& R, double d) const
     out(1, 1) += s_xy * s_xy;
     out(2, 2) += s_phi * s_phi;
     return out;
+}
+
+double ScanLandmarkMap::viewCorrelationFactor(long id, const Vec2& view) const
+{
+    const double c = options_.view_corr_share;
+    const auto it = fused_views_.find(id);
+    if (c <= 0 || it == fused_views_.end() || it->second.empty()) return 1.0;
+    double d2 = std::numeric_limits<double>::infinity();
+    for (const Vec2& v : it->second) d2 = std::min(d2, (v - view).squaredNorm());
+    // f = (1 + rho) / (1 - rho) = coth(delta / 2L), rho = exp(-delta / L).
+    const double x = std::sqrt(d2) / (2 * options_.view_corr_length_m);
+    const double f = x > 0 ? 1.0 / std::tanh(x) : std::numeric_limits<double>::infinity();
+    return std::min(1.0 + c * (f - 1.0), options_.view_corr_max_factor);
 }
 
 void ScanLandmarkMap::createLandmarks(ekf::EkfSlam& ekf, const PointSet& pts, const Vec3& sensor,

@@ -172,6 +172,14 @@ void ScanLandmarkMap::saveState(mrpt::serialization::CArchive& out) const
         writeMatrix(out, a.z_hat);
         out << a.updated << a.wide;
     }
+    // The fused viewpoints of view_corr_share (state version 9).
+    writeSize(out, fused_views_.size());
+    for (const auto& [id, views] : fused_views_)
+    {
+        writeLong(out, id);
+        writeSize(out, views.size());
+        for (const Vec2& v : views) writeMatrix(out, v);
+    }
     writeTag(out, "ScanLandmarkMap end");
 }
 
@@ -220,6 +228,14 @@ void ScanLandmarkMap::loadState(mrpt::serialization::CArchive& in)
         readMatrix(in, a.z_hat, "aligned prediction");
         a.updated = readBool(in);
         a.wide = readBool(in);
+    }
+    fused_views_.clear();
+    const size_t nv = readSize(in, "fused viewpoint landmark");
+    for (size_t i = 0; i < nv; ++i)
+    {
+        auto& views = fused_views_[readLong(in)];
+        views.resize(readSize(in, "fused viewpoint"));
+        for (Vec2& v : views) readMatrix(in, v, "fused viewpoint");
     }
     expectTag(in, "ScanLandmarkMap end");
 }

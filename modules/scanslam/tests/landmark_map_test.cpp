@@ -11,6 +11,7 @@
 
 #include <cmath>
 #include <limits>
+#include <map>
 
 #include "sim_scenes.h"
 
@@ -437,6 +438,88 @@ TEST(ScanLandmarkMap, FailedMergeWaitsAndIsPartOfTheSavedState)
     EXPECT_EQ(ekf.mean(), ekf2.mean());
     EXPECT_EQ(Eigen::MatrixXd(ekf.cov()), Eigen::MatrixXd(ekf2.cov()));
     EXPECT_EQ(map->stats().merge_candidates, tried);
+}
+
+// view_corr_share: a template's first fused alignment keeps its R; an alignment from
+// (nearly) the viewpoint of an earlier fused one gets R times 1 + c (coth(delta / 2L) - 1);
+// with a correlation length far below delta the factor is 1 again. The fused viewpoints
+// are part of the saved state.
+TEST(ScanLandmarkMap, AlignmentFromAFusedViewpointCountsAsCorrelated)
+{
+    ScanLandmarkMap::Options plain, corr, short_corr;
+    corr.view_corr_share = short_corr.view_corr_share = 0.6;
+    corr.view_corr_length_m = 5;
+    short_corr.view_corr_length_m = 1e-4;
+    auto [m0, e0] = afterFirstScan(plain, 1);
+    auto [m1, e1] = afterFirstScan(corr, 1);
+    auto [m2, e2] = afterFirstScan(short_corr, 1);
+    ASSERT_GE(m0->stats().created, 1u);
+    const Vec3 pose(0.5, 0, 0);
+    auto step = [&](uint32_t seed) {
+        for (auto* e : {&e0, &e1, &e2}) drive(*e, Vec3(0.5, 0, 0), 1e-4, 1e-6);
+        for (auto [m, e] : {std::pair{m0.get(), &e0}, {m1.get(), &e1}, {m2.get(), &e2}})
+            m->processScan(*e, *scanAt(boxes(), pose, seed));
+    };
+    step(2);  // first fused alignments: every R as without the option
+    ASSERT_FALSE(m0->lastAligned().empty());
+    ASSERT_EQ(m0->lastAligned().size(), m1->lastAligned().size());
+    std::map<long, Vec2> first_view;
+    for (size_t k = 0; k < m0->lastAligned().size(); ++k)
+    {
+        const auto& a0 = m0->lastAligned()[k];
+        const auto& a1 = m1->lastAligned()[k];
+        ASSERT_TRUE(a0.updated);
+        EXPECT_EQ(a0.R, a1.R);
+        first_view[a1.id] = inverse(a1.z).head<2>();
+    }
+    EXPECT_EQ(e0.mean(), e1.mean());
+
+    mrpt::io::CMemoryStream mem;
+    auto out = mrpt::serialization::archiveFrom(mem);
+    m1->saveState(out);
+    e1.saveState(out);
+    mem.Seek(0);
+    auto in = mrpt::serialization::archiveFrom(mem);
+    auto m3 = makeMap(corr);
+    auto e3 = makeEkf();
+    m3->loadState(in);
+    e3.loadState(in);
+
+    // Stand still and look again: the viewpoints are centimetres apart.
+    mrpt::math::CMatrixDouble33 none;
+    none.setZero();
+    for (auto* e : {&e0, &e1, &e2, &e3})
+        e->predictOdometry(mrpt::poses::CPosePDFGaussian(mrpt::poses::CPose2D(0, 0, 0), none));
+    for (auto [m, e] : {std::pair{m0.get(), &e0}, {m1.get(), &e1}, {m2.get(), &e2}, {m3.get(), &e3}})
+        m->processScan(*e, *scanAt(boxes(), pose, 3));
+    ASSERT_EQ(m0->lastAligned().size(), m1->lastAligned().size());
+    ASSERT_EQ(m1->lastAligned().size(), m3->lastAligned().size());
+    size_t checked = 0;
+    for (size_t k = 0; k < m1->lastAligned().size(); ++k)
+    {
+        const auto& a0 = m0->lastAligned()[k];
+        const auto& a1 = m1->lastAligned()[k];
+        const auto& a2 = m2->lastAligned()[k];
+        EXPECT_EQ(a1.R, m3->lastAligned()[k].R);  // the reloaded map knows the viewpoints
+        const auto it = first_view.find(a1.id);
+        if (it == first_view.end()) continue;
+        // The states (hence z_hat and z) are the same at this scan as long as the plain
+        // and the correlated maps fused the same: they did at the first step, so compare
+        // R / R_plain against the factor of the two viewpoints.
+        const double delta = (inverse(a1.z).head<2>() - it->second).norm();
+        const double f = 1.0 / std::tanh(delta / 10.0);
+        const double expected = std::min(1.0 + 0.6 * (f - 1.0), corr.view_corr_max_factor);
+        EXPECT_LT(delta, 0.3);
+        EXPECT_GT(expected, 10.0);
+        for (int i = 0; i < 3; ++i)
+        {
+            EXPECT_NEAR(a1.R(i, i) / a0.R(i, i), expected, 1e-6 * expected);
+            EXPECT_NEAR(a2.R(i, i) / a0.R(i, i), 1.0, 1e-9);  // L << delta: independent again
+        }
+        ++checked;
+    }
+    EXPECT_GE(checked, 1u);
+    expectFinite(e1);
 }
 
 }  // namespace

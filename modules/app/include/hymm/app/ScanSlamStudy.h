@@ -47,6 +47,8 @@ struct ScanSlamRun
     struct Observation
     {
         double t = 0;
+        long id = -1;            //!< the landmark
+        Eigen::Vector2d sensor = Eigen::Vector2d::Zero();  //!< true sensor position
         double travel_m = 0;     //!< true sensor displacement since the landmark was made
         double view_change = 0;  //!< [rad] change of the landmark-to-sensor direction since then
         double range_m = 0;      //!< true distance from the sensor to the landmark frame

@@ -88,6 +88,20 @@ public:
         double view_std_xy_per_m = 0;    //!< growth of s_xy per metre of d (ini: view_std_xy_per_m)
         double view_std_phi = 0;         //!< floor of s_phi [rad] (ini: view_std_phi_deg)
         double view_std_phi_per_m = 0;   //!< growth of s_phi per metre of d [rad/m] (ini: view_std_phi_deg_per_m)
+        /** Correlation of a template's alignment errors between viewpoints (measured, see
+         *  the README, "Correlated re-observations"): the errors of two alignments of one
+         *  template from viewpoints delta apart (the sensor's position in the template
+         *  frame) correlate as about c exp(-delta / L). The EKF takes every alignment as
+         *  independent. With c > 0 a local alignment whose nearest earlier fused viewpoint
+         *  of the same template is delta away has its R multiplied by 1 + c (f - 1),
+         *  f = (1 + rho) / (1 - rho), rho = exp(-delta / L): f is the long-run variance
+         *  factor of an AR(1) sequence, so a run of alignments carries about one correlated
+         *  error per 2 L of viewpoints, and a revisited viewpoint adds little. The wide
+         *  search's (loop-closing) answers keep their R. 0: off (every alignment
+         *  independent). */
+        double view_corr_share = 0;      //!< c (ini: view_corr_share)
+        double view_corr_length_m = 7;   //!< L [m] (ini: view_corr_length_m)
+        double view_corr_max_factor = 1000;  //!< cap of the factor (a viewpoint seen again exactly)
         /** > 0: a template whose d exceeds this is not aligned (`view_changed`) [m]. */
         double max_view_change_m = 0;
         /** > 0: a template whose predicted position in the sensor frame has a standard
@@ -260,6 +274,10 @@ private:
     /** The matcher's covariance `R` plus the viewpoint term of Options (view_std_*) for a
      *  viewpoint change of `d` metres (viewChange). */
     Mat3 viewCovariance(const Mat3& R, double d) const;
+    /** Options::view_corr_share: the factor on R of an alignment of landmark `id` from
+     *  the viewpoint `view` (sensor position in the template frame); 1 when off or when
+     *  the template was never fused. */
+    double viewCorrelationFactor(long id, const Vec2& view) const;
     /** merge_duplicates: the landmarks of last_aligned_ and the ones they overlap become
      *  one (ScanLandmarkMerge.cpp). */
     void mergeDuplicates(ekf::EkfSlam& ekf);
@@ -279,6 +297,9 @@ private:
     std::vector<AlignedObservation> last_aligned_;
     size_t wide_this_scan_ = 0;
     std::map<long, size_t> wide_last_;  //!< landmark -> scan of its last wide search
+    /** landmark -> viewpoints (sensor position in the template frame) of its fused
+     *  alignments (Options::view_corr_share). */
+    std::map<long, std::vector<Vec2>> fused_views_;
     /** (kept, dropped) -> scan of the last failed merge attempt (merge_retry_scans). */
     std::map<std::pair<long, long>, size_t> merge_last_;
     /** The last unconfirmed wide answer: its landmark, scan and implied vehicle correction. */
