@@ -450,9 +450,12 @@ TEST(ScanLandmarkMap, AlignmentFromAFusedViewpointCountsAsCorrelated)
     corr.view_corr_share = short_corr.view_corr_share = 0.6;
     corr.view_corr_length_m = 5;
     short_corr.view_corr_length_m = 1e-4;
-    auto [m0, e0] = afterFirstScan(plain, 1);
-    auto [m1, e1] = afterFirstScan(corr, 1);
-    auto [m2, e2] = afterFirstScan(short_corr, 1);
+    // Plain references, not structured bindings: C++17 lambdas cannot capture those.
+    auto r0 = afterFirstScan(plain, 1);
+    auto r1 = afterFirstScan(corr, 1);
+    auto r2 = afterFirstScan(short_corr, 1);
+    auto &m0 = r0.first, &m1 = r1.first, &m2 = r2.first;
+    auto &e0 = r0.second, &e1 = r1.second, &e2 = r2.second;
     ASSERT_GE(m0->stats().created, 1u);
     const Vec3 pose(0.5, 0, 0);
     auto step = [&](uint32_t seed) {
