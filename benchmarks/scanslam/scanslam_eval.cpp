@@ -114,7 +114,6 @@ void observationTable(const std::vector<hymm::app::ScanSlamRun>& runs, const cha
                     rd[0] / dn, rd[1] / dn, rd[2] / dn * 180 / M_PI);
     }
 }
-/** The alignment tables of --observations: by travel and by view change since creation. */
 /** The run counters whose name starts with `prefix`, summed over the runs, keyed by the
  *  name without its first `strip` characters. */
 std::map<std::string, size_t> sumCounters(const std::vector<hymm::app::ScanSlamRun>& runs, const std::string& prefix,
@@ -177,6 +176,8 @@ void errorCorrelationTable(const std::vector<hymm::app::ScanSlamRun>& runs)
     }
 }
 
+/** The alignment tables of --observations: by travel and by view change since creation,
+ *  and the correlation between alignments of one template. */
 void observationTables(const std::vector<hymm::app::ScanSlamRun>& runs)
 {
     using O = hymm::app::ScanSlamRun::Observation;

@@ -69,8 +69,6 @@ core::OptionTable ScanLandmarkMap::Options::table()
            "correlated share c of an alignment's error between nearby viewpoints (0: independent)");
     t.real("view_corr_length_m", view_corr_length_m, "m", above(0, 10000),
            "correlation length L of that share over the viewpoint");
-    t.real("view_corr_max_factor", view_corr_max_factor, "", atLeast(1, 1e9),
-           "cap of the factor on R for a viewpoint seen before");
     t.real("max_view_change_m", max_view_change_m, "m", atLeast(0, 10000),
            "> 0: templates whose frame moved more than this in the sensor frame are not aligned");
     t.real("max_prediction_std_m", max_prediction_std_m, "m", atLeast(0, 10000),
@@ -215,10 +213,12 @@ void ScanLandmarkMap::processScan(ekf::EkfSlam& ekf, const mrpt::obs::CObservati
     // and their wide-search and merge bookkeeping with them (ids are never reused).
     for (auto it = templates_.begin(); it != templates_.end();)
         it = ekf.hasLandmark(it->first) ? std::next(it) : templates_.erase(it);
-    for (auto it = wide_last_.begin(); it != wide_last_.end();)
-        it = templates_.count(it->first) ? std::next(it) : wide_last_.erase(it);
-    for (auto it = fused_views_.begin(); it != fused_views_.end();)
-        it = templates_.count(it->first) ? std::next(it) : fused_views_.erase(it);
+    const auto prune = [this](auto& by_id) {
+        for (auto it = by_id.begin(); it != by_id.end();)
+            it = templates_.count(it->first) ? std::next(it) : by_id.erase(it);
+    };
+    prune(wide_last_);
+    prune(fused_views_);
     for (auto it = merge_last_.begin(); it != merge_last_.end();)
         it = templates_.count(it->first.first) && templates_.count(it->first.second) ? std::next(it)
                                                                                      : merge_last_.erase(it);
@@ -343,7 +343,7 @@ double ScanLandmarkMap::viewCorrelationFactor(long id, const Vec2& view) const
     // f = (1 + rho) / (1 - rho) = coth(delta / 2L), rho = exp(-delta / L).
     const double x = std::sqrt(d2) / (2 * options_.view_corr_length_m);
     const double f = x > 0 ? 1.0 / std::tanh(x) : std::numeric_limits<double>::infinity();
-    return std::min(1.0 + c * (f - 1.0), options_.view_corr_max_factor);
+    return std::min(1.0 + c * (f - 1.0), kMaxViewCorrFactor);
 }
 
 void ScanLandmarkMap::createLandmarks(ekf::EkfSlam& ekf, const PointSet& pts, const Vec3& sensor,

@@ -55,6 +55,25 @@ hymm::sim::World boxes()
     return hymm::sim::World({}, std::move(objs));
 }
 
+/** A map with options `o` and a filter loaded from `map` and `ekf` saved together (the
+ *  run state's order: map, then filter). */
+std::pair<std::unique_ptr<ScanLandmarkMap>, hymm::ekf::EkfSlam> reloaded(const ScanLandmarkMap& map,
+                                                                          const hymm::ekf::EkfSlam& ekf,
+                                                                          const ScanLandmarkMap::Options& o)
+{
+    mrpt::io::CMemoryStream mem;
+    auto out = mrpt::serialization::archiveFrom(mem);
+    map.saveState(out);
+    ekf.saveState(out);
+    mem.Seek(0);
+    auto in = mrpt::serialization::archiveFrom(mem);
+    auto map2 = makeMap(o);
+    auto ekf2 = makeEkf();
+    map2->loadState(in);
+    ekf2.loadState(in);
+    return {std::move(map2), std::move(ekf2)};
+}
+
 /** A map with options `o` and its filter after one scan of boxes() from the origin. */
 std::pair<std::unique_ptr<ScanLandmarkMap>, hymm::ekf::EkfSlam> afterFirstScan(const ScanLandmarkMap::Options& o,
                                                                                uint32_t seed)
@@ -419,16 +438,7 @@ TEST(ScanLandmarkMap, FailedMergeWaitsAndIsPartOfTheSavedState)
     map->processScan(ekf, *scanAt(boxes(), Vec3::Zero(), 3));
     EXPECT_EQ(map->stats().merge_candidates, tried);
 
-    mrpt::io::CMemoryStream mem;
-    auto out = mrpt::serialization::archiveFrom(mem);
-    map->saveState(out);
-    ekf.saveState(out);
-    mem.Seek(0);
-    auto in = mrpt::serialization::archiveFrom(mem);
-    auto map2 = makeMap(o);
-    auto ekf2 = makeEkf();
-    map2->loadState(in);
-    ekf2.loadState(in);
+    auto [map2, ekf2] = reloaded(*map, ekf, o);
     for (int k = 0; k < 3; ++k)
     {
         map->processScan(ekf, *scanAt(boxes(), Vec3::Zero(), 4 + k));
@@ -477,16 +487,9 @@ TEST(ScanLandmarkMap, AlignmentFromAFusedViewpointCountsAsCorrelated)
     }
     EXPECT_EQ(e0.mean(), e1.mean());
 
-    mrpt::io::CMemoryStream mem;
-    auto out = mrpt::serialization::archiveFrom(mem);
-    m1->saveState(out);
-    e1.saveState(out);
-    mem.Seek(0);
-    auto in = mrpt::serialization::archiveFrom(mem);
-    auto m3 = makeMap(corr);
-    auto e3 = makeEkf();
-    m3->loadState(in);
-    e3.loadState(in);
+    auto r3 = reloaded(*m1, e1, corr);
+    auto &m3 = r3.first;
+    auto &e3 = r3.second;
 
     // Stand still and look again: the viewpoints are centimetres apart.
     mrpt::math::CMatrixDouble33 none;
@@ -511,7 +514,7 @@ TEST(ScanLandmarkMap, AlignmentFromAFusedViewpointCountsAsCorrelated)
         // R / R_plain against the factor of the two viewpoints.
         const double delta = (inverse(a1.z).head<2>() - it->second).norm();
         const double f = 1.0 / std::tanh(delta / 10.0);
-        const double expected = std::min(1.0 + 0.6 * (f - 1.0), corr.view_corr_max_factor);
+        const double expected = std::min(1.0 + 0.6 * (f - 1.0), ScanLandmarkMap::kMaxViewCorrFactor);
         EXPECT_LT(delta, 0.3);
         EXPECT_GT(expected, 10.0);
         for (int i = 0; i < 3; ++i)

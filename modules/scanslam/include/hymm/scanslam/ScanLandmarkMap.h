@@ -40,6 +40,10 @@ namespace hymm::scanslam
 class ScanLandmarkMap
 {
 public:
+    /** Cap of the view_corr_share factor on R: a viewpoint seen again exactly (delta = 0)
+     *  has an infinite one. */
+    static constexpr double kMaxViewCorrFactor = 1000;
+
     struct Options
     {
         std::string matcher = "sog";       //!< sog | icp | correlative
@@ -101,7 +105,6 @@ public:
          *  independent). */
         double view_corr_share = 0;      //!< c (ini: view_corr_share)
         double view_corr_length_m = 7;   //!< L [m] (ini: view_corr_length_m)
-        double view_corr_max_factor = 1000;  //!< cap of the factor (a viewpoint seen again exactly)
         /** > 0: a template whose d exceeds this is not aligned (`view_changed`) [m]. */
         double max_view_change_m = 0;
         /** > 0: a template whose predicted position in the sensor frame has a standard
