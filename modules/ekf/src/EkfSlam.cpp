@@ -1,4 +1,5 @@
 #include "hymm/ekf/EkfSlam.h"
+#include "check_covariance.h"
 
 #include <hymm/core/RangeBearingModel.h>
 #include <hymm/core/TimeLogger.h>
@@ -53,22 +54,8 @@ Eigen::Matrix3d stabilisingNoise(const EkfSlam::Options& o)
         .asDiagonal();
 }
 
-void checkCovariance(const Eigen::MatrixXd& C, Eigen::Index n, const char* what, bool require_psd = true)
-{
-    if (C.rows() != n || C.cols() != n)
-        throw std::invalid_argument(std::string(what) + ": wrong covariance size");
-    if (!C.allFinite()) throw std::invalid_argument(std::string(what) + ": non-finite covariance");
-    if ((C - C.transpose()).cwiseAbs().maxCoeff() > 1e-9 * (1.0 + C.cwiseAbs().maxCoeff()))
-        throw std::invalid_argument(std::string(what) + ": covariance is not symmetric");
-    // A negative variance would make the filter's covariance indefinite (and its gates
-    // meaningless) from this step on. Not for a whole state handed in (O(n^3)).
-    if (!require_psd) return;
-    const Eigen::MatrixXd S = 0.5 * (C + C.transpose());
-    if (Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(S, Eigen::EigenvaluesOnly).eigenvalues().minCoeff() <
-        -1e-12 * (1.0 + S.cwiseAbs().maxCoeff()))
-        throw std::invalid_argument(std::string(what) + ": covariance is not positive semi-definite");
-}
 }  // namespace
+using detail::checkCovariance;
 
 EkfSlam::EkfSlam(const Options& options)
     : options_(options), profiler_(options.enable_profiler, "hymm::EkfSlam")

@@ -21,7 +21,7 @@ void StateLayout::saveState(mrpt::serialization::CArchive& out) const
         out << static_cast<std::int32_t>(b.dim) << static_cast<std::uint64_t>(b.offset)
             << static_cast<std::int32_t>(b.times_seen);
         writeLong(out, b.created_step);
-        out << b.confirmed;
+        out << b.confirmed << b.auxiliary;
     }
     out << static_cast<std::uint64_t>(size_);
     writeLong(out, next_free_id_);
@@ -44,6 +44,7 @@ void StateLayout::loadState(mrpt::serialization::CArchive& in)
         b.times_seen = seen;
         b.created_step = readLong(in);
         b.confirmed = readBool(in);
+        b.auxiliary = readBool(in);
         if (b.id < 0 || dim < 1 || !index.emplace(b.id, i).second)
             throw std::runtime_error("corrupt state: landmark block " + std::to_string(i));
     }

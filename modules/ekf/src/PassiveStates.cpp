@@ -176,6 +176,15 @@ void PassiveStates::appendActiveColumns(const Eigen::MatrixXd& new_cols)
     cross_.rightCols(new_cols.cols()) = new_cols;
 }
 
+void PassiveStates::blendActiveColumns(size_t a, size_t l, size_t dim, double rho)
+{
+    if (blocks_.empty()) return;
+    const auto d = static_cast<Eigen::Index>(dim);
+    cross_.middleCols(static_cast<Eigen::Index>(a), d) =
+        rho * cross_.middleCols(static_cast<Eigen::Index>(a), d) +
+        (1 - rho) * cross_.middleCols(static_cast<Eigen::Index>(l), d);
+}
+
 void PassiveStates::removeActiveColumns(size_t offset, size_t dim)
 {
     if (blocks_.empty()) return;

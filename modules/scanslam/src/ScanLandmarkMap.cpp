@@ -23,6 +23,8 @@ namespace hymm::scanslam
 {
 /** The wide-search keys of [ScanLandmarks] (ScanLandmarkWide.cpp). */
 void declareWideKeys(core::OptionTable& t, ScanLandmarkMap::Options& o);
+/** The view_corr_* keys of [ScanLandmarks] (ScanLandmarkAlign.cpp). */
+void declareViewCorrKeys(core::OptionTable& t, ScanLandmarkMap::Options& o);
 
 core::OptionTable ScanLandmarkMap::Options::table()
 {
@@ -65,10 +67,7 @@ core::OptionTable ScanLandmarkMap::Options::table()
     t.real("view_std_phi_deg", view_std_phi, "deg", atLeast(0, 180), "same for the angle", M_PI / 180);
     t.real("view_std_phi_deg_per_m", view_std_phi_per_m, "deg/m", atLeast(0, 180),
            "growth of the angle's std per metre of viewpoint change", M_PI / 180);
-    t.real("view_corr_share", view_corr_share, "", between(0, 1),
-           "correlated share c of an alignment's error between nearby viewpoints (0: independent)");
-    t.real("view_corr_length_m", view_corr_length_m, "m", above(0, 10000),
-           "correlation length L of that share over the viewpoint");
+    declareViewCorrKeys(t, *this);
     t.real("max_view_change_m", max_view_change_m, "m", atLeast(0, 10000),
            "> 0: templates whose frame moved more than this in the sensor frame are not aligned");
     t.real("max_prediction_std_m", max_prediction_std_m, "m", atLeast(0, 10000),
@@ -86,6 +85,9 @@ core::OptionTable ScanLandmarkMap::Options::table()
 void ScanLandmarkMap::Options::load(const mrpt::config::CConfigFileBase& cfg, const std::string& section)
 {
     table().load(cfg, section);
+    // The state model leaves (1 - c) R to each update: c = 1 would leave nothing.
+    if (view_corr_model == ViewCorrModel::State && view_corr_share >= 1)
+        throw std::invalid_argument("[" + section + "] view_corr_share must be below 1 with view_corr_model = state");
 }
 
 void ScanLandmarkMap::Options::save(mrpt::config::CConfigFileBase& cfg, const std::string& section) const
@@ -229,6 +231,7 @@ void ScanLandmarkMap::processScan(ekf::EkfSlam& ekf, const mrpt::obs::CObservati
     }
     const auto& sp = scan.sensorPose;
     const Vec3 sensor(sp.x(), sp.y(), sp.yaw());
+    dropApparentBlocks(ekf, sensor);
     const double max_range = static_cast<double>(scan.maxRange);
     const double fov = static_cast<double>(scan.aperture);
     std::vector<char> explained(pts.size(), 0);
@@ -331,19 +334,6 @@ Mat3 ScanLandmarkMap::viewCovariance(const Mat3& R, double d) const
     out(1, 1) += s_xy * s_xy;
     out(2, 2) += s_phi * s_phi;
     return out;
-}
-
-double ScanLandmarkMap::viewCorrelationFactor(long id, const Vec2& view) const
-{
-    const double c = options_.view_corr_share;
-    const auto it = fused_views_.find(id);
-    if (c <= 0 || it == fused_views_.end() || it->second.empty()) return 1.0;
-    double d2 = std::numeric_limits<double>::infinity();
-    for (const Vec2& v : it->second) d2 = std::min(d2, (v - view).squaredNorm());
-    // f = (1 + rho) / (1 - rho) = coth(delta / 2L), rho = exp(-delta / L).
-    const double x = std::sqrt(d2) / (2 * options_.view_corr_length_m);
-    const double f = x > 0 ? 1.0 / std::tanh(x) : std::numeric_limits<double>::infinity();
-    return std::min(1.0 + c * (f - 1.0), kMaxViewCorrFactor);
 }
 
 void ScanLandmarkMap::createLandmarks(ekf::EkfSlam& ekf, const PointSet& pts, const Vec3& sensor,

@@ -30,6 +30,33 @@ void readVectors(mrpt::serialization::CArchive& in, std::vector<V>& v, const cha
     v.resize(readSize(in, what));
     for (auto& x : v) readMatrix(in, x, what);
 }
+/** ScanLandmarkMap's apparent-pose blocks (view_corr_model = state): landmark -> block,
+ *  viewpoint of its last step, fused viewpoints before it existed. */
+template <class Map>
+void writeApparent(mrpt::serialization::CArchive& out, const Map& apparent)
+{
+    writeSize(out, apparent.size());
+    for (const auto& [id, a] : apparent)
+    {
+        writeLong(out, id);
+        writeLong(out, a.block);
+        writeMatrix(out, a.view);
+        out << static_cast<std::uint64_t>(a.first_view);
+    }
+}
+template <class Map>
+void readApparent(mrpt::serialization::CArchive& in, Map& apparent)
+{
+    apparent.clear();
+    const size_t n = readSize(in, "apparent pose block");
+    for (size_t i = 0; i < n; ++i)
+    {
+        auto& a = apparent[readLong(in)];
+        a.block = readLong(in);
+        readMatrix(in, a.view, "apparent pose viewpoint");
+        a.first_view = readU64(in);
+    }
+}
 /** Every plain counter of ScanLandmarkMap::Stats, in the state's order (a new counter
  *  goes at the end, with a new state version). */
 std::vector<size_t*> counters(ScanLandmarkMap::Stats& s)
@@ -177,9 +204,9 @@ void ScanLandmarkMap::saveState(mrpt::serialization::CArchive& out) const
     for (const auto& [id, views] : fused_views_)
     {
         writeLong(out, id);
-        writeSize(out, views.size());
-        for (const Vec2& v : views) writeMatrix(out, v);
+        writeVectors(out, views);
     }
+    writeApparent(out, apparent_);  // state version 10
     writeTag(out, "ScanLandmarkMap end");
 }
 
@@ -231,12 +258,8 @@ void ScanLandmarkMap::loadState(mrpt::serialization::CArchive& in)
     }
     fused_views_.clear();
     const size_t nv = readSize(in, "fused viewpoint landmark");
-    for (size_t i = 0; i < nv; ++i)
-    {
-        auto& views = fused_views_[readLong(in)];
-        views.resize(readSize(in, "fused viewpoint"));
-        for (Vec2& v : views) readMatrix(in, v, "fused viewpoint");
-    }
+    for (size_t i = 0; i < nv; ++i) readVectors(in, fused_views_[readLong(in)], "fused viewpoint");
+    readApparent(in, apparent_);
     expectTag(in, "ScanLandmarkMap end");
 }
 

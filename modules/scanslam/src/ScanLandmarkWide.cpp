@@ -149,6 +149,9 @@ Vec3 ScanLandmarkMap::observeWide(ekf::EkfSlam& ekf, long id, const ScanTemplate
     if (options_.wide_confirm_scans > 0 && !confirmWide(ekf, id, res.z, sensor)) return z_hat;
     ++stats_.aligned;
     const Mat3 R = options_.wide_cov_inflation * viewCovariance(res.R, viewChange(tpl, res.z));
+    // view_corr_model = state: a wide answer observes the template's pose with its whole
+    // R; the apparent pose of an earlier pass (if still held) is marginalised out first.
+    dropApparentBlock(ekf, apparent_.find(id));
     const auto rep = ekf.updatePoseLandmark(id, res.z, R, sensor, options_.gate_prob, options_.wide_update_iterations);
     using O = ekf::PoseUpdateReport::Outcome;
     last_aligned_.push_back({id, res.z, R, z_hat, rep.outcome == O::updated, true});

@@ -52,7 +52,8 @@ private:
     Eigen::Index offsetOf(long id) const;
     bool visible(const ekf::LandmarkBlock& b) const
     {
-        return (b.dim == 2 || (pose_landmarks_ && b.dim == 3)) && (!confirmed_only_ || b.confirmed);
+        return !b.auxiliary && (b.dim == 2 || (pose_landmarks_ && b.dim == 3)) &&
+               (!confirmed_only_ || b.confirmed);
     }
 
     const ekf::EkfSlam& ekf_;

@@ -183,8 +183,8 @@ public:
 
     Eigen::Vector3d vehiclePose() const { return x_.head<3>(); }
     Eigen::Matrix3d vehicleCov() const { return activeP().topLeftCorner<3, 3>(); }
-    size_t numLandmarks() const { return layout_.numLandmarks(); }
-    std::vector<long> landmarkIds() const { return layout_.ids(); }
+    size_t numLandmarks() const;         //!< every block but the auxiliary ones
+    std::vector<long> landmarkIds() const;  //!< the same, in state order
     bool hasLandmark(long id) const { return layout_.has(id); }
     const LandmarkBlock& landmarkBlock(long id) const { return layout_.get(id); }
     /** Mean / covariance of a 2D point landmark; throws if unknown or not 2-DOF. */
@@ -256,6 +256,20 @@ public:
     PoseUpdateReport updateRelativePose(long observer, long id, const Eigen::Vector3d& z,
                                         const Eigen::Matrix3d& R, double gate_prob, int max_iterations = 1);
 
+    // ---- Auxiliary blocks (correlated observation errors as states; EkfSlamAuxiliary.cpp) ----
+
+    /** Adds an auxiliary block (not a landmark: LandmarkBlock::auxiliary) = block `src` +
+     *  independent noise: mean x_src, cov P_src,src + noise_cov, cross P_src,* (active and
+     *  passive), src's first estimate; id < 0: fresh. Throws on an unknown src, a used id
+     *  or noise_cov not dim x dim PSD. E.g. a scan template's apparent pose. */
+    long addBlockCopy(long src, const Eigen::MatrixXd& noise_cov, long id = -1);
+    /** Gauss-Markov step of block a about block l (same dim): a <- l + rho (a - l) + w,
+     *  w ~ N(0, Q); P <- T P T^T + Q (T: rows a = [rho I at a, (1 - rho) I at l]), passive
+     *  cross-covariances alike, angles wrapped. Exact in the invariant EKF's coordinates
+     *  too (affine combinations commute with SE(2)). Throws on unknown ids, other dims,
+     *  a == l, rho outside [0, 1], Q not PSD. */
+    void relaxBlockTowards(long a, long l, double rho, const Eigen::MatrixXd& Q);
+
     /** Marginalises a landmark out (deletes its rows and columns). Throws if unknown. */
     void removeLandmark(long id);
 
@@ -317,8 +331,7 @@ private:
     /** Moves the vehicle to `pose` (predicted from the current estimate) with the motion
      *  Jacobian F_current at the current estimate; with first-estimates Jacobians the
      *  position-heading block of F is replaced (see LinearisationPoint). */
-    void applyVehicleMotion(const Eigen::Vector3d& pose, const Eigen::Matrix3d& F_current,
-                            const Eigen::Matrix3d& Q);
+    void applyVehicleMotion(const Eigen::Vector3d& pose, const Eigen::Matrix3d& F_current, const Eigen::Matrix3d& Q);
     /** Data association of one batch; fills pairings, new landmarks and the report. */
     void associateBatch(const std::vector<RangeBearingObs>& obs, const std::vector<bool>& valid,
                         const Eigen::Vector3d& sensor, std::vector<Pairing>& pairs,
@@ -329,17 +342,14 @@ private:
                                           const std::vector<bool>& valid, const Eigen::Vector3d& sensor,
                                           std::vector<Pairing>& pairs, std::vector<NewLandmark>& created,
                                           std::vector<bool>& taken, UpdateReport& report) const;
-    /** associateBatch, the rest: the free point landmarks inside the creation gate of one
-     *  of the `unknown` observations. */
-    std::vector<Pairing> gateCandidates(const std::vector<RangeBearingObs>& obs,
-                                        const std::vector<size_t>& unknown, const std::vector<bool>& taken,
-                                        const Eigen::Vector3d& sensor) const;
+    /** associateBatch, the rest: free point landmarks in the creation gate of an `unknown` one. */
+    std::vector<Pairing> gateCandidates(const std::vector<RangeBearingObs>& obs, const std::vector<size_t>& unknown,
+                                        const std::vector<bool>& taken, const Eigen::Vector3d& sensor) const;
     /** New landmarks at the updated vehicle pose (Eq. 2.53), all in one augmentation. */
     void addNewLandmarks(const std::vector<NewLandmark>& created, const std::vector<RangeBearingObs>& obs,
                          const Eigen::Vector3d& sensor, UpdateReport& report);
     /** Batched sparse update; false (state untouched) if S is not PD. */
-    bool fuse(const std::vector<Pairing>& pairs, const std::vector<RangeBearingObs>& obs,
-              std::string& reason);
+    bool fuse(const std::vector<Pairing>& pairs, const std::vector<RangeBearingObs>& obs, std::string& reason);
     /** Eq. 2.53 for several new blocks at once: G (sum d x 3), noise blockdiag. */
     void augment(const std::vector<std::pair<long, Eigen::VectorXd>>& blocks,
                  const Eigen::MatrixXd& G, const Eigen::MatrixXd& noise, bool confirmed);
@@ -348,8 +358,7 @@ private:
      *  Jacobians with first-estimates Jacobians: (x_{k|k-1} or the observer's first
      *  estimate, the landmark's first estimate); nothing with `current`. */
     std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>> poseFejPoint(long observer, long id) const;
-    /** The active and passive means before an update: what the invariant EKF's update needs
-     *  of the prior. */
+    /** The active and passive means before an update (the invariant EKF's update needs them). */
     struct PriorMeans
     {
         Eigen::VectorXd active, passive;
@@ -371,10 +380,7 @@ private:
     StateLayout layout_;
     /** Active part of the covariance storage: the top-left n x n, n = x_.size(). */
     Eigen::Block<Eigen::MatrixXd> activeP() { return Pbuf_.topLeftCorner(x_.size(), x_.size()); }
-    Eigen::Block<const Eigen::MatrixXd> activeP() const
-    {
-        return Pbuf_.topLeftCorner(x_.size(), x_.size());
-    }
+    Eigen::Block<const Eigen::MatrixXd> activeP() const { return Pbuf_.topLeftCorner(x_.size(), x_.size()); }
     /** Grows the covariance storage to hold at least n states, keeping the active part. */
     void reserveStates(Eigen::Index n);
 

@@ -84,6 +84,9 @@ public:
                              const Eigen::VectorXd& c_a, double sigma);
     /** A new active block was appended: its cross-covariance with the passive rows. */
     void appendActiveColumns(const Eigen::MatrixXd& new_cols);
+    /** The active entries [a, a + dim) became rho x_a + (1 - rho) x_l (+ independent
+     *  noise): their cross-covariance columns follow (EkfSlam::relaxBlockTowards). */
+    void blendActiveColumns(size_t a, size_t l, size_t dim, double rho);
     /** Active entries [offset, offset + dim) were removed (marginalised out). */
     void removeActiveColumns(size_t offset, size_t dim);
     /** The active state was reset: drops every passive block. */

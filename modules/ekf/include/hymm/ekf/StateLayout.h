@@ -31,6 +31,9 @@ struct LandmarkBlock
     int times_seen = 0;    //!< observations used so far (creation counts as one)
     long created_step = 0; //!< update step in which the block was created
     bool confirmed = false;//!< true once seen often enough (tentative before)
+    /** A helper state of another block (EkfSlam::addBlockCopy), not a landmark of the
+     *  map: EkfSlam::landmarkIds() and numLandmarks() leave it out. */
+    bool auxiliary = false;
 };
 
 class StateLayout

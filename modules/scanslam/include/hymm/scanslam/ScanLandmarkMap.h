@@ -23,6 +23,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <map>
 #include <memory>
 #include <string>
@@ -105,6 +106,30 @@ public:
          *  independent). */
         double view_corr_share = 0;      //!< c (ini: view_corr_share)
         double view_corr_length_m = 7;   //!< L [m] (ini: view_corr_length_m)
+        /** How view_corr_share > 0 is modelled. `inflate`: R scaled as above.
+         *  `state`: the correlated share is a state, the template's apparent pose
+         *  A = L + b (an auxiliary EKF block, EkfSlam::addBlockCopy) whose error b about
+         *  the template's pose L is a first-order Gauss-Markov process over the viewpoint:
+         *  between two alignments delta apart, b <- rho b + w, rho = exp(-delta / L),
+         *  var(w) = (1 - rho^2) c R (R in the global frame: the world orientation of the
+         *  alignment's R). A local alignment observes A with (1 - c) R, so successive
+         *  alignments keep the precise differences that tell the vehicle's motion while
+         *  the template's pose learns one correlated error per correlation length. A
+         *  template's A is created at its first local alignment of a pass (b ~ N(0, c R))
+         *  and marginalised out (removed from the state) once the sensor is more than
+         *  view_corr_drop_lengths L from its last viewpoint, and before a wide (loop-
+         *  closing) answer, which observes L with the whole R. The state carries the
+         *  correlation within a pass; against the viewpoints of earlier passes (fused
+         *  before the current A existed) R is scaled as in `inflate` first, so that a
+         *  second lap along the first one's viewpoints does not count their shared error
+         *  again. */
+        enum class ViewCorrModel
+        {
+            Inflate,
+            State
+        };
+        ViewCorrModel view_corr_model = ViewCorrModel::Inflate;  //!< ini: view_corr_model = inflate | state
+        double view_corr_drop_lengths = 3;  //!< state: A is dropped beyond this many L (rho < e^-3)
         /** > 0: a template whose d exceeds this is not aligned (`view_changed`) [m]. */
         double max_view_change_m = 0;
         /** > 0: a template whose predicted position in the sensor frame has a standard
@@ -200,7 +225,9 @@ public:
     {
         long id = 0;
         Vec3 z = Vec3::Zero();      //!< template frame in the sensor frame, aligned
-        Mat3 R = Mat3::Zero();      //!< its covariance as fused (inflation included)
+        /** Its covariance as fused (inflation included; with view_corr_model = state the
+         *  independent share (1 - c) R, fused into the apparent pose). */
+        Mat3 R = Mat3::Zero();
         Vec3 z_hat = Vec3::Zero();  //!< the prediction the alignment started from
         bool updated = false;       //!< fused (false: gated or refused by the EKF)
         bool wide = false;          //!< found by the wide search (a re-observation after drift)
@@ -280,7 +307,18 @@ private:
     /** Options::view_corr_share: the factor on R of an alignment of landmark `id` from
      *  the viewpoint `view` (sensor position in the template frame); 1 when off or when
      *  the template was never fused. */
-    double viewCorrelationFactor(long id, const Vec2& view) const;
+    double viewCorrelationFactor(long id, const Vec2& view,
+                                 size_t n_views = std::numeric_limits<size_t>::max()) const;
+    /** view_corr_model = state: relaxes (or creates) the apparent-pose block of landmark
+     *  `id` for an alignment from `view` with covariance `R` (sensor frame, whole);
+     *  returns the block to update. */
+    long apparentBlock(ekf::EkfSlam& ekf, long id, const Vec2& view, const Mat3& R, const Vec3& sensor);
+    /** view_corr_model = state: marginalises out the apparent-pose blocks of removed
+     *  templates and of those whose last viewpoint is far from the sensor now. */
+    void dropApparentBlocks(ekf::EkfSlam& ekf, const Vec3& sensor);
+    struct Apparent;
+    /** Marginalises out the apparent-pose block at `it` (none at end()); returns the next. */
+    std::map<long, Apparent>::iterator dropApparentBlock(ekf::EkfSlam& ekf, std::map<long, Apparent>::iterator it);
     /** merge_duplicates: the landmarks of last_aligned_ and the ones they overlap become
      *  one (ScanLandmarkMerge.cpp). */
     void mergeDuplicates(ekf::EkfSlam& ekf);
@@ -303,6 +341,15 @@ private:
     /** landmark -> viewpoints (sensor position in the template frame) of its fused
      *  alignments (Options::view_corr_share). */
     std::map<long, std::vector<Vec2>> fused_views_;
+    /** view_corr_model = state: landmark -> its apparent-pose block and the viewpoint of
+     *  that block's last step. */
+    struct Apparent
+    {
+        long block = -1;
+        Vec2 view = Vec2::Zero();
+        size_t first_view = 0;  //!< fused_views_ of the landmark before this block existed
+    };
+    std::map<long, Apparent> apparent_;
     /** (kept, dropped) -> scan of the last failed merge attempt (merge_retry_scans). */
     std::map<std::pair<long, long>, size_t> merge_last_;
     /** The last unconfirmed wide answer: its landmark, scan and implied vehicle correction. */

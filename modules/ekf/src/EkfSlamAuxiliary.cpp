@@ -1,0 +1,90 @@
+/**
+ * @file EkfSlamAuxiliary.cpp
+ * @brief Auxiliary blocks: a copy of a block plus independent noise, and one step of a
+ *        first-order Gauss-Markov process of a block about another (e.g. the apparent
+ *        pose of a scan template about its pose, scanslam::ScanLandmarkMap).
+ */
+#include <mrpt/math/wrap2pi.h>
+
+#include <algorithm>
+#include <string>
+
+#include "check_covariance.h"
+#include "hymm/ekf/EkfSlam.h"
+
+namespace hymm::ekf
+{
+using detail::checkCovariance;
+
+long EkfSlam::addBlockCopy(long src, const Eigen::MatrixXd& noise_cov, long id)
+{
+    const LandmarkBlock s = layout_.get(src);  // a copy: the layout grows below
+    const auto o = static_cast<Eigen::Index>(s.offset), d = static_cast<Eigen::Index>(s.dim);
+    checkCovariance(noise_cov, d, "EkfSlam::addBlockCopy(noise_cov)");
+    if (id < 0) id = layout_.nextFreeId();
+    if (layout_.has(id))
+        throw std::invalid_argument("EkfSlam::addBlockCopy: id " + std::to_string(id) + " exists");
+    // The augmentation x_new = x_src + w (Eq. 2.53 with the source block in the vehicle's
+    // place and G = I): rows P_src,*, diagonal block P_src,src + noise.
+    const Eigen::Index n = x_.size();
+    const Eigen::VectorXd mean = x_.segment(o, d);
+    const Eigen::MatrixXd cross = activeP().middleRows(o, d);  // d x n
+    const Eigen::MatrixXd Pnn = cross.middleCols(o, d) + noise_cov;
+    if (passive_.numBlocks() > 0) passive_.appendActiveColumns(passive_.crossAll().middleCols(o, d));
+    reserveStates(n + d);
+    x_.conservativeResize(n + d);
+    x_.tail(d) = mean;
+    auto P = activeP();
+    P.bottomLeftCorner(d, n) = cross;
+    P.topRightCorner(n, d) = cross.transpose();
+    P.bottomRightCorner(d, d) = 0.5 * (Pnn + Pnn.transpose());
+    LandmarkBlock& b = layout_.get(layout_.add(id, static_cast<int>(d), step_).id);
+    b.times_seen = 1;
+    b.confirmed = true;
+    b.auxiliary = true;
+    const auto fe = first_estimates_.find(src);
+    first_estimates_[id] = fe != first_estimates_.end() ? Eigen::VectorXd(fe->second) : mean;
+    return id;
+}
+
+void EkfSlam::relaxBlockTowards(long a, long l, double rho, const Eigen::MatrixXd& Q)
+{
+    const LandmarkBlock& ba = layout_.get(a);
+    const LandmarkBlock& bl = layout_.get(l);
+    if (a == l || ba.dim != bl.dim)
+        throw std::invalid_argument("EkfSlam::relaxBlockTowards: blocks must differ and have the same dimension");
+    if (!(rho >= 0 && rho <= 1)) throw std::invalid_argument("EkfSlam::relaxBlockTowards: rho outside [0, 1]");
+    const auto oa = static_cast<Eigen::Index>(ba.offset), ol = static_cast<Eigen::Index>(bl.offset),
+               d = static_cast<Eigen::Index>(ba.dim);
+    checkCovariance(Q, d, "EkfSlam::relaxBlockTowards(Q)");
+    Eigen::VectorXd diff = x_.segment(oa, d) - x_.segment(ol, d);
+    if (d == 3) diff[2] = mrpt::math::wrapToPi(diff[2]);
+    x_.segment(oa, d) = x_.segment(ol, d) + rho * diff;
+    if (d == 3) x_[oa + 2] = mrpt::math::wrapToPi(x_[oa + 2]);
+    // T P T^T in place: rows a first, then columns a of the result (row l and column l are
+    // unchanged by T, so neither pass reads an entry it already wrote elsewhere). O(n).
+    auto P = activeP();
+    P.middleRows(oa, d) = rho * P.middleRows(oa, d) + (1 - rho) * P.middleRows(ol, d);
+    P.middleCols(oa, d) = rho * P.middleCols(oa, d) + (1 - rho) * P.middleCols(ol, d);
+    const Eigen::MatrixXd Paa = P.block(oa, oa, d, d) + Q;
+    P.block(oa, oa, d, d) = 0.5 * (Paa + Paa.transpose());
+    passive_.blendActiveColumns(ba.offset, bl.offset, ba.dim, rho);
+}
+
+size_t EkfSlam::numLandmarks() const
+{
+    const auto& blocks = layout_.blocks();
+    return static_cast<size_t>(std::count_if(blocks.begin(), blocks.end(),
+                                             [](const LandmarkBlock& b) { return !b.auxiliary; }));
+}
+
+std::vector<long> EkfSlam::landmarkIds() const
+{
+    std::vector<long> out;
+    out.reserve(layout_.numLandmarks());
+    for (const LandmarkBlock& b : layout_.blocks())
+        if (!b.auxiliary) out.push_back(b.id);
+    return out;
+}
+
+}  // namespace hymm::ekf
