@@ -161,6 +161,14 @@ TEST(EkfCovarianceView, PoseLandmarksAreTheirFrameOriginWhenAsked)
     EXPECT_EQ(all.crossCov(2, 3), Eigen::Matrix2d(P.block(5, 8, 2, 2)));
     EXPECT_EQ(all.crossVehicle(2), (Eigen::Matrix<double, 2, 3>(P.block(5, 0, 2, 3))));
     EXPECT_EQ(all.idsNear(x.segment<2>(5), 1e-9), std::vector<long>{2});
+
+    // An auxiliary copy of pose landmark 2 (a scan template's apparent pose) is no vertex,
+    // though it sits where landmark 2 does.
+    const long aux = ekf.addBlockCopy(2, 0.01 * Eigen::Matrix3d::Identity());
+    const EkfCovarianceView with_aux(ekf, true, true);
+    EXPECT_FALSE(with_aux.has(aux));
+    EXPECT_EQ(with_aux.ids(), (std::vector<long>{1, 2, 3}));
+    EXPECT_EQ(with_aux.idsNear(x.segment<2>(5), 1e-9), std::vector<long>{2});
 }
 
 }  // namespace
