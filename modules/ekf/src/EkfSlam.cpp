@@ -170,14 +170,21 @@ void EkfSlam::augment(const std::vector<std::pair<long, Eigen::VectorXd>>& block
     // Eq. 2.53 with Jacobian [I 0; G_v 0] of the augmented state wrt (x, z): the new rows
     // are G_v P_v* and the new diagonal block G_v P_vv G_v^T + G_z R G_z^T. Several blocks
     // at once also get their mutual terms G_va P_vv G_vb^T through the shared vehicle.
-    const Eigen::Index n = x_.size(), k = G.rows();
-    if (k == 0) return;
+    if (G.rows() == 0) return;
     const Eigen::MatrixXd cross = G * activeP().topRows<3>();  // k x n
     const Eigen::MatrixXd Pnn = G * activeP().topLeftCorner<3, 3>() * G.transpose() + noise;
     // Passive rows: cov(x_p, new) = P_pv G_v^T.
-    if (passive_.numBlocks() > 0)
-        passive_.appendActiveColumns(passive_.crossAll().leftCols<3>() * G.transpose());
+    const Eigen::MatrixXd passive_cols = passive_.numBlocks() > 0
+                                             ? Eigen::MatrixXd(passive_.crossAll().leftCols<3>() * G.transpose())
+                                             : Eigen::MatrixXd();
+    appendBlocks(blocks, cross, Pnn, passive_cols, confirmed);
+}
 
+void EkfSlam::appendBlocks(const std::vector<std::pair<long, Eigen::VectorXd>>& blocks, const Eigen::MatrixXd& cross,
+                           const Eigen::MatrixXd& Pnn, const Eigen::MatrixXd& passive_cols, bool confirmed)
+{
+    const Eigen::Index n = x_.size(), k = cross.rows();
+    if (passive_.numBlocks() > 0) passive_.appendActiveColumns(passive_cols);
     // Rows and columns appended in place into the spare capacity: O(n k).
     reserveStates(n + k);
     x_.conservativeResize(n + k);

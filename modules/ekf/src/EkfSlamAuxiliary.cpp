@@ -26,24 +26,13 @@ long EkfSlam::addBlockCopy(long src, const Eigen::MatrixXd& noise_cov, long id)
         throw std::invalid_argument("EkfSlam::addBlockCopy: id " + std::to_string(id) + " exists");
     // The augmentation x_new = x_src + w (Eq. 2.53 with the source block in the vehicle's
     // place and G = I): rows P_src,*, diagonal block P_src,src + noise.
-    const Eigen::Index n = x_.size();
-    const Eigen::VectorXd mean = x_.segment(o, d);
     const Eigen::MatrixXd cross = activeP().middleRows(o, d);  // d x n
-    const Eigen::MatrixXd Pnn = cross.middleCols(o, d) + noise_cov;
-    if (passive_.numBlocks() > 0) passive_.appendActiveColumns(passive_.crossAll().middleCols(o, d));
-    reserveStates(n + d);
-    x_.conservativeResize(n + d);
-    x_.tail(d) = mean;
-    auto P = activeP();
-    P.bottomLeftCorner(d, n) = cross;
-    P.topRightCorner(n, d) = cross.transpose();
-    P.bottomRightCorner(d, d) = 0.5 * (Pnn + Pnn.transpose());
-    LandmarkBlock& b = layout_.get(layout_.add(id, static_cast<int>(d), step_).id);
-    b.times_seen = 1;
-    b.confirmed = true;
-    b.auxiliary = true;
+    const Eigen::MatrixXd passive_cols =
+        passive_.numBlocks() > 0 ? Eigen::MatrixXd(passive_.crossAll().middleCols(o, d)) : Eigen::MatrixXd();
+    appendBlocks({{id, x_.segment(o, d)}}, cross, cross.middleCols(o, d) + noise_cov, passive_cols, true);
+    layout_.get(id).auxiliary = true;
     const auto fe = first_estimates_.find(src);
-    first_estimates_[id] = fe != first_estimates_.end() ? Eigen::VectorXd(fe->second) : mean;
+    if (fe != first_estimates_.end()) first_estimates_[id] = Eigen::VectorXd(fe->second);
     return id;
 }
 

@@ -30,6 +30,12 @@ void declareViewCorrKeys(core::OptionTable& t, ScanLandmarkMap::Options& o)
            "state: an apparent pose is marginalised out once the sensor is this many L from its last viewpoint");
 }
 
+size_t ScanLandmarkMap::fusedViews(long id) const
+{
+    const auto it = fused_views_.find(id);
+    return it != fused_views_.end() ? it->second.size() : 0;
+}
+
 double ScanLandmarkMap::viewCorrelationFactor(long id, const Vec2& view, size_t n_views) const
 {
     const double c = options_.view_corr_share;
@@ -66,17 +72,14 @@ Vec3 ScanLandmarkMap::alignAndUpdate(ekf::EkfSlam& ekf, long id, const ScanTempl
     // view_corr_model = state: the correlated share c of the error is in the apparent pose
     // block, the update takes the independent rest.
     const bool state = options_.view_corr_share > 0 && options_.view_corr_model == Options::ViewCorrModel::State;
-    Mat3 R = Rv;
+    Mat3 R;
     long target = id;
     if (state)
     {
         // Viewpoints of earlier passes (fused before this apparent pose existed) count as
         // in the inflate model: the state carries the correlation within a pass only.
         const auto a = apparent_.find(id);
-        const auto v = fused_views_.find(id);
-        const size_t past = a != apparent_.end() && ekf.hasLandmark(a->second.block) ? a->second.first_view
-                            : v != fused_views_.end()                                ? v->second.size()
-                                                                                     : 0;
+        const size_t past = a != apparent_.end() ? a->second.first_view : fusedViews(id);
         const Mat3 Rp = viewCorrelationFactor(id, view, past) * Rv;
         target = apparentBlock(ekf, id, view, Rp, sensor);
         R = (1 - options_.view_corr_share) * Rp;
@@ -109,8 +112,10 @@ long ScanLandmarkMap::apparentBlock(ekf::EkfSlam& ekf, long id, const Vec2& view
     const Mat3 Hi = Hl.inverse();
     Mat3 sigma = options_.view_corr_share * Hi * R * Hi.transpose();
     sigma = (0.5 * (sigma + sigma.transpose())).eval();
+    // Every entry's block is alive here: dropApparentBlocks (at the start of the scan) and
+    // dropApparentBlock (before a wide update) remove both together.
     const auto it = apparent_.find(id);
-    if (it != apparent_.end() && ekf.hasLandmark(it->second.block))
+    if (it != apparent_.end())
     {
         // b <- rho b + w over the viewpoint change since the block's last step.
         const double rho = std::exp(-(view - it->second.view).norm() / options_.view_corr_length_m);
@@ -119,8 +124,7 @@ long ScanLandmarkMap::apparentBlock(ekf::EkfSlam& ekf, long id, const Vec2& view
         return it->second.block;
     }
     const long block = ekf.addBlockCopy(id, sigma);
-    const auto v = fused_views_.find(id);
-    apparent_[id] = {block, view, v != fused_views_.end() ? v->second.size() : 0};
+    apparent_[id] = {block, view, fusedViews(id)};
     return block;
 }
 

@@ -584,17 +584,29 @@ TEST(ScanLandmarkMap, StateModelObservesAnApparentPoseThatFollowsTheViewpoint)
 
     // Standing still: the viewpoints move centimetres, the blocks stay, and a reloaded
     // map and filter continue bit for bit.
+    // The same state with a ten times longer correlation length (and the same drop
+    // distance): its blocks relax less over the same viewpoint change.
+    ScanLandmarkMap::Options longer = state;
+    longer.view_corr_length_m = 50;
+    longer.view_corr_drop_lengths = 0.005;
     auto r2 = reloaded(*m1, e1, state);
-    auto &m2 = r2.first;
-    auto &e2 = r2.second;
+    auto r3 = reloaded(*m1, e1, longer);
+    auto &m2 = r2.first, &m3 = r3.first;
+    auto &e2 = r2.second, &e3 = r3.second;
     step(Vec3(0.1, 0, 0), Vec3::Zero(), 3);
-    drive(e2, Vec3::Zero(), 1e-4, 1e-6);
-    m2->processScan(e2, *scanAt(boxes(), Vec3(0.1, 0, 0), 3));
+    for (auto [m, e] : {std::pair{m2.get(), &e2}, {m3.get(), &e3}})
+    {
+        drive(*e, Vec3::Zero(), 1e-4, 1e-6);
+        m->processScan(*e, *scanAt(boxes(), Vec3(0.1, 0, 0), 3));
+    }
     record();
     const std::vector<long> still = auxiliary(e1);  // plus those of templates fused first now
     for (long b : first_blocks) EXPECT_EQ(std::count(still.begin(), still.end(), b), 1);
     EXPECT_EQ(e1.mean(), e2.mean());
     EXPECT_EQ(Eigen::MatrixXd(e1.cov()), Eigen::MatrixXd(e2.cov()));
+    ASSERT_FALSE(first_blocks.empty());
+    ASSERT_TRUE(e3.hasLandmark(first_blocks.front()));
+    EXPECT_NE(e1.landmarkBlockCov(first_blocks.front()), e3.landmarkBlockCov(first_blocks.front()));
 
     // 0.6 m on: the old blocks are marginalised out and new ones made for this pass; the
     // alignments now lie 0.6 m from the earlier viewpoints, so R is the inflate model's

@@ -183,7 +183,7 @@ public:
 
     Eigen::Vector3d vehiclePose() const { return x_.head<3>(); }
     Eigen::Matrix3d vehicleCov() const { return activeP().topLeftCorner<3, 3>(); }
-    size_t numLandmarks() const;         //!< every block but the auxiliary ones
+    size_t numLandmarks() const;            //!< every block but the auxiliary ones
     std::vector<long> landmarkIds() const;  //!< the same, in state order
     bool hasLandmark(long id) const { return layout_.has(id); }
     const LandmarkBlock& landmarkBlock(long id) const { return layout_.get(id); }
@@ -328,9 +328,8 @@ private:
         long id;  //!< -1: fresh id
     };
 
-    /** Moves the vehicle to `pose` (predicted from the current estimate) with the motion
-     *  Jacobian F_current at the current estimate; with first-estimates Jacobians the
-     *  position-heading block of F is replaced (see LinearisationPoint). */
+    /** Moves the vehicle to `pose` with the motion Jacobian F_current at the current estimate
+     *  (FEJ replaces its position-heading block, see LinearisationPoint). */
     void applyVehicleMotion(const Eigen::Vector3d& pose, const Eigen::Matrix3d& F_current, const Eigen::Matrix3d& Q);
     /** Data association of one batch; fills pairings, new landmarks and the report. */
     void associateBatch(const std::vector<RangeBearingObs>& obs, const std::vector<bool>& valid,
@@ -345,24 +344,23 @@ private:
     /** associateBatch, the rest: free point landmarks in the creation gate of an `unknown` one. */
     std::vector<Pairing> gateCandidates(const std::vector<RangeBearingObs>& obs, const std::vector<size_t>& unknown,
                                         const std::vector<bool>& taken, const Eigen::Vector3d& sensor) const;
-    /** New landmarks at the updated vehicle pose (Eq. 2.53), all in one augmentation. */
+    /** New landmarks at the updated vehicle pose (Eq. 2.53) in one augmentation. */
     void addNewLandmarks(const std::vector<NewLandmark>& created, const std::vector<RangeBearingObs>& obs,
                          const Eigen::Vector3d& sensor, UpdateReport& report);
     /** Batched sparse update; false (state untouched) if S is not PD. */
     bool fuse(const std::vector<Pairing>& pairs, const std::vector<RangeBearingObs>& obs, std::string& reason);
     /** Eq. 2.53 for several new blocks at once: G (sum d x 3), noise blockdiag. */
-    void augment(const std::vector<std::pair<long, Eigen::VectorXd>>& blocks,
-                 const Eigen::MatrixXd& G, const Eigen::MatrixXd& noise, bool confirmed);
+    void augment(const std::vector<std::pair<long, Eigen::VectorXd>>& blocks, const Eigen::MatrixXd& G,
+                 const Eigen::MatrixXd& noise, bool confirmed);
+    /** Any augmentation (augment, addBlockCopy): new rows `cross` (k x n), own block Pnn. */
+    void appendBlocks(const std::vector<std::pair<long, Eigen::VectorXd>>& blocks, const Eigen::MatrixXd& cross,
+                      const Eigen::MatrixXd& Pnn, const Eigen::MatrixXd& passive_cols, bool confirmed);
     size_t pruneTentative();
-    /** Where a one-step pose update of `id` from `observer` (-1: the vehicle) takes its
-     *  Jacobians with first-estimates Jacobians: (x_{k|k-1} or the observer's first
-     *  estimate, the landmark's first estimate); nothing with `current`. */
+    /** FEJ linearisation point of a one-step pose update of `id` from `observer` (-1: vehicle):
+     *  (x_{k|k-1} or the observer's first estimate, the landmark's); none with `current`. */
     std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>> poseFejPoint(long observer, long id) const;
     /** The active and passive means before an update (the invariant EKF's update needs them). */
-    struct PriorMeans
-    {
-        Eigen::VectorXd active, passive;
-    };
+    struct PriorMeans { Eigen::VectorXd active, passive; };
     /** LinearisationPoint::Invariant: the means before an update; none with other Jacobians. */
     std::optional<PriorMeans> invariantPrior() const;
     /** The covariance part of an update whose mean part (x_ += K nu, passive blocks fully

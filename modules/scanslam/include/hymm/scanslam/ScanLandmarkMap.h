@@ -313,6 +313,7 @@ private:
      *  `id` for an alignment from `view` with covariance `R` (sensor frame, whole);
      *  returns the block to update. */
     long apparentBlock(ekf::EkfSlam& ekf, long id, const Vec2& view, const Mat3& R, const Vec3& sensor);
+    size_t fusedViews(long id) const;  //!< number of fused viewpoints of landmark `id`
     /** view_corr_model = state: marginalises out the apparent-pose blocks of removed
      *  templates and of those whose last viewpoint is far from the sensor now. */
     void dropApparentBlocks(ekf::EkfSlam& ekf, const Vec3& sensor);
