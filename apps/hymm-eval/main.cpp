@@ -1,5 +1,8 @@
 // hymm-eval: scores a SLAM result (path in TUM format, landmark CSV) against ground
-// truth with the metrics hymm-slam reports, so any program's output can be compared.
+// truth with the metrics hymm-slam reports, so any program's output can be compared; or a
+// path on an MRPT laser rawlog against the corrected CARMEN log of the same run, at the
+// scans the two logs share (hymm/datasets/CarmenGroundTruth.h).
+#include <hymm/datasets/CarmenGroundTruth.h>
 #include <hymm/eval/run_metrics.h>
 #include <hymm/io/ground_truth_io.h>
 #include <hymm/core/command_line.h>
@@ -21,11 +24,27 @@ int main(int argc, char** argv)
                                          "", "FILE", cmd);
         TCLAP::ValueArg<std::string> gtl("", "gt-landmarks", "true landmarks (CSV or simul-landmarks)",
                                          false, "", "FILE", cmd);
+        TCLAP::ValueArg<std::string> carmen("", "carmen",
+                                            "corrected CARMEN log (.log or .log.gz) of the run of --rawlog: "
+                                            "the path (one pose per scan) is scored at the scans both hold",
+                                            false, "", "FILE", cmd);
+        TCLAP::ValueArg<std::string> rawlog("", "rawlog", "the rawlog the path was estimated from (with --carmen)",
+                                            false, "", "FILE", cmd);
         TCLAP::ValueArg<std::string> out("o", "out", "write the JSON here instead of stdout", false,
                                          "", "FILE", cmd);
         if (const auto code = hymm::core::parseCommandLine(cmd, argc, argv)) return *code;
-        const auto gt = hymm::io::loadGroundTruth(gtp.getValue(), gtl.getValue());
-        const auto j = hymm::eval::evaluateResultFiles(path.getValue(), lms.getValue(), gt);
+        hymm::eval::MetricsJson j;
+        if (!carmen.getValue().empty() || !rawlog.getValue().empty())
+        {
+            if (carmen.getValue().empty() || rawlog.getValue().empty() || path.getValue().empty())
+                throw std::invalid_argument("--carmen needs --rawlog and --path");
+            const auto pairing = hymm::datasets::pairScansByRanges(
+                rawlog.getValue(), hymm::datasets::readCarmenLaserScans(carmen.getValue()));
+            j = hymm::datasets::scorePathAtPairs(hymm::io::readTum(path.getValue()), pairing);
+        }
+        else
+            j = hymm::eval::evaluateResultFiles(path.getValue(), lms.getValue(),
+                                                hymm::io::loadGroundTruth(gtp.getValue(), gtl.getValue()));
         if (out.getValue().empty())
         {
             std::cout << j.dump() << "\n" << std::flush;

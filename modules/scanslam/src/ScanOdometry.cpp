@@ -37,6 +37,9 @@ core::OptionTable ScanOdometry::Options::table()
     t.real("std_xy_per_m", std_xy_per_m, "", atLeast(0, 10), "std added in x and y per metre travelled");
     t.real("std_phi_deg_per_m", std_phi_per_m, "deg/m", atLeast(0, 180), "std added to the angle per metre travelled",
            M_PI / 180);
+    t.real("keyframe_distance_m", keyframe_distance_m, "m", atLeast(0, 1000),
+           "align to a keyframe scan until the vehicle is this far from it (0: to the previous scan)");
+    t.real("keyframe_angle_deg", keyframe_angle, "deg", above(0, 180), "or has turned this much", M_PI / 180);
     return t;
 }
 
@@ -54,6 +57,7 @@ std::vector<std::pair<std::string, size_t>> ScanOdometry::Stats::list() const
     for (const auto& [reason, n] : align_failed) out.emplace_back("align_failed." + reason, n);
     out.emplace_back("gated", gated);
     out.emplace_back("fused", fused);
+    out.emplace_back("keyframes", keyframes);
     return out;
 }
 
@@ -141,31 +145,54 @@ ScanOdometry::Increment ScanOdometry::refine(const mrpt::obs::CObservation2DRang
     ++stats_.scans;
     const Vec3 mount(scan.sensorPose.x(), scan.sensorPose.y(), scan.sensorPose.yaw());
     const PointSet current = usablePoints(scan);
-    const bool had_reference = has_reference_;
-    const PointSet previous = std::move(reference_);
-    const Vec3 previous_mount = reference_mount_;
-    reference_ = thinned(current, options_.max_points);
-    reference_mount_ = mount;
-    has_reference_ = true;
-    if (!had_reference)
-    {
+    bool ok = false;
+    Increment out = wheel;
+    if (!has_reference_)
         ++stats_.no_reference;
-        return wheel;
+    else
+        out = aligned(scan, current, mount, wheel, ok);
+    if (!ok) since_reference_.mean = compose(since_reference_.mean, out.mean);
+    const Vec3& v = since_reference_.mean;
+    // A new keyframe: always without keyframes; after a failed alignment (the chain to the
+    // old one is broken); or once the vehicle has left the keyframe's neighbourhood.
+    const bool renew = !ok || options_.keyframe_distance_m <= 0 ||
+                       v.head<2>().norm() > options_.keyframe_distance_m ||
+                       std::abs(v.z()) > options_.keyframe_angle || !v.allFinite();
+    if (renew)
+    {
+        reference_ = thinned(current, options_.max_points);
+        reference_mount_ = mount;
+        since_reference_ = Increment{};
+        has_reference_ = true;
+        ++stats_.keyframes;
     }
-    if (current.size() < 3 || previous.size() < 3 || !wheel.mean.allFinite())
+    return out;
+}
+
+ScanOdometry::Increment ScanOdometry::aligned(const mrpt::obs::CObservation2DRangeScan& scan, const PointSet& current,
+                                              const Vec3& mount, const Increment& wheel, bool& ok)
+{
+    ok = false;
+    if (current.size() < 3 || reference_.size() < 3 || !wheel.mean.allFinite())
     {
         ++stats_.too_few_points;
         return wheel;
     }
-    // The matcher places a "template" (the previous scan, in its sensor frame) in the
-    // current sensor frame: z = s^-1 for the sensor's increment s = m_prev^-1 (+) u (+) m.
-    const auto increment = [&](const Vec3& z) { return compose(compose(previous_mount, inverse(z)), inverse(mount)); };
-    const Vec3 z0 = inverse(compose(compose(inverse(previous_mount), wheel.mean), mount));
-    // Only the previous returns the current scan can see again: a return that left the
+    // The matcher places a "template" (the reference scan, in its sensor frame) in the
+    // current sensor frame: z = s^-1 for the sensor's pose s = m_ref^-1 (+) v (+) m, v the
+    // vehicle relative to its pose at the reference; b is v at the previous scan
+    // (identity without keyframes, where v is the increment itself).
+    const Increment before = since_reference_;
+    const Vec3 mount_ref = reference_mount_;
+    const auto relative = [&](const Vec3& z) { return compose(compose(mount_ref, inverse(z)), inverse(mount)); };
+    const auto increment = [&](const Vec3& z) { return compose(inverse(before.mean), relative(z)); };
+    const Increment predicted = composeIncrements(before, wheel);
+    const Vec3 z0 = inverse(compose(compose(inverse(mount_ref), predicted.mean), mount));
+    // Only the reference returns the current scan can see again: a return that left the
     // field of view or the range has no counterpart, and the matcher would pull it onto
     // the nearest other return, which biases the increment (forward motion came out
     // ~1 % short on the chapter-5 world when every return was used).
-    const PointSet overlap = inViewOf(previous, z0, scan, options_.max_range_m);
+    const PointSet overlap = inViewOf(reference_, z0, scan, options_.max_range_m);
     if (overlap.size() < 3)
     {
         ++stats_.too_few_points;
@@ -177,9 +204,10 @@ ScanOdometry::Increment ScanOdometry::refine(const mrpt::obs::CObservation2DRang
         ++stats_.align_failed[r.failure];
         return wheel;
     }
-    const Increment s = alignedIncrement(r, increment);
+    // The step's own fusion (the wheels and the alignment as a measurement of this step)
+    // gives the gate and the covariance handed on; without keyframes also the mean.
     double d2 = 0;
-    const Increment fused = fuseIncrements(wheel, s, &d2);
+    const Increment step = fuseIncrements(wheel, alignedIncrement(r, increment), &d2);
     const bool gate = options_.gate_prob > 0 && options_.gate_prob < 1;
     if (!std::isfinite(d2) || (gate && d2 > mrpt::math::chi2inv(options_.gate_prob, 3)))
     {
@@ -187,7 +215,14 @@ ScanOdometry::Increment ScanOdometry::refine(const mrpt::obs::CObservation2DRang
         return wheel;
     }
     ++stats_.fused;
-    return fused;
+    ok = true;
+    // The pose relative to the reference: predicted by the wheels from its last estimate,
+    // updated by the alignment (a direct measurement of it). Its step is the increment.
+    since_reference_ = fuseIncrements(predicted, alignedIncrement(r, relative));
+    Increment out;
+    out.mean = compose(inverse(before.mean), since_reference_.mean);
+    out.cov = step.cov;
+    return out;
 }
 
 ScanOdometry::Increment ScanOdometry::alignedIncrement(const AlignResult& r,

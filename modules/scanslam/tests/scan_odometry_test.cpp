@@ -206,3 +206,46 @@ TEST(ScanOdometryTest, FirstScanEmptyScansAndResetLeaveTheWheels)
     EXPECT_EQ(odo.stats().too_few_points, 2u);
     EXPECT_EQ(odo.stats().fused, 0u);
 }
+
+TEST(ScanOdometryTest, KeyframesKeepTheDriftOfADriveFromAddingUpStepByStep)
+{
+    // 30 steps of 0.1 m with a slow turn through the room, the wheels noisy (2 cm, 1.5 deg
+    // per step: within the matcher's +-4 deg window). Aligned scan to scan, the 30
+    // alignment errors add up; aligned to a keyframe renewed every 1 m, the pose relative
+    // to the keyframe is filtered from every alignment to it, so the drift grows by about
+    // one keyframe's error per keyframe.
+    const auto world = room();
+    const Vec3 step(0.1, 0, 0.01);
+    double sq_pairs = 0, sq_keys = 0;
+    for (uint32_t seed = 0; seed < 4; ++seed)
+    {
+        for (const double key : {0.0, 1.0})
+        {
+            ScanOdometry::Options o;
+            o.enabled = true;
+            o.noise = {0.1, 1.0 * M_PI / 180};
+            o.keyframe_distance_m = key;
+            ScanOdometry odo(o, ScanOdometry::odometryMatcher("correlative", nullptr));
+            mrpt::random::CRandomGenerator rng(7 + seed);
+            Vec3 truth(-4, -2, 0.1), est = truth;
+            Increment wheel;
+            wheel.cov = Mat3(Eigen::Vector3d(4e-4, 4e-4, std::pow(1.5 * M_PI / 180, 2)).asDiagonal());
+            (void)odo.refine(*scanAt(world, truth, Vec3::Zero(), 1000 * seed), wheel);
+            for (uint32_t k = 1; k <= 30; ++k)
+            {
+                truth = compose(truth, step);
+                wheel.mean = step + Vec3(0.02 * rng.drawGaussian1D_normalized(), 0.02 * rng.drawGaussian1D_normalized(),
+                                         1.5 * M_PI / 180 * rng.drawGaussian1D_normalized());
+                est = compose(est, odo.refine(*scanAt(world, truth, Vec3::Zero(), 1000 * seed + k), wheel).mean);
+            }
+            EXPECT_EQ(odo.stats().fused, 30u) << "seed " << seed << " keyframe " << key;
+            // A keyframe at the start and one each time the vehicle is more than 1 m on.
+            EXPECT_EQ(odo.stats().keyframes, key > 0 ? 3u : 31u) << "seed " << seed;
+            const Vec3 e = poseDifference(est, truth);
+            (key > 0 ? sq_keys : sq_pairs) += e.head<2>().squaredNorm() + std::pow(3 * e.z(), 2);
+        }
+    }
+    std::printf("scan odometry over 3 m: RMS end error (position, 3 m x heading) scan to scan %.3f, keyframes %.3f\n",
+                std::sqrt(sq_pairs / 4), std::sqrt(sq_keys / 4));
+    EXPECT_LT(sq_keys, 0.5 * sq_pairs);
+}

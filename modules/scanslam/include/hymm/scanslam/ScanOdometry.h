@@ -58,6 +58,13 @@ public:
         double min_std_phi = 0.1 * M_PI / 180;  //!< and to its angle [rad] (ini: min_std_phi_deg)
         double std_xy_per_m = 0;      //!< std added per metre travelled (unmodelled errors)
         double std_phi_per_m = 0;     //!< [rad/m] (ini: std_phi_deg_per_m)
+        /** Keyframes: each scan is aligned to the last keyframe scan, not to the previous
+         *  scan, until the vehicle is this far from the keyframe's pose (0: every scan is
+         *  the next one's reference). The pose relative to the keyframe is filtered from
+         *  the wheels and every alignment to it, so within a keyframe neither the
+         *  alignment errors nor the wheels' add up step by step. [m] */
+        double keyframe_distance_m = 0;
+        double keyframe_angle = 30 * M_PI / 180;  //!< or has turned this much [rad] (ini: keyframe_angle_deg)
 
         /** Every key, declared once (loader, unknown-key check, saver, README table). */
         core::OptionTable table();
@@ -74,6 +81,7 @@ public:
         std::map<std::string, size_t> align_failed;  //!< by the matcher's failure reason
         size_t gated = 0;          //!< aligned, but too far from the wheel increment
         size_t fused = 0;          //!< the aligned increment fused with the wheel's
+        size_t keyframes = 0;      //!< scans that became the reference (every scan without keyframes)
 
         /** (name, count) of every counter, failures as align_failed.<reason>. */
         std::vector<std::pair<std::string, size_t>> list() const;
@@ -99,14 +107,24 @@ public:
 
     /** The vehicle's increment from the previous scan given here to `scan`: `wheel`
      *  (the wheel odometry of that interval, with its covariance) fused with the
-     *  alignment of the previous scan to this one, or `wheel` itself when there is no
-     *  previous scan, the alignment fails or is gated. `scan` becomes the reference of
-     *  the next call. Never throws on bad data; the result's covariance is symmetric PSD. */
+     *  alignment of the reference scan to this one, or `wheel` itself when there is no
+     *  reference, the alignment fails or is gated. The reference is the previous scan,
+     *  or with keyframe_distance_m > 0 the keyframe: the alignment then measures the pose
+     *  relative to the keyframe, which updates the filtered relative pose (predicted by
+     *  the wheels), and the increment's mean is the step of that pose's estimate; its
+     *  covariance is the one of the wheels fused with the alignment seen as a measurement
+     *  of this step alone (as without keyframes). `scan` becomes the next reference
+     *  when it starts a keyframe (always without keyframes, and after a failed or gated
+     *  alignment). Never throws on bad data; the result's covariance is symmetric PSD. */
     Increment refine(const mrpt::obs::CObservation2DRangeScan& scan, const Increment& wheel);
 
     /** Forgets the previous scan (the next refine() has nothing to align to): a motion
      *  the reference does not cover was applied in between. */
-    void reset() { has_reference_ = false; }
+    void reset()
+    {
+        has_reference_ = false;
+        since_reference_ = Increment{};
+    }
 
     const Stats& stats() const { return stats_; }
     const Options& options() const { return options_; }
@@ -118,13 +136,21 @@ private:
     Increment alignedIncrement(const AlignResult& r, const std::function<Vec3(const Vec3&)>& increment) const;
     /** Valid returns of `scan` within max_range_m, in the sensor frame. */
     PointSet usablePoints(const mrpt::obs::CObservation2DRangeScan& scan) const;
+    /** The increment of `wheel` fused with the alignment of the reference to `scan`
+     *  (`current`: its usable returns), or `wheel`; `ok` tells which. */
+    Increment aligned(const mrpt::obs::CObservation2DRangeScan& scan, const PointSet& current, const Vec3& mount,
+                      const Increment& wheel, bool& ok);
 
     Options options_;
     std::unique_ptr<ScanMatcher> matcher_;
     Stats stats_;
     bool has_reference_ = false;
-    PointSet reference_;               //!< the previous scan, thinned (its sensor frame)
+    PointSet reference_;               //!< the reference (keyframe) scan, thinned (its sensor frame)
     Vec3 reference_mount_ = Vec3::Zero();  //!< its sensor pose on the vehicle
+    /** The vehicle at the previous scan relative to its pose at the reference scan, with
+     *  its covariance: a three-state filter of the wheels and the alignments to the
+     *  keyframe (zero right after a new reference). */
+    Increment since_reference_;
 };
 
 /** a (+) b with the covariance of both propagated to first order (independent a and b). */
