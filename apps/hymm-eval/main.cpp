@@ -37,7 +37,10 @@ int main(int argc, char** argv)
         if (!carmen.getValue().empty() || !rawlog.getValue().empty())
         {
             if (carmen.getValue().empty() || rawlog.getValue().empty() || path.getValue().empty())
-                throw std::invalid_argument("--carmen needs --rawlog and --path");
+                throw std::invalid_argument("--carmen and --rawlog go together and need --path");
+            if (!lms.getValue().empty() || !gtp.getValue().empty() || !gtl.getValue().empty())
+                throw std::invalid_argument(
+                    "--carmen scores the path alone: --landmarks, --gt-path and --gt-landmarks do not apply");
             const auto pairing = hymm::datasets::pairScansByRanges(
                 rawlog.getValue(), hymm::datasets::readCarmenLaserScans(carmen.getValue()));
             j = hymm::datasets::scorePathAtPairs(hymm::io::readTum(path.getValue()), pairing);

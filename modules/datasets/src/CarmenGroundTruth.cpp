@@ -89,6 +89,14 @@ std::vector<CarmenLaserScan> readCarmenLaserScans(const std::string& path)
         }
         if (!more) break;
         ++line_no;
+        if (line.back() != '\n')
+        {
+            // A last line without its newline: the file's end, or a read error that cut it.
+            int err = Z_OK;
+            gzerror(gz.get(), &err);
+            if (err != Z_OK && err != Z_STREAM_END)
+                throw std::runtime_error("CARMEN log '" + path + "': read error in line " + std::to_string(line_no));
+        }
         if (line.compare(0, 7, "FLASER ") != 0) continue;
         std::istringstream in(line);
         std::vector<std::string> fields;

@@ -6,6 +6,8 @@
 #include <mrpt/obs/CSensoryFrame.h>
 #include <zlib.h>
 
+#include <fstream>
+#include <iterator>
 #include <sstream>
 
 #include "test_files.h"
@@ -86,6 +88,50 @@ TEST(CarmenGroundTruth, ReadsFlaserLinesOfPlainAndGzipLogs)
     }
 }
 
+TEST(CarmenGroundTruth, CrlfLongLinesAndAMissingLastNewlineAreRead)
+{
+    TempDir dir;
+    // 20,000 readings make a line of about 100 KiB, longer than the reader's buffer.
+    std::vector<double> many(20000, 12.345);
+    std::string crlf = flaser({1, 2}, 3, 4, 0.25, 9);
+    crlf.insert(crlf.size() - 1, "\r");
+    std::string last = flaser({5}, 0, 1, 0, 10);
+    last.pop_back();
+    writeText(dir.file("a.log"), crlf + flaser(many, 1, 1, 1, 11) + last);
+    const auto s = hymm::datasets::readCarmenLaserScans(dir.file("a.log"));
+    ASSERT_EQ(s.size(), 3u);
+    EXPECT_EQ(s[0].ranges, (std::vector<double>{1, 2}));
+    EXPECT_DOUBLE_EQ(s[0].t, 9);
+    EXPECT_EQ(s[1].ranges.size(), 20000u);
+    EXPECT_DOUBLE_EQ(s[1].ranges.back(), 12.345);
+    EXPECT_EQ(s[1].pose, Eigen::Vector3d(1, 1, 1));
+    EXPECT_EQ(s[2].ranges, (std::vector<double>{5}));
+}
+
+TEST(CarmenGroundTruth, ATruncatedGzipLogIsAReadError)
+{
+    TempDir dir;
+    std::string text;
+    for (int k = 0; k < 200; ++k) text += flaser(rangesOf(k, 180), k, 0, 0, k);
+    gzFile gz = gzopen(dir.file("a.log.gz").c_str(), "wb");
+    ASSERT_NE(gz, nullptr);
+    ASSERT_EQ(gzputs(gz, text.c_str()), static_cast<int>(text.size()));
+    gzclose(gz);
+    std::ifstream in(dir.file("a.log.gz"), std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::ofstream(dir.file("cut.log.gz"), std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+    EXPECT_EQ(hymm::datasets::readCarmenLaserScans(dir.file("a.log.gz")).size(), 200u);
+    try
+    {
+        hymm::datasets::readCarmenLaserScans(dir.file("cut.log.gz"));
+        ADD_FAILURE() << "a truncated log was read";
+    }
+    catch (const std::runtime_error& e)
+    {
+        EXPECT_NE(std::string(e.what()).find("read error"), std::string::npos) << e.what();
+    }
+}
+
 TEST(CarmenGroundTruth, MalformedFlaserLinesAndMissingFilesThrowWithTheLine)
 {
     TempDir dir;
@@ -95,6 +141,7 @@ TEST(CarmenGroundTruth, MalformedFlaserLinesAndMissingFilesThrowWithTheLine)
         {"count", "FLASER -2 0 0 0 0 0 0 1 h 1\n"},                 // negative count
         {"nan", "FLASER 1 nan 0 0 0 0 0 0 1 h 1\n"},                // NaN range
         {"text", "FLASER 1 1.0 x 0 0 0 0 0 1 h 1\n"},               // pose not a number
+        {"huge", "FLASER 1e9 1 0 0 0 0 0 1 h 1\n"},                // a count no laser has
     };
     for (const auto& [name, line] : bad)
     {

@@ -45,6 +45,10 @@ TEST(RelativePoseErrorTest, WrapsHeadingsAcrossPi)
     const std::vector<StampedPose2D> truth{{0, 0, 0, M_PI - 0.05}, {1, 0, 0, -M_PI + 0.05}};  // +0.1 rad
     const std::vector<StampedPose2D> est{{0, 0, 0, -M_PI + 0.05}, {1, 0, 0, -M_PI + 0.1}};   // +0.05 rad
     EXPECT_NEAR(relativePoseError(est, truth).rotation_max, 0.05, 1e-12);
+    // Relative headings on either side of pi: 3.1 against -3.1 rad is 0.083 rad apart.
+    const std::vector<StampedPose2D> t2{{0, 0, 0, 0}, {1, 0, 0, -3.1}};
+    const std::vector<StampedPose2D> e2{{0, 0, 0, 0}, {1, 0, 0, 3.1}};
+    EXPECT_NEAR(relativePoseError(e2, t2).rotation_max, 2 * M_PI - 6.2, 1e-12);
 }
 
 TEST(RelativePoseErrorTest, BadInputThrowsAndOneSampleHasNoPairs)

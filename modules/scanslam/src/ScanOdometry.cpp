@@ -151,7 +151,6 @@ ScanOdometry::Increment ScanOdometry::refine(const mrpt::obs::CObservation2DRang
         ++stats_.no_reference;
     else
         out = aligned(scan, current, mount, wheel, ok);
-    if (!ok) since_reference_.mean = compose(since_reference_.mean, out.mean);
     const Vec3& v = since_reference_.mean;
     // A new keyframe: always without keyframes; after a failed alignment (the chain to the
     // old one is broken); or once the vehicle has left the keyframe's neighbourhood.
@@ -164,8 +163,11 @@ ScanOdometry::Increment ScanOdometry::refine(const mrpt::obs::CObservation2DRang
         reference_mount_ = mount;
         since_reference_ = Increment{};
         has_reference_ = true;
+        reference_is_previous_ = true;
         ++stats_.keyframes;
     }
+    else
+        reference_is_previous_ = false;
     return out;
 }
 
@@ -180,18 +182,19 @@ ScanOdometry::Increment ScanOdometry::aligned(const mrpt::obs::CObservation2DRan
     }
     // The matcher places a "template" (the reference scan, in its sensor frame) in the
     // current sensor frame: z = s^-1 for the sensor's pose s = m_ref^-1 (+) v (+) m, v the
-    // vehicle relative to its pose at the reference; b is v at the previous scan
-    // (identity without keyframes, where v is the increment itself).
+    // vehicle relative to its pose at the reference; b is v at the previous scan. When the
+    // reference is the previous scan (always without keyframes) v is the increment itself,
+    // and the expressions below are those of scan-to-scan odometry, operation for operation.
+    const bool previous = reference_is_previous_;
     const Increment before = since_reference_;
-    const Vec3 mount_ref = reference_mount_;
-    const auto relative = [&](const Vec3& z) { return compose(compose(mount_ref, inverse(z)), inverse(mount)); };
-    const auto increment = [&](const Vec3& z) { return compose(inverse(before.mean), relative(z)); };
-    const Increment predicted = composeIncrements(before, wheel);
-    const Vec3 z0 = inverse(compose(compose(inverse(mount_ref), predicted.mean), mount));
-    // Only the reference returns the current scan can see again: a return that left the
-    // field of view or the range has no counterpart, and the matcher would pull it onto
-    // the nearest other return, which biases the increment (forward motion came out
-    // ~1 % short on the chapter-5 world when every return was used).
+    const auto relative = [&](const Vec3& z) { return compose(compose(reference_mount_, inverse(z)), inverse(mount)); };
+    const auto increment = [&](const Vec3& z) {
+        return previous ? relative(z) : compose(inverse(before.mean), relative(z));
+    };
+    const Increment predicted = previous ? wheel : composeIncrements(before, wheel);
+    const Vec3 z0 = inverse(compose(compose(inverse(reference_mount_), predicted.mean), mount));
+    // Only the reference returns the current scan can see again: the others have no
+    // counterpart and bias the increment (README, "Why only the returns seen again").
     const PointSet overlap = inViewOf(reference_, z0, scan, options_.max_range_m);
     if (overlap.size() < 3)
     {
@@ -204,8 +207,7 @@ ScanOdometry::Increment ScanOdometry::aligned(const mrpt::obs::CObservation2DRan
         ++stats_.align_failed[r.failure];
         return wheel;
     }
-    // The step's own fusion (the wheels and the alignment as a measurement of this step)
-    // gives the gate and the covariance handed on; without keyframes also the mean.
+    // The wheels fused with the alignment as a measurement of this step: gate and covariance.
     double d2 = 0;
     const Increment step = fuseIncrements(wheel, alignedIncrement(r, increment), &d2);
     const bool gate = options_.gate_prob > 0 && options_.gate_prob < 1;
@@ -216,6 +218,11 @@ ScanOdometry::Increment ScanOdometry::aligned(const mrpt::obs::CObservation2DRan
     }
     ++stats_.fused;
     ok = true;
+    if (previous)
+    {
+        since_reference_ = step;
+        return step;
+    }
     // The pose relative to the reference: predicted by the wheels from its last estimate,
     // updated by the alignment (a direct measurement of it). Its step is the increment.
     since_reference_ = fuseIncrements(predicted, alignedIncrement(r, relative));

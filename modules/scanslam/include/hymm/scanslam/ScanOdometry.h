@@ -151,6 +151,7 @@ private:
      *  its covariance: a three-state filter of the wheels and the alignments to the
      *  keyframe (zero right after a new reference). */
     Increment since_reference_;
+    bool reference_is_previous_ = false;  //!< the reference is the previous scan (set there)
 };
 
 /** a (+) b with the covariance of both propagated to first order (independent a and b). */
