@@ -43,7 +43,8 @@ int main(int argc, char** argv)
                     "--carmen scores the path alone: --landmarks, --gt-path and --gt-landmarks do not apply");
             const auto pairing = hymm::datasets::pairScansByRanges(
                 rawlog.getValue(), hymm::datasets::readCarmenLaserScans(carmen.getValue()));
-            j = hymm::datasets::scorePathAtPairs(hymm::io::readTum(path.getValue()), pairing);
+            j = hymm::datasets::pairedScoreMetrics(
+                pairing, hymm::datasets::scorePathAtPairs(hymm::io::readTum(path.getValue()), pairing));
         }
         else
             j = hymm::eval::evaluateResultFiles(path.getValue(), lms.getValue(),

@@ -7,7 +7,6 @@
 
 #include <hymm/datasets/CarmenGroundTruth.h>
 #include <hymm/denseslam/LandmarkSources.h>
-#include <hymm/eval/relative_pose_error.h>
 
 namespace
 {
@@ -185,23 +184,6 @@ TEST(RealDataScanSlamTest, CarParkWithHighLevelLandmarksAgainstGps)
     EXPECT_LT(a.position_mean, 1.2 * b.position_mean);
 }
 
-/** A path against the corrected poses at the paired scans: absolute error after the SE(2)
- *  fit over all pairs, and the relative pose error between consecutive pairs. */
-struct PairedScore
-{
-    TrajectoryEvaluator::Result absolute;
-    hymm::eval::RelativePoseError relative;
-};
-
-PairedScore scoreAtPairs(const DenseSlam& slam, const hymm::datasets::ScanPairing& pairing)
-{
-    const auto p = hymm::datasets::posesAtPairs(estimatedPath(slam), pairing);
-    TrajectoryEvaluator::Options o;
-    o.association = TrajectoryEvaluator::Association::Index;
-    o.align = true;
-    return {TrajectoryEvaluator(o).evaluate(p.estimate, p.truth), hymm::eval::relativePoseError(p.estimate, p.truth)};
-}
-
 // Intel with scan landmarks, against the corrected CARMEN poses of the same run at the 174
 // scans both logs hold (CarmenGroundTruth.h), beside dead reckoning through the same
 // pipeline. The shipped config aligns each scan to a keyframe ([ScanOdometry]): the log's
@@ -229,10 +211,10 @@ TEST(RealDataScanSlamTest, IntelAgainstCorrectedPoses)
     EXPECT_GT(scanMap(run.slam()).templates().size(), 10u);
     EXPECT_GT(scanMap(run.slam()).stats().updated, 100u);
 
-    const auto slam = scoreAtPairs(run.slam(), pairing);
-    const auto odo = scoreAtPairs(dr.slam(), pairing);
+    const auto slam = hymm::datasets::scorePathAtPairs(estimatedPath(run.slam()), pairing);
+    const auto odo = hymm::datasets::scorePathAtPairs(estimatedPath(dr.slam()), pairing);
     constexpr double deg = 180 / M_PI;
-    for (const auto& [name, r] : {std::pair<const char*, const PairedScore*>{"scan landmarks", &slam},
+    for (const auto& [name, r] : {std::pair<const char*, const hymm::datasets::PairedPathScore*>{"scan landmarks", &slam},
                                   {"dead reckoning", &odo}})
         std::cout << "[intel] " << name << " at " << r->absolute.matched
                   << " corrected poses: absolute (SE(2) fit) mean " << r->absolute.position_mean << " m, RMSE "

@@ -1,8 +1,6 @@
 #include "hymm/datasets/CarmenGroundTruth.h"
 
-#include <hymm/eval/TrajectoryEvaluator.h>
 #include <hymm/eval/metrics_report.h>
-#include <hymm/eval/relative_pose_error.h>
 #include <hymm/io/RawlogReader.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <zlib.h>
@@ -175,12 +173,20 @@ PairedPoses posesAtPairs(const std::vector<io::StampedPose2D>& path, const ScanP
     return out;
 }
 
-eval::MetricsJson scorePathAtPairs(const std::vector<io::StampedPose2D>& path, const ScanPairing& pairing)
+PairedPathScore scorePathAtPairs(const std::vector<io::StampedPose2D>& path, const ScanPairing& pairing)
 {
     const PairedPoses p = posesAtPairs(path, pairing);
     if (p.estimate.size() < 2)
         throw std::invalid_argument("only " + std::to_string(p.estimate.size()) +
                                     " scan(s) paired with the corrected log: nothing to score");
+    eval::TrajectoryEvaluator::Options o;
+    o.association = eval::TrajectoryEvaluator::Association::Index;
+    o.align = true;
+    return {eval::TrajectoryEvaluator(o).evaluate(p.estimate, p.truth), eval::relativePoseError(p.estimate, p.truth)};
+}
+
+eval::MetricsJson pairedScoreMetrics(const ScanPairing& pairing, const PairedPathScore& score)
+{
     eval::MetricsJson j;
     auto& c = j.object("pairing");
     c.set("paired", pairing.matches.size());
@@ -189,20 +195,8 @@ eval::MetricsJson scorePathAtPairs(const std::vector<io::StampedPose2D>& path, c
     c.set("unmatched", pairing.unmatched);
     c.set("ambiguous", pairing.ambiguous);
     c.set("out_of_order", pairing.out_of_order);
-    eval::TrajectoryEvaluator::Options o;
-    o.association = eval::TrajectoryEvaluator::Association::Index;
-    o.align = true;
-    eval::writeTrajectoryMetrics(j.object("path"), eval::TrajectoryEvaluator(o).evaluate(p.estimate, p.truth));
-    const auto r = eval::relativePoseError(p.estimate, p.truth);
-    constexpr double deg = 180 / M_PI;
-    auto& rel = j.object("relative");
-    rel.set("pairs", r.pairs);
-    rel.set("translation_mean_m", r.translation_mean);
-    rel.set("translation_median_m", r.translation_median);
-    rel.set("translation_max_m", r.translation_max);
-    rel.set("rotation_mean_deg", r.rotation_mean * deg);
-    rel.set("rotation_median_deg", r.rotation_median * deg);
-    rel.set("rotation_max_deg", r.rotation_max * deg);
+    eval::writeTrajectoryMetrics(j.object("path"), score.absolute);
+    eval::writeRelativePoseMetrics(j.object("relative"), score.relative);
     return j;
 }
 

@@ -40,4 +40,15 @@ void writeLandmarkMetrics(MetricsJson& out, const LandmarkEvaluator::Result& r)
     out.set("mean_nees", r.mean_nees);
 }
 
+void writeRelativePoseMetrics(MetricsJson& out, const RelativePoseError& r)
+{
+    out.set("pairs", r.pairs);
+    out.set("translation_mean_m", r.translation_mean);
+    out.set("translation_median_m", r.translation_median);
+    out.set("translation_max_m", r.translation_max);
+    out.set("rotation_mean_deg", r.rotation_mean * kRadToDeg);
+    out.set("rotation_median_deg", r.rotation_median * kRadToDeg);
+    out.set("rotation_max_deg", r.rotation_max * kRadToDeg);
+}
+
 }  // namespace hymm::eval

@@ -1,6 +1,7 @@
 #include "hymm/eval/relative_pose_error.h"
 
 #include <mrpt/math/wrap2pi.h>
+#include <mrpt/poses/CPose2D.h>
 
 #include <algorithm>
 #include <cmath>
@@ -12,17 +13,10 @@ namespace hymm::eval
 {
 namespace
 {
-struct Rel
-{
-    double x, y, phi;
-};
-
 /** a^-1 (+) b. */
-Rel relative(const io::StampedPose2D& a, const io::StampedPose2D& b)
+mrpt::poses::CPose2D relative(const io::StampedPose2D& a, const io::StampedPose2D& b)
 {
-    const double c = std::cos(a.phi), s = std::sin(a.phi);
-    const double dx = b.x - a.x, dy = b.y - a.y;
-    return {c * dx + s * dy, -s * dx + c * dy, mrpt::math::wrapToPi(b.phi - a.phi)};
+    return mrpt::poses::CPose2D(b.x, b.y, b.phi) - mrpt::poses::CPose2D(a.x, a.y, a.phi);
 }
 
 bool finite(const io::StampedPose2D& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.phi); }
@@ -59,10 +53,10 @@ RelativePoseError relativePoseError(const std::vector<io::StampedPose2D>& estima
     std::vector<double> et, er;
     for (size_t i = 0; i + 1 < estimate.size(); ++i)
     {
-        const Rel e = relative(estimate[i], estimate[i + 1]);
-        const Rel g = relative(truth[i], truth[i + 1]);
-        et.push_back(std::hypot(e.x - g.x, e.y - g.y));
-        er.push_back(std::abs(mrpt::math::wrapToPi(e.phi - g.phi)));
+        const auto e = relative(estimate[i], estimate[i + 1]);
+        const auto g = relative(truth[i], truth[i + 1]);
+        et.push_back(std::hypot(e.x() - g.x(), e.y() - g.y()));
+        er.push_back(std::abs(mrpt::math::wrapToPi(e.phi() - g.phi())));
     }
     r.pairs = et.size();
     summarise(et, r.translation_mean, r.translation_median, r.translation_max);

@@ -15,6 +15,8 @@
 #pragma once
 
 #include <hymm/eval/MetricsJson.h>
+#include <hymm/eval/TrajectoryEvaluator.h>
+#include <hymm/eval/relative_pose_error.h>
 #include <hymm/io/trajectory_io.h>
 
 #include <Eigen/Core>
@@ -72,10 +74,18 @@ struct PairedPoses
 };
 PairedPoses posesAtPairs(const std::vector<io::StampedPose2D>& path, const ScanPairing& pairing);
 
-/** The path scored at the paired scans: "pairing" (the counts of ScanPairing), "path"
- *  (absolute error after the least-squares SE(2) fit over all pairs, as hymm-eval's
- *  "path") and "relative" (relativePoseError between consecutive pairs, metres and
- *  degrees). Throws as posesAtPairs, and when fewer than two scans are paired. */
-eval::MetricsJson scorePathAtPairs(const std::vector<io::StampedPose2D>& path, const ScanPairing& pairing);
+/** A path scored at the paired scans: the absolute error after the least-squares SE(2)
+ *  fit over all pairs, and relativePoseError between consecutive pairs. */
+struct PairedPathScore
+{
+    eval::TrajectoryEvaluator::Result absolute;
+    eval::RelativePoseError relative;
+};
+/** Throws as posesAtPairs, and when fewer than two scans are paired. */
+PairedPathScore scorePathAtPairs(const std::vector<io::StampedPose2D>& path, const ScanPairing& pairing);
+
+/** hymm-eval --carmen's report: "pairing" (the counts of ScanPairing), "path" (the
+ *  absolute error, as hymm-eval's "path") and "relative" (metres and degrees). */
+eval::MetricsJson pairedScoreMetrics(const ScanPairing& pairing, const PairedPathScore& score);
 
 }  // namespace hymm::datasets
