@@ -2,8 +2,10 @@
 // the CSV of their frames, their part of the map figure, summary and metrics.
 #include <hymm/app/slam_outputs.h>
 
+#include <cmath>
 #include <fstream>
 #include <iomanip>
+#include <sstream>
 #include <stdexcept>
 
 namespace hymm::app
@@ -53,6 +55,11 @@ void writeScanSourceMetrics(eval::MetricsJson& j, const DenseSlam& slam)
     auto& o = j.object("scan_sources");
     for (const auto& [k, n] : slam.scanSourceCounters()) o.set(k, static_cast<unsigned long>(n));
     o.set("scan_landmarks.templates", static_cast<unsigned long>(scanLandmarkEstimates(slam).size()));
+    if (const auto* odo = slam.scanOdometry(); odo && odo->options().wheel_turn_bias)
+    {
+        o.set("scan_odometry.wheel_turn_bias_deg_per_m", odo->wheelTurnBias() * 180 / M_PI);
+        o.set("scan_odometry.wheel_turn_bias_std_deg_per_m", odo->wheelTurnBiasStd() * 180 / M_PI);
+    }
 }
 
 void writeScanSourceSummary(std::ostream& f, const DenseSlam& slam)
@@ -61,6 +68,14 @@ void writeScanSourceSummary(std::ostream& f, const DenseSlam& slam)
     f << "scan sources        ";
     for (const auto& [k, n] : slam.scanSourceCounters()) f << ' ' << k << '=' << n;
     f << "\n";
+    // The heading the wheels lose per metre, as estimated at the end of the run.
+    if (const auto* odo = slam.scanOdometry(); odo && odo->options().wheel_turn_bias)
+    {
+        std::ostringstream line;  // its own precision, f's unchanged
+        line << std::setprecision(4) << "wheel turn bias      " << odo->wheelTurnBias() * 180 / M_PI << " deg/m (std "
+             << odo->wheelTurnBiasStd() * 180 / M_PI << ")\n";
+        f << line.str();
+    }
 }
 
 }  // namespace hymm::app

@@ -40,6 +40,14 @@ core::OptionTable ScanOdometry::Options::table()
     t.real("keyframe_distance_m", keyframe_distance_m, "m", atLeast(0, 1000),
            "align to a keyframe scan until the vehicle is this far from it (0: to the previous scan)");
     t.real("keyframe_angle_deg", keyframe_angle, "deg", above(0, 180), "or has turned this much", M_PI / 180);
+    t.flag("wheel_turn_bias", wheel_turn_bias,
+           "estimate the wheels' turn per metre travelled from the alignments and remove it from the wheel increments");
+    t.real("wheel_turn_bias_prior_deg_per_m", wheel_turn_bias_prior, "deg/m", above(0, 180),
+           "prior std of the wheels' turn per metre", M_PI / 180);
+    t.real("wheel_turn_bias_walk_deg_per_m", wheel_turn_bias_walk, "deg/m/sqrt(m)", atLeast(0, 180),
+           "random walk of that turn: std of its change per square root of a metre travelled", M_PI / 180);
+    t.real("wheel_turn_bias_min_sigmas", wheel_turn_bias_min_sigmas, "sigma", atLeast(0, 1000),
+           "the estimate corrects the wheels only while it is this many of its std from zero");
     return t;
 }
 
@@ -58,6 +66,9 @@ std::vector<std::pair<std::string, size_t>> ScanOdometry::Stats::list() const
     out.emplace_back("gated", gated);
     out.emplace_back("fused", fused);
     out.emplace_back("keyframes", keyframes);
+    out.emplace_back("bias_updates", bias_updates);
+    out.emplace_back("bias_gated", bias_gated);
+    out.emplace_back("bias_applied", bias_applied);
     return out;
 }
 
@@ -92,7 +103,9 @@ std::unique_ptr<ScanOdometry> ScanOdometry::make(const Options& options, const m
 }
 
 ScanOdometry::ScanOdometry(const Options& options, std::unique_ptr<ScanMatcher> matcher)
-    : options_(options), matcher_(std::move(matcher))
+    : options_(options),
+      matcher_(std::move(matcher)),
+      turn_bias_var_(options.wheel_turn_bias_prior * options.wheel_turn_bias_prior)
 {
     if (!matcher_) throw std::invalid_argument("ScanOdometry: no matcher");
 }
@@ -140,9 +153,65 @@ PointSet inViewOf(const PointSet& set, const Vec3& z, const mrpt::obs::CObservat
 }
 }  // namespace
 
-ScanOdometry::Increment ScanOdometry::refine(const mrpt::obs::CObservation2DRangeScan& scan, const Increment& wheel)
+void ScanOdometry::reset()
+{
+    updateTurnBias();
+    has_reference_ = false;
+    since_reference_ = Increment{};
+}
+
+bool ScanOdometry::wheelTurnBiasApplied() const
+{
+    return options_.wheel_turn_bias &&
+           std::abs(turn_bias_) > options_.wheel_turn_bias_min_sigmas * std::sqrt(turn_bias_var_);
+}
+
+ScanOdometry::Increment ScanOdometry::unbiasedWheel(const Increment& wheel)
+{
+    if (!wheelTurnBiasApplied() || !wheel.mean.allFinite()) return wheel;
+    ++stats_.bias_applied;
+    // The wheels turn b ds too little over a step of length ds; the extra turn accrues
+    // along the step, so the translation turns by half of it (the mid-point heading).
+    const double ds = wheel.mean.head<2>().norm();
+    const double turn = turn_bias_ * ds;
+    Mat3 J = Mat3::Identity();
+    J.topLeftCorner<2, 2>() = rotation(0.5 * turn);
+    Increment out;
+    out.mean.head<2>() = J.topLeftCorner<2, 2>() * wheel.mean.head<2>();
+    out.mean.z() = std::remainder(wheel.mean.z() + turn, 2 * M_PI);
+    out.cov = symmetric(J * wheel.cov * J.transpose());
+    out.cov(2, 2) += turn_bias_var_ * ds * ds;  // the bias' own uncertainty over this step
+    return out;
+}
+
+void ScanOdometry::updateTurnBias()
+{
+    const TurnObservation o = turn_observation_;
+    const double travelled = wheel_distance_since_reference_;
+    turn_observation_ = TurnObservation{};
+    wheel_since_reference_ = Increment{};
+    wheel_distance_since_reference_ = 0;
+    if (!options_.wheel_turn_bias || !o.valid || !(o.ds > 0) || !std::isfinite(o.e) || !(o.var > 0)) return;
+    // A scalar Kalman filter of b: a random walk over the distance travelled, observed
+    // by e = b ds + n, var(n) = the alignment's heading variance plus the wheels'.
+    if (std::isfinite(travelled)) turn_bias_var_ += options_.wheel_turn_bias_walk * options_.wheel_turn_bias_walk * travelled;
+    const double S = o.ds * o.ds * turn_bias_var_ + o.var;
+    const double nu = o.e - turn_bias_ * o.ds;
+    if (options_.gate_prob > 0 && options_.gate_prob < 1 && nu * nu / S > mrpt::math::chi2inv(options_.gate_prob, 1))
+    {
+        ++stats_.bias_gated;
+        return;
+    }
+    const double K = turn_bias_var_ * o.ds / S;
+    turn_bias_ += K * nu;
+    turn_bias_var_ *= o.var / S;  // (1 - K ds), in the form that stays positive
+    ++stats_.bias_updates;
+}
+
+ScanOdometry::Increment ScanOdometry::refine(const mrpt::obs::CObservation2DRangeScan& scan, const Increment& wheel_read)
 {
     ++stats_.scans;
+    const Increment wheel = unbiasedWheel(wheel_read);
     const Vec3 mount(scan.sensorPose.x(), scan.sensorPose.y(), scan.sensorPose.yaw());
     const PointSet current = usablePoints(scan);
     bool ok = false;
@@ -150,7 +219,17 @@ ScanOdometry::Increment ScanOdometry::refine(const mrpt::obs::CObservation2DRang
     if (!has_reference_)
         ++stats_.no_reference;
     else
+    {
+        // The wheels as read since the reference: the alignment's heading relative to it
+        // minus theirs measures their turn bias over the distance they travelled.
+        wheel_since_reference_ = composeIncrements(wheel_since_reference_, wheel_read);
+        wheel_distance_since_reference_ += wheel_read.mean.head<2>().norm();
         out = aligned(scan, current, mount, wheel, ok);
+        if (ok)
+            turn_observation_ = {true,
+                                 std::remainder(last_relative_.mean.z() - wheel_since_reference_.mean.z(), 2 * M_PI),
+                                 wheel_distance_since_reference_, last_relative_.cov(2, 2) + wheel_since_reference_.cov(2, 2)};
+    }
     const Vec3& v = since_reference_.mean;
     // A new keyframe: always without keyframes; after a failed alignment (the chain to the
     // old one is broken); or once the vehicle has left the keyframe's neighbourhood.
@@ -159,6 +238,7 @@ ScanOdometry::Increment ScanOdometry::refine(const mrpt::obs::CObservation2DRang
                        std::abs(v.z()) > options_.keyframe_angle || !v.allFinite();
     if (renew)
     {
+        updateTurnBias();
         reference_ = thinned(current, options_.max_points);
         reference_mount_ = mount;
         since_reference_ = Increment{};
@@ -175,11 +255,6 @@ ScanOdometry::Increment ScanOdometry::aligned(const mrpt::obs::CObservation2DRan
                                               const Vec3& mount, const Increment& wheel, bool& ok)
 {
     ok = false;
-    if (current.size() < 3 || reference_.size() < 3 || !wheel.mean.allFinite())
-    {
-        ++stats_.too_few_points;
-        return wheel;
-    }
     // The matcher places a "template" (the reference scan, in its sensor frame) in the
     // current sensor frame: z = s^-1 for the sensor's pose s = m_ref^-1 (+) v (+) m, v the
     // vehicle relative to its pose at the reference; b is v at the previous scan. When the
@@ -195,7 +270,8 @@ ScanOdometry::Increment ScanOdometry::aligned(const mrpt::obs::CObservation2DRan
     const Vec3 z0 = inverse(compose(compose(inverse(reference_mount_), predicted.mean), mount));
     // Only the reference returns the current scan can see again: the others have no
     // counterpart and bias the increment (README, "Why only the returns seen again").
-    const PointSet overlap = inViewOf(reference_, z0, scan, options_.max_range_m);
+    const bool usable = current.size() >= 3 && reference_.size() >= 3 && wheel.mean.allFinite();
+    const PointSet overlap = usable ? inViewOf(reference_, z0, scan, options_.max_range_m) : PointSet{};
     if (overlap.size() < 3)
     {
         ++stats_.too_few_points;
@@ -209,7 +285,8 @@ ScanOdometry::Increment ScanOdometry::aligned(const mrpt::obs::CObservation2DRan
     }
     // The wheels fused with the alignment as a measurement of this step: gate and covariance.
     double d2 = 0;
-    const Increment step = fuseIncrements(wheel, alignedIncrement(r, increment), &d2);
+    const Increment measured = alignedIncrement(r, increment);
+    const Increment step = fuseIncrements(wheel, measured, &d2);
     const bool gate = options_.gate_prob > 0 && options_.gate_prob < 1;
     if (!std::isfinite(d2) || (gate && d2 > mrpt::math::chi2inv(options_.gate_prob, 3)))
     {
@@ -221,11 +298,13 @@ ScanOdometry::Increment ScanOdometry::aligned(const mrpt::obs::CObservation2DRan
     if (previous)
     {
         since_reference_ = step;
+        last_relative_ = measured;
         return step;
     }
     // The pose relative to the reference: predicted by the wheels from its last estimate,
     // updated by the alignment (a direct measurement of it). Its step is the increment.
-    since_reference_ = fuseIncrements(predicted, alignedIncrement(r, relative));
+    last_relative_ = alignedIncrement(r, relative);
+    since_reference_ = fuseIncrements(predicted, last_relative_);
     Increment out;
     out.mean = compose(inverse(before.mean), since_reference_.mean);
     out.cov = step.cov;

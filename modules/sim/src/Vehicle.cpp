@@ -31,6 +31,9 @@ hymm::core::OptionTable Vehicle::Options::table()
     t.degrees("max_steering_deg", max_steering, openInterval(0, 90), "steering limit");
     t.real("std_speed_mps", std_speed_mps, "m/s", between(0, 100), "noise of one speed reading, 1 sigma");
     t.degrees("std_steering_deg", std_steering, between(0, 90), "noise of one steering reading, 1 sigma");
+    t.degrees("steering_offset_deg", steering_offset, between(-10, 10),
+              "the steering sensor reads this much more than the wheels are turned (a calibration error: "
+              "the odometry's heading drifts by about this / L per metre)");
     t.flag("odometry_bias_correction", odometry_bias_correction,
            "odometry subtracts the second-order bias of the noisy readings' increments "
            "(v H std_steering^2 / L^2 in heading rate on a straight line); false: raw increments, "
@@ -44,7 +47,7 @@ void Vehicle::Options::loadFromConfigFile(const mrpt::config::CConfigFileBase& c
     table().load(cfg, s);
     // Eq. A.3 needs 1 - tan(alpha) H / L away from zero; leave room for the noise too.
     constexpr double kSteeringNoiseSigmas = 6.0;
-    const double worst = max_steering + kSteeringNoiseSigmas * std_steering;
+    const double worst = max_steering + kSteeringNoiseSigmas * std_steering + std::abs(steering_offset);
     if (worst >= M_PI / 2 || std::tan(worst) * std::abs(encoder_offset_m) / wheelbase_m >= 0.99)
         hymm::core::throwConfigError(
             s, "max_steering_deg", detail::formatNumber(mrpt::RAD2DEG(max_steering)),
@@ -74,7 +77,7 @@ Eigen::Vector2d Vehicle::readControls(const Eigen::Vector2d& u,
                                       mrpt::random::CRandomGenerator& rng) const
 {
     return {u[0] + options_.std_speed_mps * rng.drawGaussian1D_normalized(),
-            u[1] + options_.std_steering * rng.drawGaussian1D_normalized()};
+            u[1] + options_.steering_offset + options_.std_steering * rng.drawGaussian1D_normalized()};
 }
 
 }  // namespace hymm::sim

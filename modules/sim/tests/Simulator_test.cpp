@@ -183,6 +183,34 @@ TEST(SimulatorTest, DeadReckoningStaysConsistentOverALongRun)
     EXPECT_GT(std::abs(heading_raw), 0.35);
 }
 
+TEST(SimulatorTest, SteeringOffsetTurnsTheOdometryByTheOffsetOverTheWheelbasePerMetre)
+{
+    // Noise-free readings: the dead reckoning's heading change minus the true one, over
+    // the distance driven, is 0 without the offset and about offset / L with it (the
+    // heading rate is v tan(alpha) / L; the small steering angles of the loop leave it
+    // within a few per cent).
+    for (const double offset_deg : {0.0, 1.0})
+    {
+        const auto frames = runAll(loadScenario({{"Scenario", "duration_s", "90"},
+                                                 {"Vehicle", "std_speed_mps", "0"},
+                                                 {"Vehicle", "std_steering_deg", "0"},
+                                                 {"Vehicle", "steering_offset_deg", std::to_string(offset_deg)},
+                                                 {"LaserSimulator", "enabled", "false"},
+                                                 {"LandmarkDetector", "period_s", "0.2"}}));
+        ASSERT_GT(frames.size(), 100u);
+        double extra_turn = 0, distance = 0;
+        for (size_t k = 1; k < frames.size(); ++k)
+        {
+            extra_turn += mrpt::math::wrapToPi(frames[k].dr_pose[2] - frames[k - 1].dr_pose[2]) -
+                          mrpt::math::wrapToPi(frames[k].true_pose[2] - frames[k - 1].true_pose[2]);
+            distance += (frames[k].true_pose.head<2>() - frames[k - 1].true_pose.head<2>()).norm();
+        }
+        ASSERT_GT(distance, 100.0);
+        const double expected = offset_deg * M_PI / 180 / 2.83;  // L of the default vehicle
+        EXPECT_NEAR(extra_turn / distance, expected, 1e-9 + 0.1 * expected) << "offset " << offset_deg << " deg";
+    }
+}
+
 TEST(SimulatorTest, OdometryComposesToTheDeadReckoningPath)
 {
     const auto frames = runAll(loadScenario());

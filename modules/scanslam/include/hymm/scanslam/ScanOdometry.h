@@ -28,6 +28,7 @@
 #include <mrpt/config/CConfigFileBase.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 
+#include <cmath>
 #include <functional>
 #include <map>
 #include <memory>
@@ -65,6 +66,19 @@ public:
          *  alignment errors nor the wheels' add up step by step. [m] */
         double keyframe_distance_m = 0;
         double keyframe_angle = 30 * M_PI / 180;  //!< or has turned this much [rad] (ini: keyframe_angle_deg)
+        /** Estimate the wheels' systematic turn per metre travelled (unequal wheel radii:
+         *  the heading error grows with the distance, not with the time or the turning)
+         *  from the alignments, and remove it from every wheel increment before it is
+         *  used (README, "The wheels' turn bias"). */
+        bool wheel_turn_bias = false;
+        double wheel_turn_bias_prior = 5 * M_PI / 180;  //!< prior std of that bias [rad/m] (ini: wheel_turn_bias_prior_deg_per_m)
+        /** Its random walk: std of its change per square root of a metre travelled
+         *  [rad/m/sqrt(m)] (ini: wheel_turn_bias_walk_deg_per_m) */
+        double wheel_turn_bias_walk = 0.01 * M_PI / 180;
+        /** The estimate corrects the wheels only while it is this many of its std from
+         *  zero: an estimate of a bias that is not there would turn every increment the
+         *  same wrong way, an error the EKF takes for independent noise. */
+        double wheel_turn_bias_min_sigmas = 3;
 
         /** Every key, declared once (loader, unknown-key check, saver, README table). */
         core::OptionTable table();
@@ -82,6 +96,9 @@ public:
         size_t gated = 0;          //!< aligned, but too far from the wheel increment
         size_t fused = 0;          //!< the aligned increment fused with the wheel's
         size_t keyframes = 0;      //!< scans that became the reference (every scan without keyframes)
+        size_t bias_updates = 0;   //!< keyframes whose last alignment updated the wheels' turn bias
+        size_t bias_gated = 0;     //!< and those whose turn disagreed with the bias estimate (chi-square(1), gate_prob)
+        size_t bias_applied = 0;   //!< wheel increments corrected by the estimate
 
         /** (name, count) of every counter, failures as align_failed.<reason>. */
         std::vector<std::pair<std::string, size_t>> list() const;
@@ -120,11 +137,15 @@ public:
 
     /** Forgets the previous scan (the next refine() has nothing to align to): a motion
      *  the reference does not cover was applied in between. */
-    void reset()
-    {
-        has_reference_ = false;
-        since_reference_ = Increment{};
-    }
+    void reset();
+
+    /** The estimated turn of the wheels per metre travelled (true heading change minus
+     *  the wheels', per metre) and its std [rad/m]; 0 and the prior without
+     *  wheel_turn_bias. */
+    double wheelTurnBias() const { return turn_bias_; }
+    double wheelTurnBiasStd() const { return std::sqrt(turn_bias_var_); }
+    /** Whether the estimate is applied to the wheels now (wheel_turn_bias_min_sigmas). */
+    bool wheelTurnBiasApplied() const;
 
     const Stats& stats() const { return stats_; }
     const Options& options() const { return options_; }
@@ -136,6 +157,11 @@ private:
     Increment alignedIncrement(const AlignResult& r, const std::function<Vec3(const Vec3&)>& increment) const;
     /** Valid returns of `scan` within max_range_m, in the sensor frame. */
     PointSet usablePoints(const mrpt::obs::CObservation2DRangeScan& scan) const;
+    /** `wheel` less the estimated turn bias while it is applied (else itself). */
+    Increment unbiasedWheel(const Increment& wheel);
+    /** The Kalman update of the turn bias by the last alignment to the reference (if any),
+     *  then forgets it: called when the reference is left. */
+    void updateTurnBias();
     /** The increment of `wheel` fused with the alignment of the reference to `scan`
      *  (`current`: its usable returns), or `wheel`; `ok` tells which. */
     Increment aligned(const mrpt::obs::CObservation2DRangeScan& scan, const PointSet& current, const Vec3& mount,
@@ -152,6 +178,20 @@ private:
      *  keyframe (zero right after a new reference). */
     Increment since_reference_;
     bool reference_is_previous_ = false;  //!< the reference is the previous scan (set there)
+    /** The wheels alone (as read, bias included) since the reference scan, and the
+     *  distance they travelled [m]. */
+    Increment wheel_since_reference_;
+    Increment last_relative_;  //!< the last fused alignment as a measurement of the pose relative to the reference
+    double wheel_distance_since_reference_ = 0;
+    /** The last fused alignment's measurement of the turn bias: its heading relative to
+     *  the reference minus the wheels' (e = b ds + noise of variance var). */
+    struct TurnObservation
+    {
+        bool valid = false;
+        double e = 0, ds = 0, var = 0;
+    } turn_observation_;
+    double turn_bias_ = 0;      //!< [rad/m]
+    double turn_bias_var_ = 0;  //!< [rad^2/m^2] (the prior's, set by the constructor)
 };
 
 /** a (+) b with the covariance of both propagated to first order (independent a and b). */

@@ -37,6 +37,10 @@ public:
         double std_speed_mps = 0.3;               //!< noise of one speed reading [m/s]
         double std_steering =
             3.0 * M_PI / 180;  //!< noise of one steering reading [rad] (ini: _deg)
+        /** A constant error of the steering sensor [rad] (ini: _deg): the odometry turns
+         *  about offset / L per metre more than the vehicle, a systematic error that its
+         *  covariance does not describe. */
+        double steering_offset = 0;
         /** Odometry reports the conditional mean of the increment given the noisy
          *  readings (hymm::core::uteIncrementNoiseBias subtracted), which its covariance
          *  describes; false: the raw increments of the readings, biased in heading. */
