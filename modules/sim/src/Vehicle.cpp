@@ -77,7 +77,8 @@ Eigen::Vector2d Vehicle::readControls(const Eigen::Vector2d& u,
                                       mrpt::random::CRandomGenerator& rng) const
 {
     return {u[0] + options_.std_speed_mps * rng.drawGaussian1D_normalized(),
-            u[1] + options_.steering_offset + options_.std_steering * rng.drawGaussian1D_normalized()};
+            // The offset added last: at 0 the reading is the same double as without it.
+            u[1] + options_.std_steering * rng.drawGaussian1D_normalized() + options_.steering_offset};
 }
 
 }  // namespace hymm::sim
