@@ -15,6 +15,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <optional>
 
 namespace hymm::scanslam
 {
@@ -184,14 +185,28 @@ ScanOdometry::Increment ScanOdometry::unbiasedWheel(const Increment& wheel)
     return out;
 }
 
+void ScanOdometry::observeTurn(const Increment& wheel_read, const std::optional<Increment>& relative)
+{
+    // The wheels as read since the reference: the alignment's heading relative to it
+    // minus theirs measures their turn bias over the distance they travelled.
+    wheel_since_reference_ = composeIncrements(wheel_since_reference_, wheel_read);
+    wheel_distance_since_reference_ += wheel_read.mean.head<2>().norm();
+    if (relative)
+        turn_observation_ = TurnObservation{
+            std::remainder(relative->mean.z() - wheel_since_reference_.mean.z(), 2 * M_PI),
+            wheel_distance_since_reference_, relative->cov(2, 2) + wheel_since_reference_.cov(2, 2)};
+}
+
 void ScanOdometry::updateTurnBias()
 {
-    const TurnObservation o = turn_observation_;
+    const auto observation = turn_observation_;
     const double travelled = wheel_distance_since_reference_;
-    turn_observation_ = TurnObservation{};
+    turn_observation_.reset();
     wheel_since_reference_ = Increment{};
     wheel_distance_since_reference_ = 0;
-    if (!options_.wheel_turn_bias || !o.valid || !(o.ds > 0) || !std::isfinite(o.e) || !(o.var > 0)) return;
+    if (!options_.wheel_turn_bias || !observation) return;
+    const TurnObservation& o = *observation;
+    if (!(o.ds > 0) || !std::isfinite(o.e) || !(o.var > 0)) return;
     // A scalar Kalman filter of b: a random walk over the distance travelled, observed
     // by e = b ds + n, var(n) = the alignment's heading variance plus the wheels'.
     if (std::isfinite(travelled)) turn_bias_var_ += options_.wheel_turn_bias_walk * options_.wheel_turn_bias_walk * travelled;
@@ -214,22 +229,16 @@ ScanOdometry::Increment ScanOdometry::refine(const mrpt::obs::CObservation2DRang
     const Increment wheel = unbiasedWheel(wheel_read);
     const Vec3 mount(scan.sensorPose.x(), scan.sensorPose.y(), scan.sensorPose.yaw());
     const PointSet current = usablePoints(scan);
-    bool ok = false;
+    std::optional<Increment> relative;  // the fused alignment: the pose relative to the reference
     Increment out = wheel;
     if (!has_reference_)
         ++stats_.no_reference;
     else
     {
-        // The wheels as read since the reference: the alignment's heading relative to it
-        // minus theirs measures their turn bias over the distance they travelled.
-        wheel_since_reference_ = composeIncrements(wheel_since_reference_, wheel_read);
-        wheel_distance_since_reference_ += wheel_read.mean.head<2>().norm();
-        out = aligned(scan, current, mount, wheel, ok);
-        if (ok)
-            turn_observation_ = {true,
-                                 std::remainder(last_relative_.mean.z() - wheel_since_reference_.mean.z(), 2 * M_PI),
-                                 wheel_distance_since_reference_, last_relative_.cov(2, 2) + wheel_since_reference_.cov(2, 2)};
+        out = aligned(scan, current, mount, wheel, relative);
+        if (options_.wheel_turn_bias) observeTurn(wheel_read, relative);
     }
+    const bool ok = relative.has_value();
     const Vec3& v = since_reference_.mean;
     // A new keyframe: always without keyframes; after a failed alignment (the chain to the
     // old one is broken); or once the vehicle has left the keyframe's neighbourhood.
@@ -252,9 +261,9 @@ ScanOdometry::Increment ScanOdometry::refine(const mrpt::obs::CObservation2DRang
 }
 
 ScanOdometry::Increment ScanOdometry::aligned(const mrpt::obs::CObservation2DRangeScan& scan, const PointSet& current,
-                                              const Vec3& mount, const Increment& wheel, bool& ok)
+                                              const Vec3& mount, const Increment& wheel,
+                                              std::optional<Increment>& relative_measured)
 {
-    ok = false;
     // The matcher places a "template" (the reference scan, in its sensor frame) in the
     // current sensor frame: z = s^-1 for the sensor's pose s = m_ref^-1 (+) v (+) m, v the
     // vehicle relative to its pose at the reference; b is v at the previous scan. When the
@@ -294,17 +303,16 @@ ScanOdometry::Increment ScanOdometry::aligned(const mrpt::obs::CObservation2DRan
         return wheel;
     }
     ++stats_.fused;
-    ok = true;
     if (previous)
     {
         since_reference_ = step;
-        last_relative_ = measured;
+        relative_measured = measured;
         return step;
     }
     // The pose relative to the reference: predicted by the wheels from its last estimate,
     // updated by the alignment (a direct measurement of it). Its step is the increment.
-    last_relative_ = alignedIncrement(r, relative);
-    since_reference_ = fuseIncrements(predicted, last_relative_);
+    relative_measured = alignedIncrement(r, relative);
+    since_reference_ = fuseIncrements(predicted, *relative_measured);
     Increment out;
     out.mean = compose(inverse(before.mean), since_reference_.mean);
     out.cov = step.cov;

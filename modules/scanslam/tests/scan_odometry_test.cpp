@@ -12,6 +12,7 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -311,4 +312,50 @@ TEST(ScanOdometryTest, WheelTurnBiasIsLearntFromTheAlignmentsAndRemoved)
     std::printf("heading error after 4.5 m with a 5 deg/m wheel bias: RMS %.3f deg learnt, %.3f deg not\n",
                 std::sqrt(sq_on / 3) * 180 / M_PI, std::sqrt(sq_off / 3) * 180 / M_PI);
     EXPECT_LT(sq_on, 0.5 * sq_off);
+}
+
+TEST(ScanOdometryTest, TurnBiasCorrectsTheWheelsOnlyBeyondItsThreshold)
+{
+    // The same biased drive three times: without the estimate; with it but a threshold
+    // no estimate reaches (every increment must be the one without it, to the bit); and
+    // with a zero threshold (every wheel increment after the first update is corrected).
+    const auto world = room();
+    const Vec3 step(0.1, 0, 0.01);
+    const double bias = 5 * M_PI / 180, sphi = 0.3 * M_PI / 180;
+    std::vector<std::vector<Vec3>> increments;
+    for (const double min_sigmas : {-1.0, 1e3, 0.0})
+    {
+        ScanOdometry::Options o;
+        o.enabled = true;
+        o.noise = {0.1, 1.0 * M_PI / 180};
+        o.keyframe_distance_m = 1.05;
+        o.wheel_turn_bias = min_sigmas >= 0;
+        o.wheel_turn_bias_min_sigmas = std::max(min_sigmas, 0.0);
+        ScanOdometry odo(o, ScanOdometry::odometryMatcher("correlative", nullptr));
+        mrpt::random::CRandomGenerator rng(5);
+        Vec3 truth(-4, -2, 0.1);
+        Increment wheel;
+        wheel.cov = Mat3(Eigen::Vector3d(2.5e-5, 2.5e-5, sphi * sphi).asDiagonal());
+        (void)odo.refine(*scanAt(world, truth, Vec3::Zero(), 500), wheel);
+        size_t after_first_update = 0;
+        increments.emplace_back();
+        for (uint32_t k = 1; k <= 25; ++k)
+        {
+            truth = compose(truth, step);
+            wheel.mean = step + Vec3(0.005 * rng.drawGaussian1D_normalized(), 0.005 * rng.drawGaussian1D_normalized(),
+                                     -bias * step.x() + sphi * rng.drawGaussian1D_normalized());
+            if (odo.stats().bias_updates > 0) ++after_first_update;
+            increments.back().push_back(odo.refine(*scanAt(world, truth, Vec3::Zero(), 500 + k), wheel).mean);
+        }
+        if (min_sigmas < 0)
+        {
+            EXPECT_EQ(odo.stats().bias_updates, 0u);
+            continue;
+        }
+        EXPECT_GE(odo.stats().bias_updates, 2u) << "threshold " << min_sigmas;
+        EXPECT_EQ(odo.stats().bias_applied, min_sigmas > 0 ? 0u : after_first_update) << "threshold " << min_sigmas;
+    }
+    ASSERT_EQ(increments.size(), 3u);
+    EXPECT_EQ(increments[1], increments[0]);  // estimated, never applied: the wheels untouched
+    EXPECT_NE(increments[2], increments[0]);
 }

@@ -32,6 +32,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -159,13 +160,18 @@ private:
     PointSet usablePoints(const mrpt::obs::CObservation2DRangeScan& scan) const;
     /** `wheel` less the estimated turn bias while it is applied (else itself). */
     Increment unbiasedWheel(const Increment& wheel);
+    /** Adds `wheel_read` (the wheels as read) to their motion since the reference and,
+     *  when the scan was aligned (`relative`, the pose relative to the reference it
+     *  measured), keeps the turn observation of that alignment. */
+    void observeTurn(const Increment& wheel_read, const std::optional<Increment>& relative);
     /** The Kalman update of the turn bias by the last alignment to the reference (if any),
      *  then forgets it: called when the reference is left. */
     void updateTurnBias();
     /** The increment of `wheel` fused with the alignment of the reference to `scan`
-     *  (`current`: its usable returns), or `wheel`; `ok` tells which. */
+     *  (`current`: its usable returns), or `wheel`; when fused, `relative_measured` gets
+     *  the alignment as a measurement of the pose relative to the reference. */
     Increment aligned(const mrpt::obs::CObservation2DRangeScan& scan, const PointSet& current, const Vec3& mount,
-                      const Increment& wheel, bool& ok);
+                      const Increment& wheel, std::optional<Increment>& relative_measured);
 
     Options options_;
     std::unique_ptr<ScanMatcher> matcher_;
@@ -181,15 +187,14 @@ private:
     /** The wheels alone (as read, bias included) since the reference scan, and the
      *  distance they travelled [m]. */
     Increment wheel_since_reference_;
-    Increment last_relative_;  //!< the last fused alignment as a measurement of the pose relative to the reference
     double wheel_distance_since_reference_ = 0;
     /** The last fused alignment's measurement of the turn bias: its heading relative to
      *  the reference minus the wheels' (e = b ds + noise of variance var). */
     struct TurnObservation
     {
-        bool valid = false;
         double e = 0, ds = 0, var = 0;
-    } turn_observation_;
+    };
+    std::optional<TurnObservation> turn_observation_;
     double turn_bias_ = 0;      //!< [rad/m]
     double turn_bias_var_ = 0;  //!< [rad^2/m^2] (the prior's, set by the constructor)
 };
