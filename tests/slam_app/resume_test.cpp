@@ -345,16 +345,23 @@ TEST_F(Resume, StateOfAnotherConfigIsRefused)
     expectRefused(a, "saved under a different config: the state has '[ParticlesLayer] samples_per_return = 5'");
 }
 
-// Scan landmarks (templates, counters and the acceptance test's random generator) on
-// the same sample: landmarks are created and observed on both sides of the cut.
+// Scan landmarks (templates, counters, the acceptance test's random generator and the
+// templates' first scans of the free-space check) on the same sample: landmarks are
+// created and observed on both sides of the cut.
 TEST_F(Resume, ScanLandmarksResumeToIdenticalOutputs)
 {
-    expectCutResumes(kSrc + "/configs/ch5_scanslam.ini", 200, 400, "scan", [](const hymm::denseslam::DenseSlam& slam) {
+    std::string ini = readFile(kSrc + "/configs/ch5_scanslam.ini");
+    const auto at = ini.find("wide_search = true\n");
+    ASSERT_NE(at, std::string::npos);
+    ini.insert(at, "wide_max_free_conflict = 0.2\n");
+    writeFile(*dir_ / "scan.ini", ini);
+    expectCutResumes(*dir_ / "scan.ini", 200, 400, "scan", [](const hymm::denseslam::DenseSlam& slam) {
         ASSERT_EQ(slam.scanSources().size(), 1u);
         const auto* src = dynamic_cast<const hymm::denseslam::ScanLandmarksSource*>(slam.scanSources()[0].get());
         ASSERT_NE(src, nullptr);
         EXPECT_GT(src->map().templates().size(), 0u);
         EXPECT_GT(src->map().stats().updated, 0u);
+        EXPECT_EQ(src->map().firstScans().size(), src->map().templates().size());
         // The templates' updates are landmark observations that reached the filter.
         for (const auto& w : hymm::app::runWarnings(slam))
             EXPECT_EQ(w.find("no landmark observation reached the filter"), std::string::npos) << w;

@@ -221,6 +221,7 @@ void ScanLandmarkMap::processScan(ekf::EkfSlam& ekf, const mrpt::obs::CObservati
     };
     prune(wide_last_);
     prune(fused_views_);
+    prune(first_scans_);
     for (auto it = merge_last_.begin(); it != merge_last_.end();)
         it = templates_.count(it->first.first) && templates_.count(it->first.second) ? std::next(it)
                                                                                      : merge_last_.erase(it);
@@ -241,7 +242,7 @@ void ScanLandmarkMap::processScan(ekf::EkfSlam& ekf, const mrpt::obs::CObservati
 }
 
 long ScanLandmarkMap::addTemplateLandmark(ekf::EkfSlam& ekf, ScanTemplate tpl, const AlignResult& obs,
-                                          const Vec3& sensor)
+                                          const Vec3& sensor, std::vector<Vec2> first_scan)
 {
     if (tpl.sog.empty()) throw std::invalid_argument("addTemplateLandmark: empty template");
     if (!obs.ok || !obs.z.allFinite() || !isCovariance(obs.R))
@@ -249,6 +250,7 @@ long ScanLandmarkMap::addTemplateLandmark(ekf::EkfSlam& ekf, ScanTemplate tpl, c
     const long id = ekf.addPoseLandmark(obs.z, obs.R, sensor);
     tpl.frame_in_sensor = obs.z;
     templates_.emplace(id, std::move(tpl));
+    if (keepsFirstScans() && !first_scan.empty()) first_scans_[id] = std::move(first_scan);
     ++stats_.created;
     return id;
 }
@@ -382,6 +384,7 @@ void ScanLandmarkMap::createLandmarks(ekf::EkfSlam& ekf, const PointSet& pts, co
         const long id = ekf.addPoseLandmark(tpl.frame_in_sensor, res.R, sensor);
         templates_.emplace(id, std::move(tpl));
         ++stats_.created;
+        if (keepsFirstScans()) first_scans_[id] = pts.points;
     }
     stats_.acceptance = acceptance_.stats().count;
 }

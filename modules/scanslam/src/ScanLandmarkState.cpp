@@ -207,6 +207,13 @@ void ScanLandmarkMap::saveState(mrpt::serialization::CArchive& out) const
         writeVectors(out, views);
     }
     writeApparent(out, apparent_);  // state version 10
+    // The returns of the templates' first scans (wide_max_free_conflict; version 11).
+    writeSize(out, first_scans_.size());
+    for (const auto& [id, returns] : first_scans_)
+    {
+        writeLong(out, id);
+        writeVectors(out, returns);
+    }
     writeTag(out, "ScanLandmarkMap end");
 }
 
@@ -260,6 +267,9 @@ void ScanLandmarkMap::loadState(mrpt::serialization::CArchive& in)
     const size_t nv = readSize(in, "fused viewpoint landmark");
     for (size_t i = 0; i < nv; ++i) readVectors(in, fused_views_[readLong(in)], "fused viewpoint");
     readApparent(in, apparent_);
+    first_scans_.clear();
+    const size_t nf = readSize(in, "template first scan");
+    for (size_t i = 0; i < nf; ++i) readVectors(in, first_scans_[readLong(in)], "template first scan return");
     expectTag(in, "ScanLandmarkMap end");
 }
 

@@ -84,7 +84,18 @@ void declareWideKeys(core::OptionTable& t, ScanLandmarkMap::Options& o)
            "and within this of its heading then", M_PI / 180);
     t.real("wide_cov_inflation", o.wide_cov_inflation, "", atLeast(1, 1e6),
            "a wide answer's covariance (with the viewpoint term) times this before its update");
+    t.real("wide_max_free_conflict", o.wide_max_free_conflict, "", atLeast(0, 1),
+           "a wide answer is refused when more of its scan's returns than this lie in the free space of the "
+           "template's first scan, or the other way round (1: off)");
+    t.real("wide_free_margin_m", o.wide_free_margin_m, "m", above(0, 100),
+           "a return conflicts when this far in front of the other scan's return on its bearing");
 }
+
+namespace
+{
+/** Fewer returns tested in a direction than this say nothing about the place. */
+constexpr size_t kMinFreeSpaceTested = 20;
+}  // namespace
 
 bool ScanLandmarkMap::confirmWide(const ekf::EkfSlam& ekf, long id, const Vec3& z, const Vec3& sensor)
 {
@@ -145,6 +156,19 @@ Vec3 ScanLandmarkMap::observeWide(ekf::EkfSlam& ekf, long id, const ScanTemplate
     {
         ++stats_.wide["view_changed"];
         return z_hat;
+    }
+    if (const auto first = first_scans_.find(id); first != first_scans_.end())
+    {
+        // The current sensor in the frame of the scan the template was made from.
+        const Vec3 now_in_first = compose(tpl.frame_in_sensor, inverse(res.z));
+        const double share = freeSpaceConflict(first->second, pts.points, now_in_first, options_.wide_free_margin_m,
+                                               M_PI / 180)
+                                 .share(kMinFreeSpaceTested);
+        if (share > options_.wide_max_free_conflict)
+        {
+            ++stats_.wide["free_space_conflict"];
+            return z_hat;
+        }
     }
     if (options_.wide_confirm_scans > 0 && !confirmWide(ekf, id, res.z, sensor)) return z_hat;
     ++stats_.aligned;

@@ -228,4 +228,77 @@ WideResult wideSearch(const PointSet& tpl, const PointSet& scan, const Vec3& z0,
     return res;
 }
 
+namespace
+{
+/** The nearest return per bearing bin over the full circle (+inf: no return). */
+class FirstHits
+{
+public:
+    FirstHits(const std::vector<Vec2>& pts, double bin_rad)
+        : bin_(bin_rad), r_(static_cast<size_t>(std::ceil(2 * M_PI / bin_rad)), kNone)
+    {
+        for (const Vec2& p : pts)
+        {
+            double& r = r_[index(std::atan2(p.y(), p.x()))];
+            r = std::min(r, p.norm());
+        }
+    }
+    /** How far the scan saw free space on `bearing`: the nearest return of its bin and
+     *  both neighbours (+inf when any of them has none). */
+    double freeUpTo(double bearing) const
+    {
+        const size_t n = r_.size(), i = index(bearing);
+        return std::max({r_[i], r_[(i + 1) % n], r_[(i + n - 1) % n]}) == kNone
+                   ? kNone
+                   : std::min({r_[i], r_[(i + 1) % n], r_[(i + n - 1) % n]});
+    }
+
+private:
+    static constexpr double kNone = std::numeric_limits<double>::infinity();
+    size_t index(double bearing) const
+    {
+        const double u = (mrpt::math::wrapToPi(bearing) + M_PI) / bin_;
+        return std::min(static_cast<size_t>(std::max(u, 0.0)), r_.size() - 1);
+    }
+    double bin_;
+    std::vector<double> r_;
+};
+
+/** Counts the returns `pts` (frame at `pose` in the hits' frame) tested against and
+ *  inside the free space of `hits`. */
+void countConflicts(const FirstHits& hits, const std::vector<Vec2>& pts, const Vec3& pose, double margin,
+                    size_t& tested, size_t& conflicts)
+{
+    const double c = std::cos(pose.z()), s = std::sin(pose.z());
+    for (const Vec2& p : pts)
+    {
+        const Vec2 q(pose.x() + c * p.x() - s * p.y(), pose.y() + s * p.x() + c * p.y());
+        const double free = hits.freeUpTo(std::atan2(q.y(), q.x()));
+        if (!std::isfinite(free)) continue;
+        ++tested;
+        if (q.norm() < free - margin) ++conflicts;
+    }
+}
+}  // namespace
+
+double FreeSpaceConflict::share(size_t min_tested) const
+{
+    double out = 0;
+    if (tested_ab >= std::max<size_t>(min_tested, 1)) out = double(conflicts_ab) / double(tested_ab);
+    if (tested_ba >= std::max<size_t>(min_tested, 1)) out = std::max(out, double(conflicts_ba) / double(tested_ba));
+    return out;
+}
+
+FreeSpaceConflict freeSpaceConflict(const std::vector<Vec2>& a, const std::vector<Vec2>& b, const Vec3& b_in_a,
+                                    double margin_m, double bin_rad)
+{
+    FreeSpaceConflict out;
+    if (!(bin_rad > 0) || !b_in_a.allFinite()) return out;
+    countConflicts(FirstHits(a, bin_rad), b, b_in_a, margin_m, out.tested_ab, out.conflicts_ab);
+    const double c = std::cos(b_in_a.z()), s = std::sin(b_in_a.z());
+    const Vec3 a_in_b(-c * b_in_a.x() - s * b_in_a.y(), s * b_in_a.x() - c * b_in_a.y(), -b_in_a.z());
+    countConflicts(FirstHits(b, bin_rad), a, a_in_b, margin_m, out.tested_ba, out.conflicts_ba);
+    return out;
+}
+
 }  // namespace hymm::scanslam

@@ -33,19 +33,6 @@ Mat3 randomCovariance(mrpt::random::CRandomGenerator& rng, double sxy, double sp
     return A * A.transpose() + Mat3(Eigen::Vector3d(sxy * sxy, sxy * sxy, sphi * sphi).asDiagonal()) * 0.1;
 }
 
-/** A room of boxes and walls around the origin: every direction has structure. */
-hymm::sim::World room()
-{
-    std::vector<hymm::sim::WorldObject> objs;
-    objs.push_back(fixedObject(0, box(4, 3), 9, 4, 0.5));
-    objs.push_back(fixedObject(1, box(3, 2), 8, -6, -0.3));
-    objs.push_back(fixedObject(2, box(20, 0.3), 0, 12, 0));
-    objs.push_back(fixedObject(3, box(20, 0.3), 0, -12, 0));
-    objs.push_back(fixedObject(4, box(0.3, 24), 15, 0, 0));
-    objs.push_back(fixedObject(5, box(2, 2), -4, 6, 0.2));
-    return hymm::sim::World({}, std::move(objs));
-}
-
 /** A scan of `world` from the vehicle at `pose`, laser mounted at `mount` (the thesis'
  *  Table 5.1 noise: 0.1 m, 1 deg). */
 mrpt::obs::CObservation2DRangeScan::Ptr scanAt(const hymm::sim::World& world, const Vec3& pose, const Vec3& mount,

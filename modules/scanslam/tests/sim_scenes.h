@@ -38,6 +38,19 @@ inline sim::World threeObjects()
     return sim::World({}, std::move(objs));
 }
 
+/** A room of boxes and walls around the origin: every direction has structure. */
+inline sim::World room()
+{
+    std::vector<sim::WorldObject> objs;
+    objs.push_back(fixedObject(0, box(4, 3), 9, 4, 0.5));
+    objs.push_back(fixedObject(1, box(3, 2), 8, -6, -0.3));
+    objs.push_back(fixedObject(2, box(20, 0.3), 0, 12, 0));
+    objs.push_back(fixedObject(3, box(20, 0.3), 0, -12, 0));
+    objs.push_back(fixedObject(4, box(0.3, 24), 15, 0, 0));
+    objs.push_back(fixedObject(5, box(2, 2), -4, 6, 0.2));
+    return sim::World({}, std::move(objs));
+}
+
 struct Laser
 {
     double std_range_m = 0.05;

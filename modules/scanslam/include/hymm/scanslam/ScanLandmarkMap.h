@@ -164,6 +164,14 @@ public:
         double wide_view_window_m = 0;
         double wide_view_window_phi = 10 * M_PI / 180;  //!< [rad] (ini: wide_view_window_phi_deg)
         double wide_cov_inflation = 1;     //!< a wide answer's R (with the viewpoint term) times this
+        /** < 1: a wide answer (before its confirmation) is refused (`free_space_conflict`)
+         *  when more than this share of the returns of its scan, placed by the answer,
+         *  lie where the scan the template was made from saw free space, or the other way
+         *  round (freeSpaceConflict, `wide_free_margin_m`, 1 deg bins): a lookalike fits
+         *  the template but not the rest of the place. The landmarks keep the returns of
+         *  their first scan for it. 1: off. */
+        double wide_max_free_conflict = 1;
+        double wide_free_margin_m = 0.5;   //!< a return conflicts when this far in front of the other scan's
         /** > 0: a template whose predicted position has a standard deviation (largest
          *  axis of H P H^T) above this is aligned with the dense map around it added
          *  (thesis 6.2: once the vehicle is no longer well correlated with the landmark,
@@ -251,9 +259,12 @@ public:
      *  in the sensor frame, its covariance) by augmentation (2.3.4, Eq. 2.53); the
      *  sensor sits at `sensor` on the vehicle. From the next scan on it is observed by
      *  alignment like every other template. Throws std::invalid_argument on an empty
-     *  template or an observation that is not ok. Returns the landmark id. */
+     *  template or an observation that is not ok. Returns the landmark id.
+     *  `first_scan`: the returns (sensor frame) of the scan `obs` comes from, kept for
+     *  the free-space check of its wide answers (Options::wide_max_free_conflict; none:
+     *  its wide answers are not checked). */
     long addTemplateLandmark(ekf::EkfSlam& ekf, ScanTemplate tpl, const AlignResult& obs,
-                             const Vec3& sensor);
+                             const Vec3& sensor, std::vector<Vec2> first_scan = {});
 
     /** The dense map's Gaussians (global frame, means and 2x2 covariances) whose means lie
      *  in the axis-aligned box [lo, hi]. */
@@ -270,6 +281,8 @@ public:
 
     /** Templates by landmark id (landmarks the filter removed are dropped on the next scan). */
     const std::map<long, ScanTemplate>& templates() const { return templates_; }
+    /** landmark -> the returns of its template's first scan (wide_max_free_conflict < 1). */
+    const std::map<long, std::vector<Vec2>>& firstScans() const { return first_scans_; }
     const Stats& stats() const { return stats_; }
     /** The converged alignments of the last processScan call. */
     const std::vector<AlignedObservation>& lastAligned() const { return last_aligned_; }
@@ -360,6 +373,10 @@ private:
         size_t scan = 0;
         Vec3 correction = Vec3::Zero();
     };
+    /** landmark -> the returns of the scan its template was made from (sensor frame),
+     *  with wide_max_free_conflict < 1. */
+    std::map<long, std::vector<Vec2>> first_scans_;
+    bool keepsFirstScans() const { return options_.wide_search && options_.wide_max_free_conflict < 1; }
     WidePending wide_pending_;
 };
 

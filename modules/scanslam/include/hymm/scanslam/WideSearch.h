@@ -52,4 +52,27 @@ struct WideResult
 WideResult wideSearch(const PointSet& tpl, const PointSet& scan, const Vec3& z0, const Vec3& half,
                       const WideSearchOptions& o);
 
+/** How much two scans contradict each other at a relative pose (the verification of a
+ *  wide answer against the whole scan its template was made from). A return of one scan
+ *  conflicts when it lies in the space the other saw free: in front, by more than
+ *  `margin_m`, of the other's nearest return on its bearing and on both neighbouring
+ *  bearing bins (`bin_rad` wide). A return on a bearing where the other scan has no
+ *  return nearby is not tested: no return is no evidence. Each direction is counted on
+ *  its own; a lookalike place that fits a template puts walls where the other scan
+ *  looked through, a true revisit only where something moved or a beam grazed. */
+struct FreeSpaceConflict
+{
+    size_t tested_ab = 0;     //!< returns of b tested against a's free space
+    size_t conflicts_ab = 0;  //!< of those, in it
+    size_t tested_ba = 0;     //!< returns of a tested against b's free space
+    size_t conflicts_ba = 0;
+    /** The larger share of conflicts over the directions with at least `min_tested`
+     *  returns tested (0 when neither has). */
+    double share(size_t min_tested) const;
+};
+
+/** `a`, `b`: returns in their own sensor frames; `b_in_a`: b's sensor pose in a's. */
+FreeSpaceConflict freeSpaceConflict(const std::vector<Vec2>& a, const std::vector<Vec2>& b, const Vec3& b_in_a,
+                                    double margin_m, double bin_rad);
+
 }  // namespace hymm::scanslam
