@@ -97,6 +97,19 @@ namespace
 constexpr size_t kMinFreeSpaceTested = 20;
 }  // namespace
 
+bool ScanLandmarkMap::refusedByFirstScan(long id, const ScanTemplate& tpl, const PointSet& pts, const Vec3& z)
+{
+    const auto first = first_scans_.find(id);
+    if (first == first_scans_.end()) return false;
+    // The current sensor in the frame of the scan the template was made from.
+    const Vec3 now_in_first = compose(tpl.frame_in_sensor, inverse(z));
+    if (freeSpaceConflict(first->second, pts.points, now_in_first, options_.wide_free_margin_m, M_PI / 180)
+            .share(kMinFreeSpaceTested) <= options_.wide_max_free_conflict)
+        return false;
+    ++stats_.wide["free_space_conflict"];
+    return true;
+}
+
 bool ScanLandmarkMap::confirmWide(const ekf::EkfSlam& ekf, long id, const Vec3& z, const Vec3& sensor)
 {
     // The vehicle pose that would make landmark `id` appear at z, as a correction of the
@@ -157,19 +170,7 @@ Vec3 ScanLandmarkMap::observeWide(ekf::EkfSlam& ekf, long id, const ScanTemplate
         ++stats_.wide["view_changed"];
         return z_hat;
     }
-    if (const auto first = first_scans_.find(id); first != first_scans_.end())
-    {
-        // The current sensor in the frame of the scan the template was made from.
-        const Vec3 now_in_first = compose(tpl.frame_in_sensor, inverse(res.z));
-        const double share = freeSpaceConflict(first->second, pts.points, now_in_first, options_.wide_free_margin_m,
-                                               M_PI / 180)
-                                 .share(kMinFreeSpaceTested);
-        if (share > options_.wide_max_free_conflict)
-        {
-            ++stats_.wide["free_space_conflict"];
-            return z_hat;
-        }
-    }
+    if (refusedByFirstScan(id, tpl, pts, res.z)) return z_hat;
     if (options_.wide_confirm_scans > 0 && !confirmWide(ekf, id, res.z, sensor)) return z_hat;
     ++stats_.aligned;
     const Mat3 R = options_.wide_cov_inflation * viewCovariance(res.R, viewChange(tpl, res.z));

@@ -311,6 +311,10 @@ private:
      *  where its returns are (z_hat unless fused). ScanLandmarkWide.cpp. */
     Vec3 observeWide(ekf::EkfSlam& ekf, long id, const ScanTemplate& tpl, const PointSet& pts,
                      const Vec3& sensor, const Vec3& z_hat, const Mat3& S);
+    /** Whether the scan `pts`, placed by the wide answer z of landmark `id`, and the
+     *  template's first scan contradict each other beyond wide_max_free_conflict
+     *  (counted as free_space_conflict; false when the first scan is not kept). */
+    bool refusedByFirstScan(long id, const ScanTemplate& tpl, const PointSet& pts, const Vec3& z);
     /** Whether the wide answer z of landmark `id` agrees with the pending one of another
      *  landmark (same implied vehicle correction); else it becomes the pending one. */
     bool confirmWide(const ekf::EkfSlam& ekf, long id, const Vec3& z, const Vec3& sensor);
