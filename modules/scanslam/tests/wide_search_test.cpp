@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iostream>
 
 #include "sim_scenes.h"
 
@@ -340,6 +341,8 @@ TEST(FreeSpaceConflict, ARevisitAgreesWithItsFirstScanAndAWrongPoseDoesNot)
                                   compose(rel, Vec3(0, 0, 20 * kDeg)), compose(rel, Vec3(0, 0, -20 * kDeg))})
             best_wrong = std::min(best_wrong, freeSpaceConflict(sa.points, sb.points, wrong, 0.5, kDeg).share(20));
     }
+    std::cout << "conflict share: worst at the true pose " << worst_true << ", best at a wrong one " << best_wrong
+              << "\n";
     EXPECT_LT(worst_true, 0.05);
     EXPECT_GT(best_wrong, 0.2);
 }
