@@ -221,7 +221,8 @@ public:
         size_t augment_points = 0;     //!< dense Gaussians added over those alignments
         size_t augment_empty = 0;      //!< augmentation wanted, but the dense map held nothing around the template
         /** Wide searches by outcome: closed (fused), window_too_large, deferred,
-         *  no_overlap, ambiguous, refine.<matcher reason>, view_changed, gated, numeric. */
+         *  no_overlap, ambiguous, refine.<matcher reason>, view_changed, view_elsewhere,
+         *  free_space_conflict, pending, confirmed, disagreed, gated, numeric. */
         std::map<std::string, size_t> wide;
 
         /** (name, count) of every counter, failure reasons as align_failed.<reason>. */
