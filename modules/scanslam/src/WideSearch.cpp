@@ -248,9 +248,8 @@ public:
     double freeUpTo(double bearing) const
     {
         const size_t n = r_.size(), i = index(bearing);
-        return std::max({r_[i], r_[(i + 1) % n], r_[(i + n - 1) % n]}) == kNone
-                   ? kNone
-                   : std::min({r_[i], r_[(i + 1) % n], r_[(i + n - 1) % n]});
+        const double here = r_[i], next = r_[(i + 1) % n], prev = r_[(i + n - 1) % n];
+        return std::max({here, next, prev}) == kNone ? kNone : std::min({here, next, prev});
     }
 
 private:
@@ -269,10 +268,8 @@ private:
 void countConflicts(const FirstHits& hits, const std::vector<Vec2>& pts, const Vec3& pose, double margin,
                     size_t& tested, size_t& conflicts)
 {
-    const double c = std::cos(pose.z()), s = std::sin(pose.z());
-    for (const Vec2& p : pts)
+    for (const Vec2& q : transformedPoints(pts, pose))
     {
-        const Vec2 q(pose.x() + c * p.x() - s * p.y(), pose.y() + s * p.x() + c * p.y());
         const double free = hits.freeUpTo(std::atan2(q.y(), q.x()));
         if (!std::isfinite(free)) continue;
         ++tested;
@@ -295,9 +292,7 @@ FreeSpaceConflict freeSpaceConflict(const std::vector<Vec2>& a, const std::vecto
     FreeSpaceConflict out;
     if (!(bin_rad > 0) || !b_in_a.allFinite()) return out;
     countConflicts(FirstHits(a, bin_rad), b, b_in_a, margin_m, out.tested_ab, out.conflicts_ab);
-    const double c = std::cos(b_in_a.z()), s = std::sin(b_in_a.z());
-    const Vec3 a_in_b(-c * b_in_a.x() - s * b_in_a.y(), s * b_in_a.x() - c * b_in_a.y(), -b_in_a.z());
-    countConflicts(FirstHits(b, bin_rad), a, a_in_b, margin_m, out.tested_ba, out.conflicts_ba);
+    countConflicts(FirstHits(b, bin_rad), a, inverse(b_in_a), margin_m, out.tested_ba, out.conflicts_ba);
     return out;
 }
 

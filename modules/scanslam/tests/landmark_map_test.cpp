@@ -451,6 +451,29 @@ TEST(ScanLandmarkMap, FailedMergeWaitsAndIsPartOfTheSavedState)
     EXPECT_EQ(map->stats().merge_candidates, tried);
 }
 
+// wide_max_free_conflict: every template made from a scan keeps that scan's returns, the
+// kept scans are part of the saved state, and without the check nothing is kept.
+TEST(ScanLandmarkMap, TemplatesKeepTheirFirstScanForTheFreeSpaceCheck)
+{
+    ScanLandmarkMap::Options o;
+    o.wide_search = true;
+    o.wide_max_free_conflict = 0.2;
+    auto [map, ekf] = afterFirstScan(o, 1);
+    ASSERT_FALSE(map->templates().empty());
+    const PointSet returns = fromScan(*scanAt(boxes(), Vec3::Zero(), 1), o.noise);
+    ASSERT_EQ(map->firstScans().size(), map->templates().size());
+    for (const auto& [id, scan] : map->firstScans())
+    {
+        EXPECT_TRUE(map->templates().count(id)) << id;
+        EXPECT_EQ(scan, returns.points) << id;
+    }
+    auto [map2, ekf2] = reloaded(*map, ekf, o);
+    EXPECT_EQ(map2->firstScans(), map->firstScans());
+    ScanLandmarkMap::Options off = o;
+    off.wide_max_free_conflict = 1;
+    EXPECT_TRUE(afterFirstScan(off, 1).first->firstScans().empty());
+}
+
 // view_corr_share: a template's first fused alignment keeps its R; an alignment from
 // (nearly) the viewpoint of an earlier fused one gets R times 1 + c (coth(delta / 2L) - 1);
 // with a correlation length far below delta the factor is 1 again. The fused viewpoints
