@@ -97,7 +97,7 @@ MotionRaster rasterMotionLayer(const DenseSlam& slam, MotionKind kind, double re
     {
         const auto* tile = hybrid.fallbackMap(key);
         if (!tile || !tile->layer(dense::OccupancyLayer::kKind)) continue;
-        const auto to_current = dense::usableReferenceToCurrent(p, key.anchor);
+        const auto to_current = hybrid.fallbackToCurrent(p, key.anchor);
         if (!to_current) continue;
         cover(dense::currentFallbackTileTriangle(key, hybrid.options().fallback_tile_m, *to_current));
     }

@@ -57,13 +57,13 @@ double distanceToTriangle(const Eigen::Vector2d& p, const hymm::ltr::TriangleFra
                      distanceToSegment(p, tri[2], tri[0])});
 }
 
-std::optional<hymm::ltr::AffineRegionMap> usableReferenceToCurrent(const hymm::ltr::RegionPartition& partition,
-                                                                    long id)
+std::optional<hymm::ltr::AffineRegionMap> usableReferenceToCurrent(
+    const hymm::ltr::RegionPartition& partition, long id, FallbackFrame frame)
 {
     if (!partition.has(id)) return std::nullopt;
     try
     {
-        return partition.referenceToCurrent(id);
+        return fallbackFrameOf(partition.referenceToCurrent(id), frame);
     }
     catch (const std::invalid_argument&)
     {

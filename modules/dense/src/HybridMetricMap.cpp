@@ -80,30 +80,19 @@ void HybridMetricMap::forEachMap(
     const RegionPartition& partition, Content content,
     const std::function<void(const LocalDenseMap&, const AffineRegionMap&)>& fn) const
 {
-    const auto current = [&](long id) -> std::optional<AffineRegionMap> {
-        if (!partition.has(id)) return std::nullopt;
-        try
-        {
-            return partition.referenceToCurrent(id);
-        }
-        catch (const std::invalid_argument&)
-        {
-            return std::nullopt;  // degenerate current triangle: no valid position for its content
-        }
-    };
     if (content != Content::Regions)
     {
         long last = -1;
         std::optional<AffineRegionMap> to_current;
         for (const auto& [key, map] : fallback_)
         {
-            if (key.anchor != last) to_current = current(last = key.anchor);
+            if (key.anchor != last) to_current = fallbackToCurrent(partition, last = key.anchor);
             if (to_current) fn(*map, *to_current);
         }
     }
     if (content != Content::Fallback)
         for (const auto& [id, map] : maps_)
-            if (const auto to_current = current(id)) fn(*map, *to_current);
+            if (const auto to_current = usableReferenceToCurrent(partition, id)) fn(*map, *to_current);
 }
 
 HybridMetricMap::CoarsenReport HybridMetricMap::coarsenIdleRegions()
@@ -153,7 +142,7 @@ bool HybridMetricMap::insertFallbackReturn(
         partition, ret, fb_dist, options_.fallback_reuse_m, options_.fallback_tile_m,
         [&](long id) {
             const auto [it, fresh] = maps.try_emplace(id);
-            if (fresh) it->second = usableReferenceToCurrent(partition, id);
+            if (fresh) it->second = fallbackToCurrent(partition, id);
             return it->second ? &*it->second : nullptr;
         },
         [&](const FallbackTileKey& k) { return fallback_.count(k) > 0; });
@@ -279,7 +268,7 @@ std::vector<FallbackTileKey> HybridMetricMap::fallbackTilesInBox(
         if ((alo.array() > hi_pad.array()).any() || (ahi.array() < lo_pad.array()).any()) continue;
         auto it = fallback_.lower_bound(firstFallbackTileKey(anchor));
         if (it == fallback_.end() || it->first.anchor != anchor) continue;
-        const auto to_current = usableReferenceToCurrent(partition, anchor);
+        const auto to_current = fallbackToCurrent(partition, anchor);
         if (!to_current) continue;
         for (; it != fallback_.end() && it->first.anchor == anchor; ++it)
         {

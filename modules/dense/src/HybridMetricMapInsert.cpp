@@ -95,8 +95,8 @@ class ScanOwners
 {
    public:
     ScanOwners(const RegionPartition& partition, const HybridMetricMap::RegionFilter& accept,
-               const std::map<FallbackTileKey, std::unique_ptr<LocalDenseMap>>& tiles)
-        : partition_(partition), accept_(accept), tiles_(tiles)
+               const std::map<FallbackTileKey, std::unique_ptr<LocalDenseMap>>& tiles, FallbackFrame frame)
+        : partition_(partition), accept_(accept), tiles_(tiles), frame_(frame)
     {
     }
 
@@ -181,10 +181,10 @@ class ScanOwners
             const auto c = index_of_.find(id);
             if (c != index_of_.end())
             {
-                if (!cands[c->second].withheld) it->second = cands[c->second].to_current;
+                if (!cands[c->second].withheld) it->second = fallbackFrameOf(cands[c->second].to_current, frame_);
             }
             else if (!accept_ || accept_(id))
-                it->second = usableReferenceToCurrent(partition_, id);
+                it->second = usableReferenceToCurrent(partition_, id, frame_);
         }
         return it->second;
     }
@@ -212,6 +212,7 @@ class ScanOwners
     const RegionPartition& partition_;
     const HybridMetricMap::RegionFilter& accept_;
     const std::map<FallbackTileKey, std::unique_ptr<LocalDenseMap>>& tiles_;
+    const FallbackFrame frame_;
     std::unordered_map<long, size_t> index_of_;  // region id -> index in cands
     std::unordered_map<long, std::optional<AffineRegionMap>> anchor_maps_;  // nullopt: unusable
 };
@@ -314,7 +315,7 @@ HybridMetricMap::InsertStats HybridMetricMap::insertScan(
     st.no_return = w.no_return;
 
     // 1. Regions near the scan, with their reference -> current maps.
-    ScanOwners owners(partition, accept, fallback_);
+    ScanOwners owners(partition, accept, fallback_, options_.fallback_frame);
     {
         core::TimedSection t1(profiler_, "dense.insertScan.1_regions");
         owners.collectRegions(w, st);

@@ -29,6 +29,10 @@ hymm::core::OptionTable HybridMetricMap::Options::table()
     t.real("fallback_reuse_m", fallback_reuse_m, "m", atLeast(0, 1e4),
            "a return goes to an existing fallback tile holding it whose anchor is at most this much farther than "
            "the nearest region (fewer overlapping tiles to update per scan); 0 = always the nearest region's tile");
+    t.choice("fallback_frame", fallback_frame, {{"affine", FallbackFrame::Affine}, {"rigid", FallbackFrame::Rigid}},
+             "how fallback content follows its anchor region: its affine map extrapolated (Eq. 3.3), or the "
+             "rotation and translation fitted to its vertices, which does not extrapolate the triangle's "
+             "deformation (`FallbackTiles.h`)");
     t.flag("enable_profiler", enable_profiler, "CTimeLogger sections `dense.*`");
     return t;
 }

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 
 namespace
@@ -68,6 +69,63 @@ TEST(AffineRegionMapTest, UnchangedTriangleGivesIdentity)
     EXPECT_TRUE(m.linear().isApprox(Eigen::Matrix2d::Identity(), 1e-12));
     EXPECT_LT(m.translation().norm(), 1e-9);
     EXPECT_TRUE(AffineRegionMap().mapPoint(V2(3, -4)).isApprox(V2(3, -4)));
+}
+
+// The sum of squared vertex residuals of the map p -> R(th) p + t.
+double rigidCost(const TriangleFrame& ref, const TriangleFrame& cur, double th, const V2& t)
+{
+    Eigen::Matrix2d r;
+    r << std::cos(th), -std::sin(th), std::sin(th), std::cos(th);
+    double c = 0;
+    for (int k = 0; k < 3; ++k) c += (r * ref.vertex(k) + t - cur.vertex(k)).squaredNorm();
+    return c;
+}
+
+TEST(AffineRegionMapTest, RigidPartIsExactForARigidMoveAndTheBestFitOtherwise)
+{
+    std::mt19937 rng(14);
+    std::uniform_real_distribution<double> u(-10, 10), ang(-3.1, 3.1), jitter(-1.5, 1.5);
+    for (int t = 0; t < 100; ++t)
+    {
+        const TriangleFrame ref = randomFrame(rng);
+        const double th = ang(rng);
+        Eigen::Matrix2d r;
+        r << std::cos(th), -std::sin(th), std::sin(th), std::cos(th);
+        const V2 tr(u(rng), u(rng));
+        TriangleFrame::Vertices moved = ref.vertices(), deformed = ref.vertices();
+        for (size_t k = 0; k < 3; ++k)
+        {
+            moved[k] = r * moved[k] + tr;
+            deformed[k] = moved[k] + V2(jitter(rng), jitter(rng));
+        }
+        // A rigid move: both maps agree everywhere, far outside the triangle too.
+        const AffineRegionMap rigid_move(ref, TriangleFrame(moved));
+        const AffineRegionMap rp = rigid_move.rigidPart();
+        for (const V2& p : {V2(u(rng), u(rng)), V2(100 * u(rng), 100 * u(rng))})
+            EXPECT_LT((rp.mapPoint(p) - rigid_move.mapPoint(p)).norm(), 1e-8 * (1 + p.norm()));
+        const auto def = TriangleFrame::tryCreate(deformed);
+        if (!def) continue;
+        const AffineRegionMap m(ref, *def);
+        const AffineRegionMap fit = m.rigidPart();
+        // A rotation...
+        EXPECT_TRUE((fit.linear().transpose() * fit.linear()).isApprox(Eigen::Matrix2d::Identity(), 1e-12));
+        EXPECT_NEAR(fit.linear().determinant(), 1.0, 1e-12);
+        // ...that fits the vertex pairs best: any small change of angle or translation costs.
+        const double fth = std::atan2(fit.linear()(1, 0), fit.linear()(0, 0));
+        const double c0 = rigidCost(ref, *def, fth, fit.translation());
+        for (const double d : {-1e-3, 1e-3})
+        {
+            EXPECT_GT(rigidCost(ref, *def, fth + d, fit.translation()), c0);
+            EXPECT_GT(rigidCost(ref, *def, fth, fit.translation() + V2(d, 0)), c0);
+            EXPECT_GT(rigidCost(ref, *def, fth, fit.translation() + V2(0, d)), c0);
+        }
+        // Its own rigid part, and the inverse's, are consistent.
+        const V2 p(u(rng), u(rng));
+        EXPECT_LT((fit.rigidPart().mapPoint(p) - fit.mapPoint(p)).norm(), 1e-9);
+        EXPECT_LT((m.inverse().rigidPart().mapPoint(fit.mapPoint(p)) - p).norm(), 1e-9);
+        EXPECT_LT((fit.inverseMapPoint(fit.mapPoint(p)) - p).norm(), 1e-9);
+    }
+    EXPECT_TRUE(AffineRegionMap().rigidPart().mapPoint(V2(3, -4)).isApprox(V2(3, -4)));
 }
 
 }  // namespace

@@ -13,7 +13,9 @@
  * extrapolation amplifies the error of the anchor's vertices with the distance from the
  * triangle (a vertex error e moves a point at distance d from a triangle of size s by
  * about e (1 + d / s)), which is why the distance is bounded and why the fallback's
- * content is scored apart (metrics.json "fallback").
+ * content is scored apart (metrics.json "fallback"). FallbackFrame::Rigid renders it
+ * through the rotation and translation fitted to the anchor's vertices instead, so only
+ * the rigid part of the anchor's correction is extrapolated.
  *
  * Storage: the anchor's reference plane is cut into square tiles of side `tile_m`, each
  * split along its diagonal into two triangles; each triangle holding a return is a
@@ -72,11 +74,30 @@ FallbackTileKey firstFallbackTileKey(long anchor);
 /** Euclidean distance from `p` to the closed triangle `tri` (0 inside). */
 double distanceToTriangle(const Eigen::Vector2d& p, const hymm::ltr::TriangleFrame::Vertices& tri);
 
-/** The region's reference-to-current map, or nullopt when the partition lacks it or its
- *  current triangle is degenerate (RegionPartition::referenceToCurrent refuses it): such a region anchors no
- *  fallback content this scan. */
-std::optional<hymm::ltr::AffineRegionMap> usableReferenceToCurrent(const hymm::ltr::RegionPartition& partition,
-                                                                    long id);
+/** How fallback content follows its anchor's vertices. */
+enum class FallbackFrame
+{
+    /** The anchor's affine map (Eq. 3.3 extended beyond the triangle): the triangle's
+     *  deformation is extrapolated too, by (1 + d / s) at distance d. */
+    Affine,
+    /** The rotation and translation that fit the anchor's three vertex pairs best
+     *  (AffineRegionMap::rigidPart): a rigid correction of the anchor moves the content
+     *  exactly as Affine does, its deformation moves it not at all. */
+    Rigid,
+};
+
+/** The region's reference-to-current map (its rigid part with FallbackFrame::Rigid), or
+ *  nullopt when the partition lacks it or its current triangle is degenerate
+ *  (RegionPartition::referenceToCurrent refuses it): such a region anchors no fallback
+ *  content this scan. */
+std::optional<hymm::ltr::AffineRegionMap> usableReferenceToCurrent(
+    const hymm::ltr::RegionPartition& partition, long id, FallbackFrame frame = FallbackFrame::Affine);
+
+/** `region_map` as fallback content follows it. */
+inline hymm::ltr::AffineRegionMap fallbackFrameOf(const hymm::ltr::AffineRegionMap& region_map, FallbackFrame frame)
+{
+    return frame == FallbackFrame::Rigid ? region_map.rigidPart() : region_map;
+}
 
 /** The region whose CURRENT triangle is nearest to `p` within `max_distance_m` (ties:
  *  lowest id) among those `usable` accepts, or nullopt. Only regions whose box meets the

@@ -107,6 +107,9 @@ public:
          *  FallbackTiles.h): fewer overlapping tiles to ray-cast per scan; 0 = always the
          *  nearest region's tile. */
         double fallback_reuse_m = 0.0;
+        /** How fallback content follows its anchor (FallbackFrame): the affine map or its
+         *  rigid part. */
+        FallbackFrame fallback_frame = FallbackFrame::Affine;
         bool enable_profiler = false;  //!< CTimeLogger "dense.*" sections
         OccupancyLayer::Options occupancy;
         PointsLayer::Options points;
@@ -273,6 +276,14 @@ public:
     size_t fallbackTiles() const { return fallback_.size(); }
     /** The content of fallback triangle `key`, or nullptr. */
     const LocalDenseMap* fallbackMap(const FallbackTileKey& key) const;
+    /** The map through which the fallback content of `anchor` is rendered (the
+     *  region's reference -> current map or its rigid part, Options::fallback_frame), or
+     *  nullopt when the region is gone or folded. */
+    std::optional<hymm::ltr::AffineRegionMap> fallbackToCurrent(
+        const hymm::ltr::RegionPartition& partition, long anchor) const
+    {
+        return usableReferenceToCurrent(partition, anchor, options_.fallback_frame);
+    }
     /** Keys of every fallback triangle, ordered by anchor. */
     std::vector<FallbackTileKey> fallbackTileKeys() const;
     /** [m] how far from its anchor's current triangle a fallback triangle is looked for
