@@ -28,6 +28,7 @@ namespace
 {
 using hymm::dense::CHybridMetricMap;
 using hymm::dense::HybridMetricMap;
+using hymm::dense::FallbackFrame;
 namespace synthetic = hymm::dense::synthetic;
 
 // The wall scan of synthetic::wallScan as an MRPT observation (sensor 0.3 m ahead).
@@ -142,6 +143,7 @@ TEST(CHybridMetricMap, FallbackTilesRoundTripThroughTheFile)
     o.enable_occupancy = true;
     o.occupancy.cell_size_m = 0.1;
     o.fallback_max_distance_m = 5;
+    o.fallback_frame = FallbackFrame::Rigid;  // not the default: the file must keep it
     HybridMetricMap dense(o);
     for (double x = 6; x <= 14; x += 0.5)
         ASSERT_TRUE(dense.insertFallbackReturn({10, 10}, {x, 16.5}, 0.1, 0.017, f.world.partition));
@@ -156,6 +158,7 @@ TEST(CHybridMetricMap, FallbackTilesRoundTripThroughTheFile)
     map.saveToFile(file);
     const auto back = CHybridMetricMap::loadFromFile(file);
     EXPECT_EQ(back->dense().fallbackTiles(), dense.fallbackTiles());
+    EXPECT_EQ(back->dense().options().fallback_frame, FallbackFrame::Rigid);
     ASSERT_EQ(back->renderedPoints().size(), 17u);
     for (size_t i = 0; i < 17; ++i)
     {
