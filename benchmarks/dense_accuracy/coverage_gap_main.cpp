@@ -30,8 +30,10 @@
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/obs/CSensoryFrame.h>
 
+#include <fstream>
 #include <iostream>
 #include <limits>
+#include <stdexcept>
 
 namespace
 {
@@ -76,6 +78,9 @@ int run(int argc, char** argv)
     TCLAP::ValueArg<std::string> rawlog("r", "rawlog", "simulated rawlog", true, "", "FILE", cmd);
     TCLAP::ValueArg<std::string> gtp("", "gt-path", "true path (TUM)", true, "", "FILE", cmd);
     TCLAP::ValueArg<std::string> gto("", "gt-objects", "true object outlines", true, "", "FILE", cmd);
+    TCLAP::ValueArg<std::string> samples_out(
+        "", "samples", "write one line per gap sample the points cover: x y region(-1 = none) "
+        "max_P_regions max_P_tiles max_P_map (within the coverage radius)", false, "", "FILE", cmd);
     if (!cmd.parse(argc, argv)) return 0;
 
     const auto cfg = hymm::core::openConfigFile(config.getValue());
@@ -120,6 +125,12 @@ int run(int argc, char** argv)
     const auto c_occ = coveredBy(seen_dense, occ_pts, lo.radius_m);
     const auto c_pts = coveredBy(seen_dense, points, lo.radius_m);
     const auto c_pts_near = coveredBy(seen_dense, points, kNearMiss);
+    std::ofstream samples_file;
+    if (samples_out.isSet())
+    {
+        samples_file.open(samples_out.getValue());
+        if (!samples_file) throw std::runtime_error("cannot write " + samples_out.getValue());
+    }
     size_t pc_hist[2][3] = {};
     size_t hidden_by_region = 0, split = 0, weak_region_only = 0, weak_fallback_only = 0;
     size_t classic_n = 0, occ_n = 0, gap = 0, beyond = 0, pcover = 0, displaced = 0, lost = 0;
@@ -136,7 +147,11 @@ int run(int argc, char** argv)
             const V2 q = seen_dense.samples.points[i];
             const double best = maxNear(occ, q, lo.radius_m);
             const double reg = maxNear(occ_reg, q, lo.radius_m), fb = maxNear(occ_fb, q, lo.radius_m);
-            const bool in_region = slam.partition()->findRegion(q).has_value();
+            const auto region = slam.partition()->findRegion(q);
+            const bool in_region = region.has_value();
+            if (samples_file.is_open())
+                samples_file << q.x() << ' ' << q.y() << ' ' << (region ? *region : -1L) << ' ' << reg << ' ' << fb
+                             << ' ' << best << '\n';
             // Evidence split: the regions and the tiles each hold some of it.
             if (fb > kOccupied) ++hidden_by_region;
             else if (reg > 0.51 && fb > 0.51) ++split;

@@ -213,6 +213,36 @@ TEST(FallbackTilesTest, RigidFrameFollowsARigidMoveAndDoesNotExtrapolateTheDefor
     dev_rig /= static_cast<double>(count);
     std::printf("mean distance of the kept points to the wall: affine %.3f m, rigid %.3f m\n", dev_aff, dev_rig);
     EXPECT_LT(dev_rig, 0.8 * dev_aff);
+
+    // Stored while the landmarks are off (the two frames differ) and drawn at once, the
+    // returns come back where they were seen: storing, free space and drawing use one map.
+    for (const FallbackFrame frame : {FallbackFrame::Affine, FallbackFrame::Rigid})
+    {
+        HybridMetricMap::Options fo = fallbackOptions(5.0);
+        fo.fallback_frame = frame;
+        HybridMetricMap m(fo);
+        HybridMetricMap::InsertStats st;
+        for (int rep = 0; rep < 3; ++rep) st = m.insertScan(scan, kVehicle, w.partition);
+        ASSERT_GT(st.returns_fallback, 10u);
+        ASSERT_TRUE(m.insertFallbackReturn(V2(kVehicle.x, kVehicle.y), V2(kWallX, -1.5), 0.1, 0.017, w.partition));
+        const auto pts = fallbackPoints(m);
+        ASSERT_EQ(pts.size(), 3 * st.returns_fallback + 1);
+        for (const V2& p : pts) EXPECT_NEAR(p.x(), kWallX, 1e-5);
+        mrpt::maps::COccupancyGridMap2D grid;
+        m.renderOccupancy(w.partition, 0.1, grid, HybridMetricMap::Content::Fallback);
+        const auto cells = occupiedCellCentres(grid, 0.8);
+        ASSERT_GT(cells.size(), 10u);
+        for (const V2& c : cells) EXPECT_NEAR(c.x(), kWallX, 0.15);
+        // The tiles in a box are found through the same map.
+        const auto in_box = m.fallbackTilesInBox(w.partition, V2(kWallX - 0.5, -4.0), V2(kWallX + 0.5, -0.5));
+        EXPECT_FALSE(in_box.empty());
+        for (const auto& key : in_box)
+        {
+            const auto tri = currentFallbackTileTriangle(key, fo.fallback_tile_m, *m.fallbackToCurrent(w.partition, key.anchor));
+            const V2 lo = tri[0].cwiseMin(tri[1]).cwiseMin(tri[2]), hi = tri[0].cwiseMax(tri[1]).cwiseMax(tri[2]);
+            EXPECT_TRUE(hi.x() >= kWallX - 0.5 && lo.x() <= kWallX + 0.5 && hi.y() >= -4.0 && lo.y() <= -0.5);
+        }
+    }
 }
 
 // Tiles of different anchors overlap: a return kept in one tile must stay a hit in the

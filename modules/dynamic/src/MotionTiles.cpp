@@ -35,6 +35,7 @@ MotionDetector::StepReport MotionDetector::step(
     const std::vector<dense::FallbackTileKey>& tiles_in_view, double t)
 {
     tile_m_ = map.options().fallback_tile_m;
+    tile_frame_ = map.options().fallback_frame;
     tile_reach_m_ = map.fallbackReach();
     if (tiles_in_view.empty()) return step(map, regions_in_view, t);
     std::vector<long> ids = regions_in_view;
@@ -68,7 +69,8 @@ std::optional<std::pair<ltr::TriangleFrame::Vertices, ltr::AffineRegionMap>> Mot
     }
     const auto key = tile_keys_.find(id);
     if (key == tile_keys_.end()) return std::nullopt;
-    const auto to_current = dense::usableReferenceToCurrent(partition, key->second.anchor);
+    // The marks are cells of the dense map's tiles: the same frame as the map draws them in.
+    const auto to_current = dense::usableReferenceToCurrent(partition, key->second.anchor, tile_frame_);
     if (!to_current) return std::nullopt;
     return std::make_pair(dense::currentFallbackTileTriangle(key->second, tile_m_, *to_current), *to_current);
 }
@@ -91,7 +93,7 @@ bool MotionDetector::tileMarked(const ltr::RegionPartition& partition, const Eig
     for (const long anchor : partition.regionsInBox(p - pad, p + pad))
     {
         if (!marked_tile_anchors_.count(anchor)) continue;
-        const auto to_current = dense::usableReferenceToCurrent(partition, anchor);
+        const auto to_current = dense::usableReferenceToCurrent(partition, anchor, tile_frame_);
         if (!to_current) continue;
         const Eigen::Vector2d r = to_current->inverseMapPoint(p);
         if (!r.allFinite() || (r.array().abs() > 1e9 * tile_m_).any()) continue;  // no tile index

@@ -14,6 +14,8 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <set>
+#include <random>
 #include <optional>
 #include <stdexcept>
 #include <utility>
@@ -548,13 +550,18 @@ TEST(MotionDetector, RegionsRemovedByIdLeaveTheDetectorAsTheWalkDoes)
  *  its returns. */
 struct TileScene
 {
+    explicit TileScene(hymm::dense::FallbackFrame frame = hymm::dense::FallbackFrame::Affine)
+        : map([frame] {
+              auto o = mapOptions();
+              o.fallback_max_distance_m = 10.0;
+              o.fallback_tile_m = 10.0;
+              o.fallback_frame = frame;
+              return o;
+          }())
+    {
+    }
     WallWorld w;
-    HybridMetricMap map{[] {
-        auto o = mapOptions();
-        o.fallback_max_distance_m = 10.0;
-        o.fallback_tile_m = 10.0;
-        return o;
-    }()};
+    HybridMetricMap map;
     mrpt::random::CRandomGenerator rng{5};
     const Box container{{6.0, 17.0}, {9.0, 19.0}};
     const Box back_wall{{2.0, 22.0}, {16.0, 22.4}};  // what the beams meet once it is gone
@@ -662,6 +669,49 @@ TEST(MotionDetector, ObjectsBeyondEveryRegionAreFoundInTheFallbackTiles)
     loaded.removeStaleRegions(with_tiles.map);
     EXPECT_EQ(loaded.tiles(), 0u);
     EXPECT_EQ(loaded.markedCells(MotionKind::Slow), det.markedCells(MotionKind::Slow));
+}
+
+// With the map's tiles in the rigid frame the marks are drawn where the map draws the
+// tiles, also once the landmarks moved non-rigidly (where the affine frame differs).
+TEST(MotionDetector, TileMarksFollowTheMapsFallbackFrame)
+{
+    MotionDetector::Options o;
+    o.enable_fast = false;
+    o.slow_period_s = 20.0;
+    TileScene sc(hymm::dense::FallbackFrame::Rigid);
+    MotionDetector det(o);
+    sc.run(det, true);
+    ASSERT_TRUE(sc.markedPoint(det).has_value());
+    std::mt19937 rng(3);
+    std::normal_distribution<double> n(0.0, 0.3);
+    std::map<long, Eigen::Vector2d> jittered = sc.w.lattice.landmarks();
+    for (auto& [id, p] : jittered) p += Eigen::Vector2d(n(rng), n(rng));
+    sc.w.partition.updateVertexPositions(makeDenseView(jittered, Eigen::Vector3d::Zero()));
+    const auto& p = sc.w.partition;
+    std::set<long> anchors;
+    for (const auto& key : sc.map.fallbackTileKeys()) anchors.insert(key.anchor);
+    size_t checked = 0;
+    for (const long anchor : anchors)
+    {
+        const auto marked = det.markedTileTriangles(p, {anchor});
+        const auto to_current = sc.map.fallbackToCurrent(p, anchor);
+        ASSERT_TRUE(to_current.has_value());
+        const auto affine = hymm::dense::usableReferenceToCurrent(p, anchor);
+        for (const auto& tri : marked)
+        {
+            const auto ref = to_current->inverseMapPoint(tri[0]);
+            const auto key = hymm::dense::fallbackTileOf(anchor, (ref + to_current->inverseMapPoint(tri[1]) +
+                                                                  to_current->inverseMapPoint(tri[2])) / 3.0,
+                                                         10.0);
+            const auto expected = hymm::dense::currentFallbackTileTriangle(key, 10.0, *to_current);
+            const auto as_affine = hymm::dense::currentFallbackTileTriangle(key, 10.0, *affine);
+            for (size_t v = 0; v < 3; ++v) EXPECT_LT((tri[v] - expected[v]).norm(), 1e-9);
+            // The two frames differ here, so the check above can tell them apart.
+            EXPECT_GT((as_affine[0] - expected[0]).norm() + (as_affine[1] - expected[1]).norm(), 1e-3);
+            ++checked;
+        }
+    }
+    EXPECT_GT(checked, 0u);
 }
 
 // Tiles overlap regions; where a region holds a place its own layers judge it. Here the

@@ -15,8 +15,9 @@ AffineRegionMap::AffineRegionMap(const TriangleFrame& reference, const TriangleF
     a_ = current.axes() * reference.axesInverse();
     t_ = current.vertex(0) - a_ * reference.vertex(0);
     a_inv_ = reference.axes() * current.axesInverse();
-    // 2-D Kabsch: the rotation angle maximising sum (y_i - cy) . R (x_i - cx) is
-    // atan2(sum x' x y', sum x' . y') (cross and dot products of the centred vertices).
+    // 2-D Kabsch: the rotation maximising sum (y_i - cy) . R (x_i - cx) has angle
+    // atan2(sum x' x y', sum x' . y') (cross and dot products of the centred vertices),
+    // i.e. (cos, sin) = (dot, cross) / |(dot, cross)|.
     Eigen::Vector2d cx = Eigen::Vector2d::Zero(), cy = Eigen::Vector2d::Zero();
     for (int k = 0; k < 3; ++k)
     {
@@ -30,8 +31,9 @@ AffineRegionMap::AffineRegionMap(const TriangleFrame& reference, const TriangleF
         cross += x.x() * y.y() - x.y() * y.x();
         dot += x.dot(y);
     }
-    const double th = std::atan2(cross, dot);
-    rigid_a_ << std::cos(th), -std::sin(th), std::sin(th), std::cos(th);
+    const double n = std::hypot(dot, cross);  // > 0 for any non-degenerate pair of frames
+    const double c = n > 0 ? dot / n : 1.0, s = n > 0 ? cross / n : 0.0;
+    rigid_a_ << c, -s, s, c;
     rigid_t_ = cy - rigid_a_ * cx;
 }
 

@@ -123,6 +123,8 @@ TEST(AffineRegionMapTest, RigidPartIsExactForARigidMoveAndTheBestFitOtherwise)
         const V2 p(u(rng), u(rng));
         EXPECT_LT((fit.rigidPart().mapPoint(p) - fit.mapPoint(p)).norm(), 1e-9);
         EXPECT_LT((m.inverse().rigidPart().mapPoint(fit.mapPoint(p)) - p).norm(), 1e-9);
+        // The fit of the swapped pairs (current -> reference) is this fit's inverse.
+        EXPECT_LT((AffineRegionMap(*def, ref).rigidPart().mapPoint(fit.mapPoint(p)) - p).norm(), 1e-9);
         EXPECT_LT((fit.inverseMapPoint(fit.mapPoint(p)) - p).norm(), 1e-9);
     }
     EXPECT_TRUE(AffineRegionMap().rigidPart().mapPoint(V2(3, -4)).isApprox(V2(3, -4)));

@@ -82,7 +82,9 @@ enum class FallbackFrame
     Affine,
     /** The rotation and translation that fit the anchor's three vertex pairs best
      *  (AffineRegionMap::rigidPart): a rigid correction of the anchor moves the content
-     *  exactly as Affine does, its deformation moves it not at all. */
+     *  exactly as Affine does; its deformation (shear, scale) is not extrapolated, though
+     *  independent vertex errors still move the fitted rotation, whose effect grows with
+     *  the distance from the triangle. */
     Rigid,
 };
 

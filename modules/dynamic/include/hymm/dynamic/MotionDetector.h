@@ -157,7 +157,7 @@ public:
         int slow_shift_tolerance_cells = 1;
         int fast_shift_tolerance_cells = 0;
         /** The slow layer's tolerance in the fallback tiles: a tile's frame extrapolates its
-         *  anchor's affine map up to tens of metres beyond the triangle, so a static wall
+         *  anchor's map (affine or rigid) up to tens of metres beyond the triangle, so a static wall
          *  seen there moves by a few cells over a slow period (seeds 1-20 of the slow
          *  scene: 1 / 2 / 3 cells give precision 0.81 / 0.86 / 0.89 at the same recall;
          *  docs/results.md, "Motion layers in the fallback tiles"). */
@@ -354,6 +354,7 @@ private:
     /** Anchors -> how many of their tiles hold a marked cell (isDynamic looks only there). */
     std::unordered_map<long, int> marked_tile_anchors_;
     double tile_m_ = 0;       //!< [m] the map's fallback_tile_m, from step()
+    dense::FallbackFrame tile_frame_ = dense::FallbackFrame::Affine;  //!< the map's fallback_frame, from step()
     double tile_reach_m_ = 0;  //!< [m] see tileReach()
 };
 

@@ -9,7 +9,8 @@
  * current triangle: p = C + A (p_ref - R1), with A = D_cur D_ref^{-1} and R1, C the
  * first reference and current vertices. This is the unique affine map that sends the
  * three reference vertices onto the three current ones. Directions (differences of
- * points) map with A alone.
+ * points) map with A alone. rigidPart() gives the rotation and translation that fit the
+ * same vertex pairs best (an AffineRegionMap too, but no longer exact at the vertices).
  */
 #pragma once
 
