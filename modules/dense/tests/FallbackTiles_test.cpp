@@ -194,16 +194,20 @@ TEST(FallbackTilesTest, RigidFrameFollowsARigidMoveAndDoesNotExtrapolateTheDefor
     ASSERT_EQ(r1.size(), r0.size());
     for (size_t i = 0; i < r0.size(); ++i) EXPECT_LT((r1[i] - (Rm * r0[i] + t)).norm(), 1e-5);
 
-    // Landmark estimates off by 0.15 m each (1 sigma per axis), 20 draws: the kept wall
+    // Landmark estimates off by 0.15 m each (1 sigma per axis), 200 draws: the kept wall
     // points move off the wall x = kWallX less in the rigid frame than in the affine one.
     std::mt19937 rng(5);
     std::normal_distribution<double> n(0.0, 0.15);
     double dev_aff = 0, dev_rig = 0;
     size_t count = 0;
-    for (int draw = 0; draw < 20; ++draw)
+    for (int draw = 0; draw < 200; ++draw)
     {
         auto jittered = w.lattice.landmarks();
-        for (auto& [id, p] : jittered) p += V2(n(rng), n(rng));
+        for (auto& [id, p] : jittered)
+        {
+            const double dx = n(rng);  // two statements: argument order is unspecified
+            p += V2(dx, n(rng));
+        }
         w.partition.updateVertexPositions(makeDenseView(jittered, Eigen::Vector3d(0, 0, 0)));
         for (const V2& p : fallbackPoints(aff)) dev_aff += std::abs(p.x() - kWallX);
         for (const V2& p : fallbackPoints(rig)) dev_rig += std::abs(p.x() - kWallX);
@@ -212,7 +216,7 @@ TEST(FallbackTilesTest, RigidFrameFollowsARigidMoveAndDoesNotExtrapolateTheDefor
     dev_aff /= static_cast<double>(count);
     dev_rig /= static_cast<double>(count);
     std::printf("mean distance of the kept points to the wall: affine %.3f m, rigid %.3f m\n", dev_aff, dev_rig);
-    EXPECT_LT(dev_rig, 0.8 * dev_aff);
+    EXPECT_LT(dev_rig, 0.9 * dev_aff);  // 0.74-0.79 over the generator seeds 5-8
 
     // Stored while the landmarks are off (the two frames differ) and drawn at once, the
     // returns come back where they were seen: storing, free space and drawing use one map.

@@ -685,7 +685,11 @@ TEST(MotionDetector, TileMarksFollowTheMapsFallbackFrame)
     std::mt19937 rng(3);
     std::normal_distribution<double> n(0.0, 0.3);
     std::map<long, Eigen::Vector2d> jittered = sc.w.lattice.landmarks();
-    for (auto& [id, p] : jittered) p += Eigen::Vector2d(n(rng), n(rng));
+    for (auto& [id, q] : jittered)
+    {
+        const double dx = n(rng);  // two statements: argument order is unspecified
+        q += Eigen::Vector2d(dx, n(rng));
+    }
     sc.w.partition.updateVertexPositions(makeDenseView(jittered, Eigen::Vector3d::Zero()));
     const auto& p = sc.w.partition;
     std::set<long> anchors;
