@@ -63,7 +63,7 @@ std::optional<hymm::ltr::AffineRegionMap> usableReferenceToCurrent(
     if (!partition.has(id)) return std::nullopt;
     try
     {
-        return fallbackFrameOf(partition.referenceToCurrent(id), frame);
+        return fallbackFrameOf(partition.referenceToCurrent(id), partition.region(id).reference, frame);
     }
     catch (const std::invalid_argument&)
     {

@@ -181,7 +181,8 @@ class ScanOwners
             const auto c = index_of_.find(id);
             if (c != index_of_.end())
             {
-                if (!cands[c->second].withheld) it->second = fallbackFrameOf(cands[c->second].to_current, frame_);
+                if (const Candidate& cand = cands[c->second]; !cand.withheld)
+                    it->second = fallbackFrameOf(cand.to_current, cand.reference, frame_);
             }
             else if (!accept_ || accept_(id))
                 it->second = usableReferenceToCurrent(partition_, id, frame_);

@@ -15,52 +15,38 @@ AffineRegionMap::AffineRegionMap(const TriangleFrame& reference, const TriangleF
     a_ = current.axes() * reference.axesInverse();
     t_ = current.vertex(0) - a_ * reference.vertex(0);
     a_inv_ = reference.axes() * current.axesInverse();
-    // 2-D Kabsch: the rotation maximising sum (y_i - cy) . R (x_i - cx) has angle
+}
+
+AffineRegionMap::AffineRegionMap()
+    : a_(Eigen::Matrix2d::Identity()), a_inv_(Eigen::Matrix2d::Identity()), t_(Eigen::Vector2d::Zero())
+{
+}
+
+AffineRegionMap::AffineRegionMap(const Eigen::Matrix2d& a, const Eigen::Vector2d& t)
+    : a_(a), a_inv_(a.inverse()), t_(t)
+{
+}
+
+AffineRegionMap AffineRegionMap::rigidPart(const TriangleFrame::Vertices& reference) const
+{
+    // 2-D Kabsch: the rotation maximising sum (y_k - cy) . R (x_k - cx) has angle
     // atan2(sum x' x y', sum x' . y') (cross and dot products of the centred vertices),
     // i.e. (cos, sin) = (dot, cross) / |(dot, cross)|.
-    Eigen::Vector2d cx = Eigen::Vector2d::Zero(), cy = Eigen::Vector2d::Zero();
-    for (int k = 0; k < 3; ++k)
-    {
-        cx += reference.vertex(k) / 3.0;
-        cy += current.vertex(k) / 3.0;
-    }
+    const Eigen::Vector2d cx = (reference[0] + reference[1] + reference[2]) / 3.0;
+    const Eigen::Vector2d cy = mapPoint(cx);  // an affine map keeps the centroid
     double cross = 0, dot = 0;
-    for (int k = 0; k < 3; ++k)
+    for (const Eigen::Vector2d& v : reference)
     {
-        const Eigen::Vector2d x = reference.vertex(k) - cx, y = current.vertex(k) - cy;
+        const Eigen::Vector2d x = v - cx, y = mapDirection(x);
         cross += x.x() * y.y() - x.y() * y.x();
         dot += x.dot(y);
     }
     const double n = std::hypot(dot, cross);  // > 0 for any non-degenerate pair of frames
-    const double c = n > 0 ? dot / n : 1.0, s = n > 0 ? cross / n : 0.0;
-    rigid_a_ << c, -s, s, c;
-    rigid_t_ = cy - rigid_a_ * cx;
+    Eigen::Matrix2d r = Eigen::Matrix2d::Identity();
+    if (n > 0) r << dot / n, -cross / n, cross / n, dot / n;
+    return AffineRegionMap(r, cy - r * cx);
 }
 
-AffineRegionMap::AffineRegionMap()
-    : a_(Eigen::Matrix2d::Identity()),
-      a_inv_(Eigen::Matrix2d::Identity()),
-      t_(Eigen::Vector2d::Zero()),
-      rigid_a_(Eigen::Matrix2d::Identity()),
-      rigid_t_(Eigen::Vector2d::Zero())
-{
-}
-
-AffineRegionMap::AffineRegionMap(
-    const Eigen::Matrix2d& a, const Eigen::Vector2d& t, const Eigen::Matrix2d& ra, const Eigen::Vector2d& rt)
-    : a_(a), a_inv_(a.inverse()), t_(t), rigid_a_(ra), rigid_t_(rt)
-{
-}
-
-AffineRegionMap AffineRegionMap::inverse() const
-{
-    const Eigen::Matrix2d rt = rigid_a_.transpose();
-    return AffineRegionMap(a_inv_, -a_inv_ * t_, rt, -rt * rigid_t_);
-}
-
-AffineRegionMap AffineRegionMap::rigidPart() const
-{
-    return AffineRegionMap(rigid_a_, rigid_t_, rigid_a_, rigid_t_);
-}
+AffineRegionMap AffineRegionMap::inverse() const { return AffineRegionMap(a_inv_, -a_inv_ * t_); }
 
 }  // namespace hymm::ltr

@@ -100,13 +100,13 @@ TEST(AffineRegionMapTest, RigidPartIsExactForARigidMoveAndTheBestFitOtherwise)
         }
         // A rigid move: both maps agree everywhere, far outside the triangle too.
         const AffineRegionMap rigid_move(ref, TriangleFrame(moved));
-        const AffineRegionMap rp = rigid_move.rigidPart();
+        const AffineRegionMap rp = rigid_move.rigidPart(ref.vertices());
         for (const V2& p : {V2(u(rng), u(rng)), V2(100 * u(rng), 100 * u(rng))})
             EXPECT_LT((rp.mapPoint(p) - rigid_move.mapPoint(p)).norm(), 1e-8 * (1 + p.norm()));
         const auto def = TriangleFrame::tryCreate(deformed);
         if (!def) continue;
         const AffineRegionMap m(ref, *def);
-        const AffineRegionMap fit = m.rigidPart();
+        const AffineRegionMap fit = m.rigidPart(ref.vertices());
         // A rotation...
         EXPECT_TRUE((fit.linear().transpose() * fit.linear()).isApprox(Eigen::Matrix2d::Identity(), 1e-12));
         EXPECT_NEAR(fit.linear().determinant(), 1.0, 1e-12);
@@ -121,13 +121,13 @@ TEST(AffineRegionMapTest, RigidPartIsExactForARigidMoveAndTheBestFitOtherwise)
         }
         // Its own rigid part, and the inverse's, are consistent.
         const V2 p(u(rng), u(rng));
-        EXPECT_LT((fit.rigidPart().mapPoint(p) - fit.mapPoint(p)).norm(), 1e-9);
-        EXPECT_LT((m.inverse().rigidPart().mapPoint(fit.mapPoint(p)) - p).norm(), 1e-9);
+        EXPECT_LT((fit.rigidPart(ref.vertices()).mapPoint(p) - fit.mapPoint(p)).norm(), 1e-9);
+        EXPECT_LT((m.inverse().rigidPart(def->vertices()).mapPoint(fit.mapPoint(p)) - p).norm(), 1e-9);
         // The fit of the swapped pairs (current -> reference) is this fit's inverse.
-        EXPECT_LT((AffineRegionMap(*def, ref).rigidPart().mapPoint(fit.mapPoint(p)) - p).norm(), 1e-9);
+        EXPECT_LT((AffineRegionMap(*def, ref).rigidPart(def->vertices()).mapPoint(fit.mapPoint(p)) - p).norm(), 1e-9);
         EXPECT_LT((fit.inverseMapPoint(fit.mapPoint(p)) - p).norm(), 1e-9);
     }
-    EXPECT_TRUE(AffineRegionMap().rigidPart().mapPoint(V2(3, -4)).isApprox(V2(3, -4)));
+    EXPECT_TRUE(AffineRegionMap().rigidPart({V2(0, 0), V2(1, 0), V2(0, 1)}).mapPoint(V2(3, -4)).isApprox(V2(3, -4)));
 }
 
 }  // namespace

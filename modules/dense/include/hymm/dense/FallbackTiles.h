@@ -95,10 +95,13 @@ enum class FallbackFrame
 std::optional<hymm::ltr::AffineRegionMap> usableReferenceToCurrent(
     const hymm::ltr::RegionPartition& partition, long id, FallbackFrame frame = FallbackFrame::Affine);
 
-/** `region_map` as fallback content follows it. */
-inline hymm::ltr::AffineRegionMap fallbackFrameOf(const hymm::ltr::AffineRegionMap& region_map, FallbackFrame frame)
+/** `region_map` (built from the region's `reference` vertices) as fallback content
+ *  follows it. */
+inline hymm::ltr::AffineRegionMap fallbackFrameOf(
+    const hymm::ltr::AffineRegionMap& region_map, const hymm::ltr::TriangleFrame::Vertices& reference,
+    FallbackFrame frame)
 {
-    return frame == FallbackFrame::Rigid ? region_map.rigidPart() : region_map;
+    return frame == FallbackFrame::Rigid ? region_map.rigidPart(reference) : region_map;
 }
 
 /** The region whose CURRENT triangle is nearest to `p` within `max_distance_m` (ties:

@@ -40,21 +40,21 @@ public:
     const Eigen::Matrix2d& linear() const { return a_; }
     const Eigen::Vector2d& translation() const { return t_; }
 
-    /** The rigid map (rotation and translation) that best fits the same vertex pairs in
-     *  the least-squares sense (2-D Kabsch). Inside the triangle it differs from the affine
-     *  map by the triangle's deformation; outside it does not extrapolate that deformation.
-     *  The identity's is the identity; the inverse's is the inverse of this one. */
-    AffineRegionMap rigidPart() const;
+    /** The rigid map (rotation and translation) that best fits the pairs (x_k, this map
+     *  of x_k) in the least-squares sense (2-D Kabsch), x_k the three `reference`
+     *  vertices this map was built from. Inside the triangle it differs from the affine
+     *  map by the triangle's deformation; outside it does not extrapolate that
+     *  deformation. The identity's is the identity; the inverse's, fitted on the current
+     *  vertices, is the inverse of this one. Computed on demand: region content never
+     *  needs it. */
+    AffineRegionMap rigidPart(const TriangleFrame::Vertices& reference) const;
 
 private:
-    AffineRegionMap(const Eigen::Matrix2d& a, const Eigen::Vector2d& t, const Eigen::Matrix2d& ra,
-                    const Eigen::Vector2d& rt);
+    AffineRegionMap(const Eigen::Matrix2d& a, const Eigen::Vector2d& t);
 
     Eigen::Matrix2d a_;
     Eigen::Matrix2d a_inv_;
     Eigen::Vector2d t_;
-    Eigen::Matrix2d rigid_a_;  //!< rotation of rigidPart()
-    Eigen::Vector2d rigid_t_;  //!< translation of rigidPart()
 };
 
 }  // namespace hymm::ltr
