@@ -94,8 +94,8 @@ void EkfSlam::reset(const Eigen::Vector3d& pose, const Eigen::Matrix3d& cov)
 }
 
 // ---------------------------------------------------------------- prediction
-void EkfSlam::applyVehicleMotion(
-    const Eigen::Vector3d& pose, const Eigen::Matrix3d& F_current, const Eigen::Matrix3d& Q)
+void EkfSlam::applyVehicleMotion(const Eigen::Vector3d& pose, const Eigen::Matrix3d& F_current,
+                                 const Eigen::Matrix3d& Q, Eigen::Index param, const Eigen::Vector3d& G)
 {
     // Eq. 2.36: the map is static, so only P_vv and the vehicle rows/columns change: O(n).
     const Eigen::Index n = x_.size(), nm = n - 3;
@@ -116,6 +116,18 @@ void EkfSlam::applyVehicleMotion(
     predicted_pose_ = pose;
     x_.head<3>() = pose;
     auto P = activeP();
+    if (param >= 3)
+    {
+        // x_v <- F x_v + G x_param: P <- T P T^T + Q, T the identity but for the vehicle
+        // rows [F at v, G at param]. Rows first, then columns (row and column `param` are
+        // not changed by T, so neither pass reads what it wrote). O(n).
+        P.topRows<3>() = (F * P.topRows<3>() + G * P.row(param)).eval();
+        P.leftCols<3>() = (P.leftCols<3>() * F.transpose() + P.col(param) * G.transpose()).eval();
+        const Eigen::Matrix3d Pvv = P.topLeftCorner<3, 3>() + Q;
+        P.topLeftCorner<3, 3>() = 0.5 * (Pvv + Pvv.transpose());
+        passive_.predictVehicle(F, param, G);
+        return;
+    }
     const Eigen::Matrix3d Pvv = P.topLeftCorner<3, 3>();
     P.topLeftCorner<3, 3>() = F * Pvv * F.transpose() + Q;
     P.topLeftCorner<3, 3>() = (0.5 * (P.topLeftCorner<3, 3>() + P.topLeftCorner<3, 3>().transpose())).eval();
@@ -151,6 +163,30 @@ void EkfSlam::predictOdometry(const mrpt::poses::CPosePDFGaussian& increment)
     Eigen::Matrix3d Jx, Jd;
     const Eigen::Vector3d pose = composePose(x_.head<3>(), d, &Jx, &Jd);
     applyVehicleMotion(pose, Jx, Jd * Sigma * Jd.transpose() + stabilisingNoise(options_));
+}
+
+void EkfSlam::predictOdometryWithTurnBias(const mrpt::poses::CPosePDFGaussian& increment, long bias,
+                                          double walk_var)
+{
+    core::TimedSection tle(profiler_, "ekf.1_predict");
+    if (options_.jacobians == LinearisationPoint::Invariant)
+        throw std::invalid_argument("EkfSlam::predictOdometryWithTurnBias: not available with jacobians = invariant");
+    const LandmarkBlock& b = layout_.get(bias);
+    if (b.dim != 1) throw std::invalid_argument("EkfSlam::predictOdometryWithTurnBias: the bias block is not 1-DOF");
+    if (!(walk_var >= 0) || !std::isfinite(walk_var))
+        throw std::invalid_argument("EkfSlam::predictOdometryWithTurnBias: walk_var < 0 or not finite");
+    const Eigen::Vector3d d(increment.mean.x(), increment.mean.y(), increment.mean.phi());
+    const Eigen::Matrix3d Sigma = increment.cov.asEigen();
+    if (!d.allFinite()) throw std::invalid_argument("EkfSlam::predictOdometryWithTurnBias: non-finite increment");
+    checkCovariance(Sigma, 3, "EkfSlam::predictOdometryWithTurnBias(increment.cov)");
+    const auto o = static_cast<Eigen::Index>(b.offset);
+    Eigen::Vector3d Jb;
+    Eigen::Matrix3d Jt, Jx, Jd;
+    const Eigen::Vector3d du = turnBiasedIncrement(d, x_[o], &Jb, &Jt);
+    const Eigen::Vector3d pose = composePose(x_.head<3>(), du, &Jx, &Jd);
+    const Eigen::Matrix3d JdJt = Jd * Jt;
+    applyVehicleMotion(pose, Jx, JdJt * Sigma * JdJt.transpose() + stabilisingNoise(options_), o, Jd * Jb);
+    activeP()(o, o) += walk_var * d.head<2>().norm();
 }
 
 void EkfSlam::predictOdometry(const mrpt::obs::CActionRobotMovement2D& action)

@@ -36,6 +36,36 @@ long EkfSlam::addBlockCopy(long src, const Eigen::MatrixXd& noise_cov, long id)
     return id;
 }
 
+long EkfSlam::addAuxiliaryBlock(const Eigen::VectorXd& mean, const Eigen::MatrixXd& cov, long id)
+{
+    const auto d = mean.size();
+    if (d == 0 || !mean.allFinite()) throw std::invalid_argument("EkfSlam::addAuxiliaryBlock: empty or non-finite mean");
+    checkCovariance(cov, d, "EkfSlam::addAuxiliaryBlock(cov)");
+    if (id < 0) id = layout_.nextFreeId();
+    if (layout_.has(id))
+        throw std::invalid_argument("EkfSlam::addAuxiliaryBlock: id " + std::to_string(id) + " exists");
+    const Eigen::MatrixXd cross = Eigen::MatrixXd::Zero(d, x_.size());
+    const Eigen::MatrixXd passive_cols =
+        passive_.numBlocks() > 0 ? Eigen::MatrixXd::Zero(passive_.crossAll().rows(), d) : Eigen::MatrixXd();
+    appendBlocks({{id, mean}}, cross, cov, passive_cols, true);
+    layout_.get(id).auxiliary = true;
+    return id;
+}
+
+long EkfSlam::addVehicleCopy(long id)
+{
+    if (id < 0) id = layout_.nextFreeId();
+    if (layout_.has(id))
+        throw std::invalid_argument("EkfSlam::addVehicleCopy: id " + std::to_string(id) + " exists");
+    // Eq. 2.53 with G_v = I and no noise: rows P_v*, diagonal block P_vv.
+    const Eigen::MatrixXd cross = activeP().topRows<3>();
+    const Eigen::MatrixXd passive_cols =
+        passive_.numBlocks() > 0 ? Eigen::MatrixXd(passive_.crossAll().leftCols<3>()) : Eigen::MatrixXd();
+    appendBlocks({{id, x_.head<3>()}}, cross, cross.leftCols<3>(), passive_cols, true);
+    layout_.get(id).auxiliary = true;
+    return id;
+}
+
 void EkfSlam::relaxBlockTowards(long a, long l, double rho, const Eigen::MatrixXd& Q)
 {
     const LandmarkBlock& ba = layout_.get(a);

@@ -145,7 +145,7 @@ std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>> EkfSlam::poseFejPoint
 {
     if (options_.jacobians != LinearisationPoint::FirstEstimates) return std::nullopt;
     return FejPoint{observer < 0 ? predicted_pose_ : Eigen::Vector3d(first_estimates_.at(observer)),
-                    first_estimates_.at(id)};
+                    id < 0 ? predicted_pose_ : Eigen::Vector3d(first_estimates_.at(id))};
 }
 
 void EkfSlam::poseObservationJacobians(long id, const Eigen::Vector3d& sensor, Eigen::Matrix3d& H_v,
@@ -194,7 +194,8 @@ PoseUpdateReport EkfSlam::updatePoseBlock(long observer, long id, const Eigen::V
             throw std::invalid_argument("pose update: landmark " + std::to_string(b_id) + " is not a 3-DOF pose block");
         return static_cast<Eigen::Index>(b.offset);
     };
-    const Eigen::Index o = offset3(id), ov = observer < 0 ? 0 : offset3(observer);
+    // id < 0: the vehicle is the observed block (updateVehicleFromCopy).
+    const Eigen::Index o = id < 0 ? 0 : offset3(id), ov = observer < 0 ? 0 : offset3(observer);
     const Eigen::Vector3d xv0 = x_.segment<3>(ov), xl0 = x_.segment<3>(o);
     Eigen::Vector3d xv = xv0, xl = xl0;  // linearisation point (the prior at iteration 0)
     PoseLinearisation L;
@@ -233,9 +234,16 @@ PoseUpdateReport EkfSlam::updatePoseBlock(long observer, long id, const Eigen::V
     if (Wc.size() == 0) return fail(PoseUpdateReport::Outcome::numeric);
     // P -= W W^T of Lc (see fuse()), carried by the invariant EKF's M.
     updateCovariance(Wc, prior, rep.iterations == 0);
-    ++layout_.get(id).times_seen;
+    if (id >= 0) ++layout_.get(id).times_seen;
     rep.outcome = PoseUpdateReport::Outcome::updated;
     return rep;
+}
+
+PoseUpdateReport EkfSlam::updateVehicleFromCopy(long copy, const Eigen::Vector3d& z, const Eigen::Matrix3d& R,
+                                                double gate_prob)
+{
+    if (copy < 0) throw std::invalid_argument("updateVehicleFromCopy: no copy id");
+    return updatePoseBlock(copy, -1, z, R, Eigen::Vector3d::Zero(), gate_prob, 1);
 }
 
 }  // namespace hymm::ekf

@@ -123,6 +123,12 @@ void PassiveStates::predictVehicle(const Eigen::Matrix3d& F)
     cross_.leftCols<3>() = (cross_.leftCols<3>() * F.transpose()).eval();
 }
 
+void PassiveStates::predictVehicle(const Eigen::Matrix3d& F, Eigen::Index param, const Eigen::Vector3d& G)
+{
+    if (blocks_.empty()) return;
+    cross_.leftCols<3>() = (cross_.leftCols<3>() * F.transpose() + cross_.col(param) * G.transpose()).eval();
+}
+
 void PassiveStates::applyUpdate(
     const Eigen::MatrixXd& W_p, const Eigen::MatrixXd& W_a, const Eigen::VectorXd& y)
 {

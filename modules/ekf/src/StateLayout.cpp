@@ -20,7 +20,8 @@ const LandmarkBlock& StateLayout::add(long id, int dim, long created_step)
     index_[id] = blocks_.size();
     blocks_.push_back(b);
     size_ += static_cast<size_t>(dim);
-    if (id >= next_free_id_) next_free_id_ = id + 1;
+    // Reserved ids (the filter's own auxiliary blocks) leave the automatic ids as they were.
+    if (id >= next_free_id_ && id < kFirstReservedId) next_free_id_ = id + 1;
     return blocks_.back();
 }
 

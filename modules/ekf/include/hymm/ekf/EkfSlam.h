@@ -166,6 +166,13 @@ public:
     void predictOdometry(const mrpt::poses::CPosePDFGaussian& increment);
     /** As above from an MRPT action (its poseChange PDF, converted to a Gaussian). */
     void predictOdometry(const mrpt::obs::CActionRobotMovement2D& action);
+    /** predictOdometry with the wheels' turn bias b [rad/m] as the state of the 1-DOF
+     *  block `bias` (addAuxiliaryBlock): x <- x (+) turnBiasedIncrement(d, b), so the
+     *  vehicle's rows become F x_v + G b (G = d/db, at the estimate) and the correlation
+     *  the bias builds up between steps is kept; b then walks: P_bb += walk_var s, s the
+     *  increment's length [m]. Throws on an unknown or non-1-DOF `bias`, a bad increment
+     *  or walk_var < 0, and with jacobians = invariant (not derived for it). */
+    void predictOdometryWithTurnBias(const mrpt::poses::CPosePDFGaussian& increment, long bias, double walk_var);
 
     // ---- Update ----
 
@@ -270,6 +277,21 @@ public:
      *  a == l, rho outside [0, 1], Q not PSD. */
     void relaxBlockTowards(long a, long l, double rho, const Eigen::MatrixXd& Q);
 
+    /** Adds an auxiliary block independent of every other state (mean, covariance `cov`),
+     *  e.g. a bias parameter with its prior. Throws on a used id or `cov` not PSD. */
+    long addAuxiliaryBlock(const Eigen::VectorXd& mean, const Eigen::MatrixXd& cov, long id = -1);
+    /** Adds an auxiliary copy of the vehicle pose (stochastic cloning: mean x_v, P_vv,
+     *  cross P_v*, active and passive), e.g. the pose at a reference scan that later scans
+     *  are aligned to (updateVehicleFromCopy). */
+    long addVehicleCopy(long id = -1);
+    /** Updates with z = x_copy^-1 (+) x_v (the vehicle seen from the 3-DOF block `copy`,
+     *  e.g. a scan alignment to the reference scan taken at the copy), gated at `gate_prob`
+     *  of chi-square(3) (0 or 1: no gate); EKF step at the current estimate (with
+     *  first-estimates Jacobians: x_{k|k-1} and the copy's first estimate). Bad input and
+     *  numeric failures leave the state untouched and are reported. */
+    PoseUpdateReport updateVehicleFromCopy(long copy, const Eigen::Vector3d& z, const Eigen::Matrix3d& R,
+                                           double gate_prob);
+
     /** Marginalises a landmark out (deletes its rows and columns). Throws if unknown. */
     void removeLandmark(long id);
 
@@ -329,8 +351,10 @@ private:
     };
 
     /** Moves the vehicle to `pose` with the motion Jacobian F_current at the current estimate
-     *  (FEJ replaces its position-heading block, see LinearisationPoint). */
-    void applyVehicleMotion(const Eigen::Vector3d& pose, const Eigen::Matrix3d& F_current, const Eigen::Matrix3d& Q);
+     *  (FEJ replaces its position-heading block, see LinearisationPoint); with `param` >= 0
+     *  the new pose also depends on the 1-DOF state at that offset through G. */
+    void applyVehicleMotion(const Eigen::Vector3d& pose, const Eigen::Matrix3d& F_current, const Eigen::Matrix3d& Q,
+                            Eigen::Index param = -1, const Eigen::Vector3d& G = Eigen::Vector3d::Zero());
     /** Data association of one batch; fills pairings, new landmarks and the report. */
     void associateBatch(const std::vector<RangeBearingObs>& obs, const std::vector<bool>& valid,
                         const Eigen::Vector3d& sensor, std::vector<Pairing>& pairs,

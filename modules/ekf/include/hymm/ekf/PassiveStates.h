@@ -58,6 +58,9 @@ public:
 
     /** Prediction (Eq. 2.36 applied to the cross terms): P_pv <- P_pv F^T. */
     void predictVehicle(const Eigen::Matrix3d& F);
+    /** The same when the new pose also depends on the 1-DOF active state at `param`
+     *  through G: P_pv <- P_pv F^T + P_p,param G^T. */
+    void predictVehicle(const Eigen::Matrix3d& F, Eigen::Index param, const Eigen::Vector3d& G);
     /** Cross-covariance with the active states, all passive rows stacked (N_p x n_a). */
     const Eigen::MatrixXd& crossAll() const { return cross_; }
     /**

@@ -63,7 +63,12 @@ public:
     std::vector<LandmarkBlock>& blocks() { return blocks_; }
     std::vector<long> ids() const;
 
-    /** Smallest id larger than any id ever added (automatic ids never collide). */
+    /** Ids from here up are reserved for blocks the pipeline adds for itself (the turn
+     *  bias, a vehicle copy): far from any id a dataset or an automatic id would use. */
+    static constexpr long kFirstReservedId = 1L << 60;
+
+    /** Smallest id larger than any id ever added below kFirstReservedId (automatic ids
+     *  never collide). */
     long nextFreeId() const { return next_free_id_; }
 
     /** Saved run state (hymm-slam --save-state): every member a later step reads, bit
