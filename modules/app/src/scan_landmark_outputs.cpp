@@ -51,6 +51,12 @@ void addScanLandmarksToPlot(const DenseSlam& slam, MapPlot& plot)
 
 void writeScanSourceMetrics(eval::MetricsJson& j, const DenseSlam& slam)
 {
+    if (const auto b = slam.turnBias())  // [DenseSlam] turn_bias_state, with or without scan sources
+    {
+        auto& t = j.object("turn_bias_state");
+        t.set("deg_per_m", b->first * 180 / M_PI);
+        t.set("std_deg_per_m", b->second * 180 / M_PI);
+    }
     if (slam.scanSourceCounters().empty()) return;  // no scan source, no scan odometry
     auto& o = j.object("scan_sources");
     for (const auto& [k, n] : slam.scanSourceCounters()) o.set(k, static_cast<unsigned long>(n));
@@ -64,6 +70,13 @@ void writeScanSourceMetrics(eval::MetricsJson& j, const DenseSlam& slam)
 
 void writeScanSourceSummary(std::ostream& f, const DenseSlam& slam)
 {
+    if (const auto b = slam.turnBias())
+    {
+        std::ostringstream line;  // its own precision, f's unchanged
+        line << std::setprecision(4) << "turn bias (state)    " << b->first * 180 / M_PI << " deg/m (std "
+             << b->second * 180 / M_PI << ")\n";
+        f << line.str();
+    }
     if (slam.scanSourceCounters().empty()) return;
     f << "scan sources        ";
     for (const auto& [k, n] : slam.scanSourceCounters()) f << ' ' << k << '=' << n;

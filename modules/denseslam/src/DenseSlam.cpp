@@ -11,6 +11,7 @@
 
 #include <hymm/dense/LayerRegistry.h>
 #include <hymm/core/TimeLogger.h>
+#include <hymm/ekf/pose_composition.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
 #include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/system/datetime.h>
@@ -62,6 +63,18 @@ DenseSlam::DenseSlam(const Options& opts, const ekf::EkfSlam::Options& ekf_opts,
     }
     if (dense_opts.scan_odometry.enabled)
         scan_odometry_ = scanslam::ScanOdometry::make(dense_opts.scan_odometry, sources_cfg);
+    if (options_.turn_bias_state)
+    {
+        if (ekf_opts.jacobians == ekf::LinearisationPoint::Invariant)
+            throw std::invalid_argument(
+                "[DenseSlam] turn_bias_state = true needs [EkfSlam] jacobians = current or first_estimates");
+        if (scan_odometry_ && dense_opts.scan_odometry.wheel_turn_bias)
+            throw std::invalid_argument(
+                "[DenseSlam] turn_bias_state and [ScanOdometry] wheel_turn_bias estimate the same bias: set one");
+        turn_bias_id_ = ekf_.addAuxiliaryBlock(
+            Eigen::VectorXd::Zero(1), Eigen::MatrixXd::Constant(1, 1, options_.turn_bias_prior * options_.turn_bias_prior),
+            kTurnBiasId);
+    }
     makeSources(sources_cfg);
 }
 
@@ -134,111 +147,6 @@ bool usableGeometry(const mrpt::obs::CObservation& o)
            std::abs(p.x()) <= kMaxMount && std::abs(p.y()) <= kMaxMount && std::abs(p.z()) <= kMaxMount;
 }
 }  // namespace
-
-void DenseSlam::processOdometry(const mrpt::poses::CPosePDFGaussian& increment)
-{
-    // A NaN / inf increment (or covariance) would poison the whole state, and a finite but
-    // absurd one (a corrupt reading: no vehicle moves 1 km between two odometry readings)
-    // would put the pose where no grid index can represent it: both skipped.
-    // The same for a covariance that is no covariance (a negative variance, not symmetric)
-    // or claims more than 1 km / a full turn of spread: it would make the filter's
-    // covariance indefinite or overflow it.
-    constexpr double kMaxStep = 1000.0;  // [m]
-    if (!std::isfinite(increment.mean.x()) || !std::isfinite(increment.mean.y()) ||
-        !std::isfinite(increment.mean.phi()) || !increment.cov.asEigen().allFinite() ||
-        std::hypot(increment.mean.x(), increment.mean.y()) > kMaxStep ||
-        !usableCovariance<3>(increment.cov.asEigen(), Eigen::Vector3d(kMaxStep, kMaxStep, 2 * M_PI)))
-    {
-        ++stats_.odometry_invalid;
-        return;
-    }
-    scanslam::ScanOdometry::Increment inc;
-    inc.mean = Eigen::Vector3d(increment.mean.x(), increment.mean.y(), increment.mean.phi());
-    inc.cov = increment.cov.asEigen() * options_.odometry_cov_scale;
-    inc.cov(0, 0) += options_.odometry_std_xy * options_.odometry_std_xy;
-    inc.cov(1, 1) += options_.odometry_std_xy * options_.odometry_std_xy;
-    inc.cov(2, 2) += options_.odometry_std_phi * options_.odometry_std_phi;
-    ++stats_.predictions;
-    if (scan_odometry_)
-        // Applied with the next frame's scan (applyPendingOdometry).
-        pending_odometry_ = pending_odometry_ ? scanslam::composeIncrements(*pending_odometry_, inc) : inc;
-    else
-        predict(inc);
-}
-
-void DenseSlam::predict(const scanslam::ScanOdometry::Increment& increment)
-{
-    core::TimedSection tle(profiler_, "denseslam.1_predict");
-    const mrpt::poses::CPosePDFGaussian inc(
-        mrpt::poses::CPose2D(increment.mean.x(), increment.mean.y(), increment.mean.z()),
-        mrpt::math::CMatrixDouble33(increment.cov));
-    ekf_.predictOdometry(inc);
-}
-
-void DenseSlam::flushOdometry()
-{
-    if (!pending_odometry_) return;
-    predict(*pending_odometry_);
-    pending_odometry_.reset();
-    if (scan_odometry_) scan_odometry_->reset();
-}
-
-void DenseSlam::applyPendingOdometry(const mrpt::obs::CSensoryFrame& frame)
-{
-    if (!scan_odometry_) return;
-    const mrpt::obs::CObservation2DRangeScan* scan = nullptr;
-    bool reads_pose = false;
-    for (const auto& o : frame)
-    {
-        if (!o) continue;
-        // Odometry read inside the frame belongs before the frame's other readings
-        // (processObservation skips it then).
-        if (IS_CLASS(*o, mrpt::obs::CObservationOdometry)) processOdometryObservation(*o);
-        if (!scan) scan = dynamic_cast<const mrpt::obs::CObservation2DRangeScan*>(o.get());
-        reads_pose = reads_pose || dynamic_cast<const mrpt::obs::CObservationBearingRange*>(o.get()) != nullptr;
-    }
-    if (!scan)
-    {
-        // Bearing-range readings need the motion now; the next scan then has no reference
-        // where that motion started. Frames of readings the pipeline does not place (IMU,
-        // GPS, ...) leave the odometry pending for the next scan.
-        if (reads_pose) flushOdometry();
-        return;
-    }
-    core::TimedSection tle(profiler_, "denseslam.1_scan_odometry");
-    // No odometry since the last frame: the scan is the next one's reference (the motion
-    // in between is unknown, nothing to fuse it with).
-    scanslam::ScanOdometry::Increment wheel;
-    if (pending_odometry_)
-        wheel = *pending_odometry_;
-    else
-    {
-        scan_odometry_->reset();
-        wheel.cov = Eigen::Matrix3d::Identity();
-    }
-    const auto inc = scan_odometry_->refine(*scan, wheel);
-    tle.stop();
-    if (pending_odometry_) predict(inc);
-    pending_odometry_.reset();
-}
-
-void DenseSlam::processOdometryObservation(const mrpt::obs::CObservation& obs)
-{
-    const auto& odo = dynamic_cast<const mrpt::obs::CObservationOdometry&>(obs);
-    if (!std::isfinite(odo.odometry.x()) || !std::isfinite(odo.odometry.y()) ||
-        !std::isfinite(odo.odometry.phi()))
-    {
-        ++stats_.odometry_invalid;  // the next good reading continues from the last good one
-        return;
-    }
-    if (last_odometry_)
-    {
-        // The reading carries no covariance: the increment gets the motion model's.
-        processOdometry(odometryIncrementPdf(odo.odometry - *last_odometry_,
-                                             options_.odometry_model, options_.thrun));
-    }
-    last_odometry_ = odo.odometry;
-}
 
 void DenseSlam::processFrame(const mrpt::obs::CSensoryFrame& input)
 {

@@ -140,6 +140,12 @@ core::OptionTable DenseSlam::Options::table()
     t.real("odometry_std_xy", odometry_std_xy, "m", atLeast(0, 100), "added in quadrature to the odometry (per step)");
     t.real("odometry_std_phi_deg", odometry_std_phi, "deg", atLeast(0, 180),
            "added in quadrature to the odometry heading (per step)", kDeg);
+    t.flag("turn_bias_state", turn_bias_state,
+           "the wheels' unreported turn per metre as a filter state, learnt from the observations "
+           "(and with [ScanOdometry] from its alignments); needs jacobians = current or first_estimates");
+    t.real("turn_bias_prior_deg_per_m", turn_bias_prior, "deg/m", above(0, 180), "prior std of that turn", kDeg);
+    t.real("turn_bias_walk_deg_per_m", turn_bias_walk, "deg/m/sqrt(m)", atLeast(0, 180),
+           "its random walk per square root of a metre travelled", kDeg);
     t.choice("odometry_model", odometry_model,
              {{"thrun", OdometryModel::Thrun}, {"gaussian", OdometryModel::Gaussian}, {"none", OdometryModel::None}},
              "covariance of CObservationOdometry increments (observation-format rawlogs): MRPT's "

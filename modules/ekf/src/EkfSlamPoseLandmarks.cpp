@@ -181,8 +181,7 @@ PoseUpdateReport EkfSlam::updatePoseBlock(long observer, long id, const Eigen::V
                                           const Eigen::Vector3d& sensor, double gate_prob, int max_iterations)
 {
     PoseUpdateReport rep;
-    const auto fail = [&rep](PoseUpdateReport::Outcome o)
-    {
+    const auto fail = [&rep](PoseUpdateReport::Outcome o) {
         rep.outcome = o;
         return rep;
     };

@@ -159,6 +159,8 @@ void ScanOdometry::reset()
     updateTurnBias();
     has_reference_ = false;
     since_reference_ = Increment{};
+    last_relative_.reset();
+    last_is_reference_ = false;
 }
 
 bool ScanOdometry::wheelTurnBiasApplied() const
@@ -239,6 +241,7 @@ ScanOdometry::Increment ScanOdometry::refine(const mrpt::obs::CObservation2DRang
         if (options_.wheel_turn_bias) observeTurn(wheel_read, relative);
     }
     const bool ok = relative.has_value();
+    last_relative_ = relative;
     const Vec3& v = since_reference_.mean;
     // A new keyframe: always without keyframes; after a failed alignment (the chain to the
     // old one is broken); or once the vehicle has left the keyframe's neighbourhood.
@@ -257,6 +260,7 @@ ScanOdometry::Increment ScanOdometry::refine(const mrpt::obs::CObservation2DRang
     }
     else
         reference_is_previous_ = false;
+    last_is_reference_ = renew;
     return out;
 }
 

@@ -126,12 +126,23 @@ public:
     const std::vector<std::unique_ptr<PointLandmarkSource>>& pointSources() const { return point_sources_; }
     /** The registered per-scan landmark sources in use (Options::scan_sources). */
     const std::vector<std::unique_ptr<ScanLandmarkSource>>& scanSources() const { return sources_; }
+    /** The wheels' turn bias state ([DenseSlam] turn_bias_state): estimate and std
+     *  [rad/m]; nullopt without it. */
+    std::optional<std::pair<double, double>> turnBias() const;
+    /** Counters of the turn bias state's scan-odometry observations (keyframe copies,
+     *  alignments fused, gated, failed numerically). */
+    struct TurnBiasStats
+    {
+        size_t copies = 0, fused = 0, gated = 0, failed = 0;
+    };
+    const TurnBiasStats& turnBiasStats() const { return turn_bias_stats_; }
     /** Scan-matching odometry ([ScanOdometry]); nullptr unless enabled. */
     const scanslam::ScanOdometry* scanOdometry() const { return scan_odometry_.get(); }
     /** The scan_landmarks source, or nullptr when it is not in use. */
     const ScanLandmarksSource* scanLandmarks() const;
     /** Every registered source's counters as "<source>.<counter>", then the scan
-     *  odometry's as "scan_odometry.<counter>" when it is on. */
+     *  odometry's as "scan_odometry.<counter>" when it is on, and the turn bias state's
+     *  scan-odometry counters as "turn_bias_state.<counter>". */
     std::vector<std::pair<std::string, size_t>> scanSourceCounters() const;
 
     /** Brings the current vertices of every region to the latest landmark estimates
@@ -184,8 +195,16 @@ private:
     /** [ScanOdometry]: the pending increment fused with the alignment of the frame's
      *  first scan to the previous scan, then the prediction (step 1). */
     void applyPendingOdometry(const mrpt::obs::CSensoryFrame& frame);
-    /** EKF prediction with an increment (after the checks and noise of processOdometry). */
+    /** EKF prediction with an increment (after the checks and noise of processOdometry);
+     *  with the turn bias state, through it. */
     void predict(const scanslam::ScanOdometry::Increment& increment);
+    /** Turn bias state with [ScanOdometry]: the last alignment fused as an observation of
+     *  the vehicle from its copy at the reference scan; a new copy when the scan became
+     *  the reference. */
+    void observeFromReferenceCopy();
+    /** The wheels' increment with the turn bias estimate removed (its uncertainty added):
+     *  what the matcher is started from. */
+    scanslam::ScanOdometry::Increment unbiasedByState(const scanslam::ScanOdometry::Increment& wheel) const;
     /** True if the frame repeats the previous one (same stamped observations, no
      *  prediction in between): skipped, its readings are not used twice. */
     bool repeatsPreviousFrame(const FrameSignature& signature) const;
@@ -282,6 +301,12 @@ private:
     std::unique_ptr<dynamic::SlamMotionHook> motion_;  //!< nullptr unless enabled
     std::unique_ptr<hll::HighLevelLandmarks> hll_;     //!< nullptr unless enabled
     std::unique_ptr<scanslam::ScanOdometry> scan_odometry_;  //!< nullptr unless enabled
+    /** Reserved EKF ids (never a landmark's) of the turn bias and of the vehicle's copy at
+     *  the scan odometry's reference scan. */
+    static constexpr long kTurnBiasId = ekf::StateLayout::kFirstReservedId;
+    static constexpr long kReferenceCopyId = kTurnBiasId + 1;
+    long turn_bias_id_ = -1;  //!< the turn bias block in the EKF (-1: no state)
+    TurnBiasStats turn_bias_stats_;
     /** [ScanOdometry]: the odometry since the last frame, not applied yet. */
     std::optional<scanslam::ScanOdometry::Increment> pending_odometry_;
     double frame_t_ = 0;  //!< [s] time of the frame being processed (motion hook)

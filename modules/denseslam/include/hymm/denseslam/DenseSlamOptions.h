@@ -21,6 +21,7 @@
 #include <hymm/uif/DelayedDenseStore.h>
 #include <mrpt/config/CLoadableOptions.h>
 
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -39,6 +40,16 @@ struct DenseSlamOptions : public mrpt::config::CLoadableOptions
     double odometry_cov_scale = 1.0;  //!< multiplies the odometry covariance of the rawlog
     double odometry_std_xy = 0.0;     //!< [m] added in quadrature to the odometry (per step)
     double odometry_std_phi = 0.0;    //!< [rad] likewise (ini: odometry_std_phi_deg)
+    /** The wheels' turn per metre travelled that they do not report (unequal wheel radii)
+     *  as a state of the filter (EkfSlam::predictOdometryWithTurnBias): learnt from every
+     *  observation through its correlation with the heading, and with [ScanOdometry] from
+     *  each alignment to the keyframe, fused as an observation of the vehicle from a copy
+     *  of its pose at the keyframe (README, "The wheels' turn bias as a state"). */
+    bool turn_bias_state = false;
+    double turn_bias_prior = 5 * M_PI / 180;  //!< its prior std [rad/m] (ini: turn_bias_prior_deg_per_m)
+    /** Its random walk: std of its change per square root of a metre travelled
+     *  [rad/m/sqrt(m)] (ini: turn_bias_walk_deg_per_m) */
+    double turn_bias_walk = 0.01 * M_PI / 180;
     /** Covariance of the increments between CObservationOdometry readings
      *  (observation-format rawlogs carry none; OdometryModel.h). */
     OdometryModel odometry_model = OdometryModel::Thrun;

@@ -148,6 +148,14 @@ public:
     /** Whether the estimate is applied to the wheels now (wheel_turn_bias_min_sigmas). */
     bool wheelTurnBiasApplied() const;
 
+    /** The last refine()'s alignment as a measurement of the vehicle's pose relative to
+     *  its pose at the reference scan (none when it failed, was gated or had no
+     *  reference): for a filter that keeps a copy of the pose at the reference
+     *  (EkfSlam::updateVehicleFromCopy) instead of taking refine()'s increment. */
+    const std::optional<Increment>& lastRelativeMeasurement() const { return last_relative_; }
+    /** Whether the last refine()'s scan became the reference of the next ones. */
+    bool lastScanIsReference() const { return last_is_reference_; }
+
     const Stats& stats() const { return stats_; }
     const Options& options() const { return options_; }
 
@@ -195,6 +203,8 @@ private:
         double e = 0, ds = 0, var = 0;
     };
     std::optional<TurnObservation> turn_observation_;
+    std::optional<Increment> last_relative_;  //!< lastRelativeMeasurement()
+    bool last_is_reference_ = false;          //!< lastScanIsReference()
     double turn_bias_ = 0;      //!< [rad/m]
     double turn_bias_var_ = 0;  //!< [rad^2/m^2] (the prior's, set by the constructor)
 };
