@@ -7,8 +7,8 @@
 namespace hymm::sim
 {
 OdometryAccumulator::OdometryAccumulator(const hymm::core::UteParams& ute, double std_speed,
-                                         double std_steering, bool correct_bias)
-    : ute_(ute), correct_bias_(correct_bias)
+                                         double std_steering, bool correct_bias, double turn_loss)
+    : ute_(ute), correct_bias_(correct_bias), turn_loss_(turn_loss)
 {
     Q_ = Eigen::Vector2d(std_speed * std_speed, std_steering * std_steering).asDiagonal();
     reset();
@@ -32,7 +32,18 @@ Eigen::Vector3d OdometryAccumulator::increment(const Eigen::Vector2d& u, double 
 Eigen::Vector3d OdometryAccumulator::addStep(const Eigen::Vector2d& u, double dt)
 {
     Eigen::Matrix<double, 3, 2> Ju;
-    const Eigen::Vector3d d = increment(u, dt, &Ju);
+    Eigen::Vector3d d = increment(u, dt, &Ju);
+    if (turn_loss_ != 0)
+    {
+        // The wheels lose turn_loss per metre; the turn accrues along the step, so the
+        // chord turns by half of it (the mid-point heading).
+        const double a = -turn_loss_ * d.head<2>().norm();
+        Eigen::Matrix2d R;
+        R << std::cos(0.5 * a), -std::sin(0.5 * a), std::sin(0.5 * a), std::cos(0.5 * a);
+        d.head<2>() = (R * d.head<2>()).eval();
+        d[2] += a;
+        Ju.topRows<2>() = (R * Ju.topRows<2>()).eval();
+    }
     const double c = std::cos(mean_[2]), s = std::sin(mean_[2]);
 
     Eigen::Matrix3d JD = Eigen::Matrix3d::Identity();  // d(D (+) d)/dD

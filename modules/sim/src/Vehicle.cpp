@@ -34,6 +34,9 @@ hymm::core::OptionTable Vehicle::Options::table()
     t.degrees("steering_offset_deg", steering_offset, between(-10, 10),
               "the steering sensor reads this much more than the wheels are turned (a calibration error: "
               "the odometry's heading drifts by about this / L per metre)");
+    t.real("odometry_turn_loss_deg_per_m", odometry_turn_loss, "deg/m", between(-10, 10),
+           "the odometry reports this much less turn per metre than the vehicle made (wheels of unequal "
+           "radii: a pure heading drift per metre)", M_PI / 180);
     t.flag("odometry_bias_correction", odometry_bias_correction,
            "odometry subtracts the second-order bias of the noisy readings' increments "
            "(v H std_steering^2 / L^2 in heading rate on a straight line); false: raw increments, "

@@ -211,6 +211,36 @@ TEST(SimulatorTest, SteeringOffsetTurnsTheOdometryByTheOffsetOverTheWheelbasePer
     }
 }
 
+TEST(SimulatorTest, OdometryTurnLossTurnsTheOdometryByExactlyThatPerMetre)
+{
+    // Noise-free readings: the dead reckoning's heading change minus the true one, over
+    // the distance driven, is minus the loss (the odometry turns less), to rounding; the
+    // distance per step is unchanged.
+    for (const double loss_deg : {0.0, 1.5})
+    {
+        const auto frames = runAll(loadScenario({{"Scenario", "duration_s", "60"},
+                                                 {"Vehicle", "std_speed_mps", "0"},
+                                                 {"Vehicle", "std_steering_deg", "0"},
+                                                 {"Vehicle", "odometry_turn_loss_deg_per_m", std::to_string(loss_deg)},
+                                                 {"LaserSimulator", "enabled", "false"},
+                                                 {"LandmarkDetector", "period_s", "0.2"}}));
+        ASSERT_GT(frames.size(), 100u);
+        double extra_turn = 0, distance = 0, dr_distance = 0;
+        for (size_t k = 1; k < frames.size(); ++k)
+        {
+            extra_turn += mrpt::math::wrapToPi(frames[k].dr_pose[2] - frames[k - 1].dr_pose[2]) -
+                          mrpt::math::wrapToPi(frames[k].true_pose[2] - frames[k - 1].true_pose[2]);
+            distance += (frames[k].true_pose.head<2>() - frames[k - 1].true_pose.head<2>()).norm();
+            dr_distance += (frames[k].dr_pose.head<2>() - frames[k - 1].dr_pose.head<2>()).norm();
+        }
+        ASSERT_GT(distance, 100.0);
+        // Per frame the chord is a little shorter than the arc the steps' lengths add to.
+        EXPECT_NEAR(extra_turn / distance, -loss_deg * M_PI / 180, 1e-3 * loss_deg * M_PI / 180 + 1e-9)
+            << "loss " << loss_deg << " deg/m";
+        EXPECT_NEAR(dr_distance, distance, 1e-3 * distance);
+    }
+}
+
 TEST(SimulatorTest, OdometryComposesToTheDeadReckoningPath)
 {
     const auto frames = runAll(loadScenario());

@@ -31,8 +31,10 @@ public:
     static constexpr double kFloorStdXy = 1e-4;   //!< [m], far below any control noise
     static constexpr double kFloorStdPhi = 1e-5;  //!< [rad]
 
+    /** `turn_loss` [rad/m]: every increment reports this much less turn per metre than
+     *  the readings give (wheels of unequal radii), its translation turned by half of it. */
     OdometryAccumulator(const hymm::core::UteParams& ute, double std_speed, double std_steering,
-                        bool correct_bias = true);
+                        bool correct_bias = true, double turn_loss = 0);
 
     /** Starts a new increment at the identity. */
     void reset();
@@ -55,6 +57,7 @@ private:
     const hymm::core::UteParams ute_;
     Eigen::Matrix2d Q_;
     bool correct_bias_ = true;
+    double turn_loss_ = 0;  //!< [rad/m]
     Eigen::Vector3d mean_;
     Eigen::Matrix3d cov_;
     size_t steps_ = 0;

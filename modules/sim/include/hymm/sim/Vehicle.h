@@ -41,6 +41,11 @@ public:
          *  about offset / L per metre more than the vehicle, a systematic error that its
          *  covariance does not describe. */
         double steering_offset = 0;
+        /** The odometry reports this much less turn per metre travelled than the vehicle
+         *  made [rad/m] (ini: odometry_turn_loss_deg_per_m): wheels of unequal radii, a
+         *  systematic error its covariance does not describe (nor does anything else:
+         *  unlike steering_offset, the speed and the position are as measured). */
+        double odometry_turn_loss = 0;
         /** Odometry reports the conditional mean of the increment given the noisy
          *  readings (hymm::core::uteIncrementNoiseBias subtracted), which its covariance
          *  describes; false: the raw increments of the readings, biased in heading. */
