@@ -11,7 +11,6 @@
 
 #include <hymm/dense/LayerRegistry.h>
 #include <hymm/core/TimeLogger.h>
-#include <hymm/ekf/pose_composition.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
 #include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/system/datetime.h>
@@ -71,7 +70,7 @@ DenseSlam::DenseSlam(const Options& opts, const ekf::EkfSlam::Options& ekf_opts,
         if (scan_odometry_ && dense_opts.scan_odometry.wheel_turn_bias)
             throw std::invalid_argument(
                 "[DenseSlam] turn_bias_state and [ScanOdometry] wheel_turn_bias estimate the same bias: set one");
-        turn_bias_id_ = ekf_.addAuxiliaryBlock(
+        ekf_.addAuxiliaryBlock(
             Eigen::VectorXd::Zero(1), Eigen::MatrixXd::Constant(1, 1, options_.turn_bias_prior * options_.turn_bias_prior),
             kTurnBiasId);
     }

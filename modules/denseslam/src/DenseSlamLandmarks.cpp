@@ -49,7 +49,7 @@ std::vector<std::pair<std::string, size_t>> DenseSlam::scanSourceCounters() cons
         for (const auto& [k, n] : s->counters()) out.emplace_back(s->name() + "." + k, n);
     if (scan_odometry_)
         for (const auto& [k, n] : scan_odometry_->stats().list()) out.emplace_back("scan_odometry." + k, n);
-    if (turn_bias_id_ >= 0 && scan_odometry_)
+    if (options_.turn_bias_state && scan_odometry_)
     {
         const TurnBiasStats& t = turn_bias_stats_;
         for (const auto& [k, n] : {std::pair<const char*, size_t>{"copies", t.copies}, {"fused", t.fused},

@@ -8,7 +8,7 @@
 #include "usable_covariance.h"
 
 #include <hymm/core/TimeLogger.h>
-#include <hymm/ekf/pose_composition.h>
+#include <hymm/core/turn_bias.h>
 #include <mrpt/obs/CObservationOdometry.h>
 
 #include <algorithm>
@@ -53,8 +53,8 @@ void DenseSlam::predict(const scanslam::ScanOdometry::Increment& increment)
     const mrpt::poses::CPosePDFGaussian inc(
         mrpt::poses::CPose2D(increment.mean.x(), increment.mean.y(), increment.mean.z()),
         mrpt::math::CMatrixDouble33(increment.cov));
-    if (turn_bias_id_ >= 0)
-        ekf_.predictOdometryWithTurnBias(inc, turn_bias_id_, options_.turn_bias_walk * options_.turn_bias_walk);
+    if (options_.turn_bias_state)
+        ekf_.predictOdometryWithTurnBias(inc, kTurnBiasId, options_.turn_bias_walk * options_.turn_bias_walk);
     else
         ekf_.predictOdometry(inc);
 }
@@ -101,7 +101,7 @@ void DenseSlam::applyPendingOdometry(const mrpt::obs::CSensoryFrame& frame)
         scan_odometry_->reset();
         wheel.cov = Eigen::Matrix3d::Identity();
     }
-    if (turn_bias_id_ >= 0)
+    if (options_.turn_bias_state)
     {
         // The bias is a state: the wheels predict through it, and the alignment is an
         // observation of the vehicle relative to its copy at the reference scan, so the
@@ -139,8 +139,8 @@ void DenseSlam::processOdometryObservation(const mrpt::obs::CObservation& obs)
 
 std::optional<std::pair<double, double>> DenseSlam::turnBias() const
 {
-    if (turn_bias_id_ < 0) return std::nullopt;
-    const auto o = static_cast<Eigen::Index>(ekf_.layout().get(turn_bias_id_).offset);
+    if (!options_.turn_bias_state) return std::nullopt;
+    const auto o = static_cast<Eigen::Index>(ekf_.layout().get(kTurnBiasId).offset);
     return std::make_pair(ekf_.mean()[o], std::sqrt(std::max(ekf_.cov()(o, o), 0.0)));
 }
 
@@ -151,7 +151,7 @@ scanslam::ScanOdometry::Increment DenseSlam::unbiasedByState(const scanslam::Sca
     Eigen::Vector3d Jb;
     Eigen::Matrix3d Jd;
     scanslam::ScanOdometry::Increment out;
-    out.mean = ekf::turnBiasedIncrement(wheel.mean, b->first, &Jb, &Jd);
+    out.mean = core::turnBiasedIncrement(wheel.mean, b->first, &Jb, &Jd);
     out.cov = Jd * wheel.cov * Jd.transpose() + b->second * b->second * Jb * Jb.transpose();
     out.cov = (0.5 * (out.cov + out.cov.transpose())).eval();
     return out;
@@ -172,8 +172,10 @@ void DenseSlam::observeFromReferenceCopy()
             ++turn_bias_stats_.failed;
     }
     if (!scan_odometry_->lastScanIsReference()) return;
-    if (ekf_.layout().has(kReferenceCopyId)) ekf_.removeLandmark(kReferenceCopyId);
-    ekf_.addVehicleCopy(kReferenceCopyId);
+    if (ekf_.layout().has(kReferenceCopyId))
+        ekf_.recopyVehicle(kReferenceCopyId);
+    else
+        ekf_.addVehicleCopy(kReferenceCopyId);
     ++turn_bias_stats_.copies;
 }
 

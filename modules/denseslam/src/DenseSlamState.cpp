@@ -75,7 +75,7 @@ std::string DenseSlam::stateUnsupported() const
     // Every component's state is saved (state version 3) but the scan odometry's (its
     // reference scan and the pending increment): refused rather than silently lost.
     if (scan_odometry_) return "[ScanOdometry] (scan-matching odometry)";
-    if (turn_bias_id_ >= 0) return "[DenseSlam] turn_bias_state";
+    if (options_.turn_bias_state) return "[DenseSlam] turn_bias_state";
     return {};
 }
 

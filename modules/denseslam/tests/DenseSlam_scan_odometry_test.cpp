@@ -9,7 +9,7 @@
 #include <gtest/gtest.h>
 #include <hymm/core/StrictConfigFile.h>
 #include <hymm/denseslam/DenseSlam.h>
-#include <hymm/ekf/pose_composition.h>
+#include <hymm/core/turn_bias.h>
 #include <hymm/sim/Scenario.h>
 #include <mrpt/io/CMemoryStream.h>
 #include <mrpt/serialization/CArchive.h>
@@ -65,7 +65,7 @@ PathError runWorld(uint32_t seed, bool scan_odometry, const std::function<void(D
     {
         auto odo = hymm::sim::odometryIncrement(f);
         const Eigen::Vector3d d(odo.mean.x(), odo.mean.y(), odo.mean.phi());
-        const Eigen::Vector3d read = hymm::ekf::turnBiasedIncrement(d, -wheel_bias);  // undone by +wheel_bias
+        const Eigen::Vector3d read = hymm::core::turnBiasedIncrement(d, -wheel_bias);  // undone by +wheel_bias
         odo.mean = mrpt::poses::CPose2D(read.x(), read.y(), read.z());
         slam.processOdometry(odo);
         slam.processFrame(hymm::sim::sensoryFrame(f));

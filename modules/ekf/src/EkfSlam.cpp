@@ -3,6 +3,7 @@
 
 #include <hymm/core/RangeBearingModel.h>
 #include <hymm/core/TimeLogger.h>
+#include <hymm/core/turn_bias.h>
 #include <hymm/ekf/pose_composition.h>
 #include <mrpt/core/exceptions.h>
 #include <mrpt/math/wrap2pi.h>
@@ -182,7 +183,7 @@ void EkfSlam::predictOdometryWithTurnBias(const mrpt::poses::CPosePDFGaussian& i
     const auto o = static_cast<Eigen::Index>(b.offset);
     Eigen::Vector3d Jb;
     Eigen::Matrix3d Jt, Jx, Jd;
-    const Eigen::Vector3d du = turnBiasedIncrement(d, x_[o], &Jb, &Jt);
+    const Eigen::Vector3d du = core::turnBiasedIncrement(d, x_[o], &Jb, &Jt);
     const Eigen::Vector3d pose = composePose(x_.head<3>(), du, &Jx, &Jd);
     const Eigen::Matrix3d JdJt = Jd * Jt;
     applyVehicleMotion(pose, Jx, JdJt * Sigma * JdJt.transpose() + stabilisingNoise(options_), o, Jd * Jb);

@@ -66,6 +66,21 @@ long EkfSlam::addVehicleCopy(long id)
     return id;
 }
 
+void EkfSlam::recopyVehicle(long copy)
+{
+    const LandmarkBlock& b = layout_.get(copy);
+    if (b.dim != 3) throw std::invalid_argument("EkfSlam::recopyVehicle: block " + std::to_string(copy) + " is not 3-DOF");
+    const auto o = static_cast<Eigen::Index>(b.offset);
+    x_.segment<3>(o) = x_.head<3>();
+    // Rows first, then columns: after the rows, the copy's columns in the vehicle rows
+    // hold P_vv already, so the column pass reads no stale entry. O(n).
+    auto P = activeP();
+    P.middleRows<3>(o) = P.topRows<3>();
+    P.middleCols<3>(o) = P.leftCols<3>();
+    passive_.copyActiveColumns(0, b.offset, 3);
+    first_estimates_[copy] = x_.head<3>();
+}
+
 void EkfSlam::relaxBlockTowards(long a, long l, double rho, const Eigen::MatrixXd& Q)
 {
     const LandmarkBlock& ba = layout_.get(a);

@@ -129,6 +129,13 @@ void PassiveStates::predictVehicle(const Eigen::Matrix3d& F, Eigen::Index param,
     cross_.leftCols<3>() = (cross_.leftCols<3>() * F.transpose() + cross_.col(param) * G.transpose()).eval();
 }
 
+void PassiveStates::copyActiveColumns(size_t from, size_t to, size_t dim)
+{
+    if (blocks_.empty()) return;
+    const auto d = static_cast<Eigen::Index>(dim);
+    cross_.middleCols(static_cast<Eigen::Index>(to), d) = cross_.middleCols(static_cast<Eigen::Index>(from), d).eval();
+}
+
 void PassiveStates::applyUpdate(
     const Eigen::MatrixXd& W_p, const Eigen::MatrixXd& W_a, const Eigen::VectorXd& y)
 {

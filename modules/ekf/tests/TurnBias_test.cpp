@@ -6,6 +6,7 @@
 // filter stays consistent, where the same filter without the state does not.
 #include <gtest/gtest.h>
 #include <hymm/ekf/EkfSlam.h>
+#include <hymm/core/turn_bias.h>
 #include <hymm/ekf/pose_composition.h>
 #include <mrpt/math/distributions.h>
 #include <mrpt/math/wrap2pi.h>
@@ -20,6 +21,7 @@
 namespace
 {
 using namespace hymm::ekf;
+using hymm::core::turnBiasedIncrement;
 using hymm::ekf::testing::numericJacobian;
 using hymm::ekf::testing::randomSpd;
 
@@ -133,7 +135,7 @@ TEST(TurnBiasTest, PredictionAndCopyUpdateAreTheJointModelsLinearMaps)
 
         // Move on, then observe the vehicle from the copy: the Kalman update with H the
         // numeric Jacobian of x_c^-1 (+) x_v (at x_{k|k-1} and the copy's first estimate
-        // with FEJ, which here are the estimate itself: no update since either was set).
+        // with FEJ, which for this first update are the estimate itself).
         f.predictOdometryWithTurnBias(pdf(Eigen::Vector3d(1.0, 0.1, 0.2), Sigma), 12, walk);
         const auto [x3, P3] = joint(f);
         const Eigen::Index m = P3.rows(), oc = n;
@@ -153,6 +155,29 @@ TEST(TurnBiasTest, PredictionAndCopyUpdateAreTheJointModelsLinearMaps)
         EXPECT_LT((x4 - (x3 + K * nu)).cwiseAbs().maxCoeff(), 1e-7);
         EXPECT_LT((P4 - (Eigen::MatrixXd::Identity(m, m) - K * H) * P3).cwiseAbs().maxCoeff(), 1e-7);
         EXPECT_NEAR(rep.nis, nu.dot(Sinn.ldlt().solve(nu)), 1e-6);
+
+        // A second observation right away: the estimates have left the points FEJ keeps
+        // (the copy's first estimate and x_{k|k-1}, both as in x3), the current
+        // Jacobians are at x4.
+        const Eigen::MatrixXd H2 = numericJacobian(h, lin == LinearisationPoint::FirstEstimates ? x3 : x4, {2});
+        const Eigen::Vector3d z2 = h(x4) + Eigen::Vector3d(-0.03, 0.02, -0.01);
+        ASSERT_EQ(f.updateVehicleFromCopy(c, z2, R, 0).outcome, PoseUpdateReport::Outcome::updated);
+        const Eigen::MatrixXd K2 = P4 * H2.transpose() * (H2 * P4 * H2.transpose() + R).inverse();
+        Eigen::Vector3d nu2 = z2 - h(x4);
+        nu2.z() = mrpt::math::wrapToPi(nu2.z());
+        const auto [x5, P5] = joint(f);
+        EXPECT_LT((x5 - (x4 + K2 * nu2)).cwiseAbs().maxCoeff(), 1e-7);
+        EXPECT_LT((P5 - (Eigen::MatrixXd::Identity(m, m) - K2 * H2) * P4).cwiseAbs().maxCoeff(), 1e-7);
+
+        // Copied again in place: the vehicle's rows (active and passive) and mean, and
+        // the copy's first estimate.
+        f.recopyVehicle(c);
+        const auto [x6, P6] = joint(f);
+        EXPECT_EQ(x6.segment<3>(oc), x6.head<3>());
+        EXPECT_EQ(P6.middleRows(oc, 3), P6.topRows(3));
+        EXPECT_EQ(P6.middleCols(oc, 3), P6.leftCols(3));
+        EXPECT_EQ(f.landmarkFirstEstimate(c), Eigen::VectorXd(x6.head<3>()));
+        EXPECT_THROW(f.recopyVehicle(12), std::invalid_argument);  // the 1-DOF bias
 
         // Bad input.
         EXPECT_THROW(f.predictOdometryWithTurnBias(pdf(d, Sigma), 11, walk), std::invalid_argument);

@@ -1,5 +1,6 @@
 #include "hymm/sim/OdometryAccumulator.h"
 
+#include <hymm/core/turn_bias.h>
 #include <mrpt/math/wrap2pi.h>
 
 #include <cmath>
@@ -35,14 +36,10 @@ Eigen::Vector3d OdometryAccumulator::addStep(const Eigen::Vector2d& u, double dt
     Eigen::Vector3d d = increment(u, dt, &Ju);
     if (turn_loss_ != 0)
     {
-        // The wheels lose turn_loss per metre; the turn accrues along the step, so the
-        // chord turns by half of it (the mid-point heading).
-        const double a = -turn_loss_ * d.head<2>().norm();
-        Eigen::Matrix2d R;
-        R << std::cos(0.5 * a), -std::sin(0.5 * a), std::sin(0.5 * a), std::cos(0.5 * a);
-        d.head<2>() = (R * d.head<2>()).eval();
-        d[2] += a;
-        Ju.topRows<2>() = (R * Ju.topRows<2>()).eval();
+        // Wheels that lose turn_loss per metre report the increment turned by -turn_loss.
+        Eigen::Matrix3d Jd;
+        d = hymm::core::turnBiasedIncrement(d, -turn_loss_, nullptr, &Jd);
+        Ju = (Jd * Ju).eval();
     }
     const double c = std::cos(mean_[2]), s = std::sin(mean_[2]);
 

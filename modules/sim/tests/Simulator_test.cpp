@@ -183,6 +183,33 @@ TEST(SimulatorTest, DeadReckoningStaysConsistentOverALongRun)
     EXPECT_GT(std::abs(heading_raw), 0.35);
 }
 
+/** A noise-free drive of `seconds` with one more [Vehicle] key: the dead reckoning's
+ *  heading change minus the true one, the true distance and the dead reckoning's. */
+struct OdometryDrift
+{
+    double extra_turn = 0, distance = 0, dr_distance = 0;
+};
+
+OdometryDrift noiseFreeDrift(const std::string& seconds, const std::string& key, double value)
+{
+    const auto frames = runAll(loadScenario({{"Scenario", "duration_s", seconds},
+                                             {"Vehicle", "std_speed_mps", "0"},
+                                             {"Vehicle", "std_steering_deg", "0"},
+                                             {"Vehicle", key, std::to_string(value)},
+                                             {"LaserSimulator", "enabled", "false"},
+                                             {"LandmarkDetector", "period_s", "0.2"}}));
+    EXPECT_GT(frames.size(), 100u);
+    OdometryDrift d;
+    for (size_t k = 1; k < frames.size(); ++k)
+    {
+        d.extra_turn += mrpt::math::wrapToPi(frames[k].dr_pose[2] - frames[k - 1].dr_pose[2]) -
+                        mrpt::math::wrapToPi(frames[k].true_pose[2] - frames[k - 1].true_pose[2]);
+        d.distance += (frames[k].true_pose.head<2>() - frames[k - 1].true_pose.head<2>()).norm();
+        d.dr_distance += (frames[k].dr_pose.head<2>() - frames[k - 1].dr_pose.head<2>()).norm();
+    }
+    return d;
+}
+
 TEST(SimulatorTest, SteeringOffsetTurnsTheOdometryByTheOffsetOverTheWheelbasePerMetre)
 {
     // Noise-free readings: the dead reckoning's heading change minus the true one, over
@@ -191,23 +218,10 @@ TEST(SimulatorTest, SteeringOffsetTurnsTheOdometryByTheOffsetOverTheWheelbasePer
     // within a few per cent).
     for (const double offset_deg : {0.0, 1.0})
     {
-        const auto frames = runAll(loadScenario({{"Scenario", "duration_s", "90"},
-                                                 {"Vehicle", "std_speed_mps", "0"},
-                                                 {"Vehicle", "std_steering_deg", "0"},
-                                                 {"Vehicle", "steering_offset_deg", std::to_string(offset_deg)},
-                                                 {"LaserSimulator", "enabled", "false"},
-                                                 {"LandmarkDetector", "period_s", "0.2"}}));
-        ASSERT_GT(frames.size(), 100u);
-        double extra_turn = 0, distance = 0;
-        for (size_t k = 1; k < frames.size(); ++k)
-        {
-            extra_turn += mrpt::math::wrapToPi(frames[k].dr_pose[2] - frames[k - 1].dr_pose[2]) -
-                          mrpt::math::wrapToPi(frames[k].true_pose[2] - frames[k - 1].true_pose[2]);
-            distance += (frames[k].true_pose.head<2>() - frames[k - 1].true_pose.head<2>()).norm();
-        }
-        ASSERT_GT(distance, 100.0);
+        const OdometryDrift d = noiseFreeDrift("90", "steering_offset_deg", offset_deg);
+        ASSERT_GT(d.distance, 100.0);
         const double expected = offset_deg * M_PI / 180 / 2.83;  // L of the default vehicle
-        EXPECT_NEAR(extra_turn / distance, expected, 1e-9 + 0.1 * expected) << "offset " << offset_deg << " deg";
+        EXPECT_NEAR(d.extra_turn / d.distance, expected, 1e-9 + 0.1 * expected) << "offset " << offset_deg << " deg";
     }
 }
 
@@ -218,26 +232,12 @@ TEST(SimulatorTest, OdometryTurnLossTurnsTheOdometryByExactlyThatPerMetre)
     // distance per step is unchanged.
     for (const double loss_deg : {0.0, 1.5})
     {
-        const auto frames = runAll(loadScenario({{"Scenario", "duration_s", "60"},
-                                                 {"Vehicle", "std_speed_mps", "0"},
-                                                 {"Vehicle", "std_steering_deg", "0"},
-                                                 {"Vehicle", "odometry_turn_loss_deg_per_m", std::to_string(loss_deg)},
-                                                 {"LaserSimulator", "enabled", "false"},
-                                                 {"LandmarkDetector", "period_s", "0.2"}}));
-        ASSERT_GT(frames.size(), 100u);
-        double extra_turn = 0, distance = 0, dr_distance = 0;
-        for (size_t k = 1; k < frames.size(); ++k)
-        {
-            extra_turn += mrpt::math::wrapToPi(frames[k].dr_pose[2] - frames[k - 1].dr_pose[2]) -
-                          mrpt::math::wrapToPi(frames[k].true_pose[2] - frames[k - 1].true_pose[2]);
-            distance += (frames[k].true_pose.head<2>() - frames[k - 1].true_pose.head<2>()).norm();
-            dr_distance += (frames[k].dr_pose.head<2>() - frames[k - 1].dr_pose.head<2>()).norm();
-        }
-        ASSERT_GT(distance, 100.0);
+        const OdometryDrift d = noiseFreeDrift("60", "odometry_turn_loss_deg_per_m", loss_deg);
+        ASSERT_GT(d.distance, 100.0);
         // Per frame the chord is a little shorter than the arc the steps' lengths add to.
-        EXPECT_NEAR(extra_turn / distance, -loss_deg * M_PI / 180, 1e-3 * loss_deg * M_PI / 180 + 1e-9)
+        EXPECT_NEAR(d.extra_turn / d.distance, -loss_deg * M_PI / 180, 1e-3 * loss_deg * M_PI / 180 + 1e-9)
             << "loss " << loss_deg << " deg/m";
-        EXPECT_NEAR(dr_distance, distance, 1e-3 * distance);
+        EXPECT_NEAR(d.dr_distance, d.distance, 1e-3 * d.distance);
     }
 }
 

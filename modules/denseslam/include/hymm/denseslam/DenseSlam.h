@@ -305,7 +305,6 @@ private:
      *  the scan odometry's reference scan. */
     static constexpr long kTurnBiasId = ekf::StateLayout::kFirstReservedId;
     static constexpr long kReferenceCopyId = kTurnBiasId + 1;
-    long turn_bias_id_ = -1;  //!< the turn bias block in the EKF (-1: no state)
     TurnBiasStats turn_bias_stats_;
     /** [ScanOdometry]: the odometry since the last frame, not applied yet. */
     std::optional<scanslam::ScanOdometry::Increment> pending_odometry_;

@@ -124,7 +124,7 @@ public:
     /** As above from an MRPT action (its poseChange PDF, converted to a Gaussian). */
     void predictOdometry(const mrpt::obs::CActionRobotMovement2D& action);
     /** predictOdometry with the wheels' turn bias b [rad/m] as the state of the 1-DOF
-     *  block `bias` (addAuxiliaryBlock): x <- x (+) turnBiasedIncrement(d, b), so the
+     *  block `bias` (addAuxiliaryBlock): x <- x (+) core::turnBiasedIncrement(d, b), so the
      *  vehicle's rows become F x_v + G b (G = d/db, at the estimate) and the correlation
      *  the bias builds up between steps is kept; b then walks: P_bb += walk_var s, s the
      *  increment's length [m]. Throws on an unknown or non-1-DOF `bias`, a bad increment
@@ -241,6 +241,10 @@ public:
      *  cross P_v*, active and passive), e.g. the pose at a reference scan that later scans
      *  are aligned to (updateVehicleFromCopy). */
     long addVehicleCopy(long id = -1);
+    /** The vehicle copied again into the existing copy `copy` (addVehicleCopy), in place:
+     *  O(n), where removing the block and adding a new one moves O(n^2) entries. Throws
+     *  if `copy` is unknown or not 3-DOF. */
+    void recopyVehicle(long copy);
     /** Updates with z = x_copy^-1 (+) x_v (the vehicle seen from the 3-DOF block `copy`,
      *  e.g. a scan alignment to the reference scan taken at the copy), gated at `gate_prob`
      *  of chi-square(3) (0 or 1: no gate); EKF step at the current estimate (with

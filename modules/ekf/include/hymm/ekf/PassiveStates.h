@@ -61,6 +61,9 @@ public:
     /** The same when the new pose also depends on the 1-DOF active state at `param`
      *  through G: P_pv <- P_pv F^T + P_p,param G^T. */
     void predictVehicle(const Eigen::Matrix3d& F, Eigen::Index param, const Eigen::Vector3d& G);
+    /** Cross-covariance columns [to, to + dim) <- [from, from + dim) (an active block
+     *  set to a copy of another). */
+    void copyActiveColumns(size_t from, size_t to, size_t dim);
     /** Cross-covariance with the active states, all passive rows stacked (N_p x n_a). */
     const Eigen::MatrixXd& crossAll() const { return cross_; }
     /**

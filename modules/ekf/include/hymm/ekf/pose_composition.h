@@ -19,13 +19,4 @@ Eigen::Vector3d composePose(
     const Eigen::Vector3d& x, const Eigen::Vector3d& d, Eigen::Matrix3d* J_x = nullptr,
     Eigen::Matrix3d* J_d = nullptr);
 
-/**
- * The odometry increment `d` of wheels that turn `b` rad per metre too little: its
- * heading gains b s and its translation turns by b s / 2 (the extra turn accrues along
- * the step, so the chord takes the mid-point heading), s = |(dx, dy)|. Optionally returns
- * d(result)/db (3x1) and the rotation applied to the translation (for the covariance).
- */
-Eigen::Vector3d turnBiasedIncrement(const Eigen::Vector3d& d, double b, Eigen::Vector3d* J_b = nullptr,
-                                    Eigen::Matrix3d* J_d = nullptr);
-
 }  // namespace hymm::ekf
