@@ -316,7 +316,8 @@ TEST(RealDataScanSlamTest, MalagaAgainstIcpSlam)
     ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
     const auto icp = readIcpSlamPath(logs + "/log_estimated_path.txt");
     const auto icp_odometry = readIcpSlamPath(logs + "/log_odometry_path.txt");
-    ASSERT_EQ(icp.size(), 224u);
+    // One step per action-observation pair: our 225 frames but the first (MRPT 2.5: 224).
+    ASSERT_GE(icp.size(), 200u);
     ASSERT_EQ(icp_odometry.size(), icp.size());
 
     // Dead reckoning through the same pipeline (bearing_range finds nothing in a laser log).
@@ -324,6 +325,7 @@ TEST(RealDataScanSlamTest, MalagaAgainstIcpSlam)
         std::ofstream(dir.file("dr.ini")) << "[DenseSlam]\nlandmark_source = bearing_range\n";
     }
     const auto dr = runSlam(dir.file("dr.ini"), malagaRawlog(), dir.file("dr"));
+    ASSERT_EQ(dr.slam().path().size(), icp.size() + 1) << "icp-slam's steps are not our frames but the first";
     const auto [odometry_gap, odometry_final] = againstReference(dr.slam(), icp_odometry);
     ASSERT_LT(odometry_gap, 1e-4) << "icp-slam's steps are not our frames one on";
 
