@@ -4,6 +4,7 @@
 // $HYMM_DATASETS. The printed numbers are those of docs/results.md ("Scan-SLAM on real
 // data"); the checks hold what the run must do, with a margin over what was measured.
 #include "realdata_common.h"
+#include "../support/mrpt_apps.h"
 
 #include <hymm/datasets/CarmenGroundTruth.h>
 #include <hymm/denseslam/LandmarkSources.h>
@@ -139,17 +140,18 @@ TEST(RealDataScanSlamTest, CarParkScanLandmarksAgainstGps)
 /** One of MRPT's laser rawlogs with scan landmarks only: it runs to the end with a sane
  *  state, makes landmarks and uses them (no ground truth: the loop closures are told by
  *  the wide search's counters, printed). */
-void expectLaserLogRuns(const std::string& name, const std::string& config, const std::string& rawlog,
-                        size_t frames, size_t min_landmarks, size_t min_updates)
+SlamRun expectLaserLogRuns(const std::string& name, const std::string& config, const std::string& rawlog,
+                           size_t frames, size_t min_landmarks, size_t min_updates)
 {
     ScratchDir dir(name + "_scan");
-    const auto run = runSlam(config, rawlog, dir.file("out"));
+    auto run = runSlam(config, rawlog, dir.file("out"));
     printScanRun(name, run);
     maybeWriteFigure(name + "_scanslam_map", run.slam(), Se2Transform{}, {}, {});
     EXPECT_EQ(run.slam().stats().frames, frames);
     expectSanePath(run.slam());
     EXPECT_GT(scanMap(run.slam()).templates().size(), min_landmarks);
     EXPECT_GT(scanMap(run.slam()).stats().updated, min_updates);
+    return run;
 }
 
 // Every kind of landmark on the car park (configs/carpark_hll.ini): reflectors, trees,
@@ -268,12 +270,6 @@ std::string malagaRawlog()
     return datasets() + "/malaga_2006_telecom_mrpt/2006-01ENE-21-SENA_Telecom Faculty_one_loop_only.rawlog";
 }
 
-TEST(RealDataScanSlamTest, MalagaLaserRawlogEndToEnd)
-{
-    if (datasets().empty()) GTEST_SKIP() << "HYMM_DATASETS not set";
-    expectLaserLogRuns("malaga", "configs/malaga_scanslam.ini", malagaRawlog(), 225, 3, 20);
-}
-
 /** One pose per line of icp-slam's log_*_path.txt ("step x y phi"). */
 std::vector<Eigen::Vector3d> readIcpSlamPath(const std::string& file)
 {
@@ -296,24 +292,23 @@ std::pair<double, double> againstReference(const DenseSlam& ours, const std::vec
             (path.at(ref.size()).pose.head<2>() - ref.back().head<2>()).norm()};
 }
 
-// Malaga has no ground truth; MRPT's icp-slam (its demo config, which MRPT ships for this
-// very log) maps its one loop into a consistent map, so its path is the reference here.
-// The pairing of its steps with our frames is checked on the odometry first: icp-slam's
-// odometry log must be our dead-reckoning path, one frame on. Skipped without icp-slam.
-TEST(RealDataScanSlamTest, MalagaAgainstIcpSlam)
+// Malaga end to end with the shipped config, then against MRPT's icp-slam (when it is
+// installed): the log has no ground truth, and icp-slam with its demo config (which MRPT
+// ships for this very log) maps its loop into a consistent map, so its path is the
+// reference. The pairing of its steps with our frames is checked on the odometry first:
+// icp-slam's odometry log must be our dead-reckoning path, one frame on.
+TEST(RealDataScanSlamTest, MalagaLaserRawlogEndToEndAgainstIcpSlam)
 {
     if (datasets().empty()) GTEST_SKIP() << "HYMM_DATASETS not set";
-    const std::string demo = "/usr/share/mrpt/config_files/icp-slam/icp-slam_demo_classic.ini";
-    if (std::system("command -v icp-slam > /dev/null 2>&1") != 0 || !fs::exists(demo))
-        GTEST_SKIP() << "MRPT's icp-slam or its demo config is missing";
+    const auto run = expectLaserLogRuns("malaga", "configs/malaga_scanslam.ini", malagaRawlog(), 225, 3, 20);
+    if (!hymm::testing::icpSlamAvailable())
+    {
+        std::cout << "[malaga] MRPT's icp-slam or its demo config is missing: no comparison with it\n";
+        return;
+    }
     ScratchDir dir("malaga_icp");
-    const std::string logs = dir.file("icp"), ini = dir.file("icp.ini");
-    const std::string sed = "sed -e 's/^SHOW_PROGRESS_3D_REAL_TIME=1/SHOW_PROGRESS_3D_REAL_TIME=0/' -e "
-                            "'s#^logOutput_dir=.*#logOutput_dir=" + logs + "#' -e 's/^SAVE_POSE_LOG=0/SAVE_POSE_LOG=1/' " +
-                            demo + " > " + ini;
-    ASSERT_EQ(std::system(sed.c_str()), 0) << sed;
-    const std::string cmd = "icp-slam " + ini + " '" + malagaRawlog() + "' > " + logs + ".log 2>&1";
-    ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+    const std::string logs = dir.file("icp");
+    ASSERT_EQ(hymm::testing::runIcpSlam(malagaRawlog(), logs), 0) << "icp-slam failed: " << logs << ".log";
     const auto icp = readIcpSlamPath(logs + "/log_estimated_path.txt");
     const auto icp_odometry = readIcpSlamPath(logs + "/log_odometry_path.txt");
     // One step per action-observation pair: our 225 frames but the first (MRPT 2.5: 224).
@@ -326,11 +321,8 @@ TEST(RealDataScanSlamTest, MalagaAgainstIcpSlam)
     }
     const auto dr = runSlam(dir.file("dr.ini"), malagaRawlog(), dir.file("dr"));
     ASSERT_EQ(dr.slam().path().size(), icp.size() + 1) << "icp-slam's steps are not our frames but the first";
-    const auto [odometry_gap, odometry_final] = againstReference(dr.slam(), icp_odometry);
-    ASSERT_LT(odometry_gap, 1e-4) << "icp-slam's steps are not our frames one on";
+    ASSERT_LT(againstReference(dr.slam(), icp_odometry).first, 1e-4) << "icp-slam's steps are not our frames one on";
 
-    const auto run = runSlam("configs/malaga_scanslam.ini", malagaRawlog(), dir.file("out"));
-    expectSanePath(run.slam());
     const auto [rmse, final_gap] = againstReference(run.slam(), icp);
     const auto [dr_rmse, dr_final_gap] = againstReference(dr.slam(), icp);
     std::cout << "[malaga] against icp-slam's path: scan landmarks with scan odometry RMSE " << rmse

@@ -175,6 +175,9 @@ ScanOdometry::Increment ScanOdometry::unbiasedWheel(const Increment& wheel)
     ++stats_.bias_applied;
     // The wheels turn b ds too little over a step of length ds; the extra turn accrues
     // along the step, so the translation turns by half of it (the mid-point heading).
+    // The mean is core::turnBiasedIncrement's up to rounding; it is kept written out
+    // because the covariance here rotates by the turn only (no d turn / d ds term) and
+    // the shipped Intel figures were measured with exactly this (docs/results.md).
     const double ds = wheel.mean.head<2>().norm();
     const double turn = turn_bias_ * ds;
     Mat3 J = Mat3::Identity();
