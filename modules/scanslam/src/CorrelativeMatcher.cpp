@@ -44,13 +44,6 @@ void CorrelativeMatcher::Options::load(const mrpt::config::CConfigFileBase& cfg,
 
 namespace
 {
-double score(const LikelihoodGrid& g, const std::vector<Vec2>& rotated, double tx, double ty)
-{
-    double s = 0;
-    for (const Vec2& p : rotated) s += g.at(p.x() + tx, p.y() + ty);
-    return s;
-}
-
 std::vector<Vec2> rotate(const std::vector<Vec2>& pts, double phi)
 {
     const Mat2 r = rotation(phi);
@@ -71,20 +64,20 @@ Vec3 coarseSearch(const LikelihoodGrid& coarse, const PointSet& tpl, const Vec3&
     const int nphi = static_cast<int>(std::ceil(o.search_phi / cphi));
     double best = -std::numeric_limits<double>::infinity();
     Vec3 zc = z0;
+    std::vector<double> scores;
     for (int k = -nphi; k <= nphi; ++k)
     {
         const double phi = z0.z() + k * cphi;
-        const auto rot = rotate(tpl.points, phi);
+        coarse.scoreLattice(rotate(tpl.points, phi), z0.x(), z0.y(), o.coarse_step_m, nxy, nxy, scores);
+        const double* s = scores.data();
         for (int iy = -nxy; iy <= nxy; ++iy)
-            for (int ix = -nxy; ix <= nxy; ++ix)
+            for (int ix = -nxy; ix <= nxy; ++ix, ++s)
             {
-                const double tx = z0.x() + ix * o.coarse_step_m, ty = z0.y() + iy * o.coarse_step_m;
-                const double s = score(coarse, rot, tx, ty);
                 ++res.iterations;
-                if (s > best)
+                if (*s > best)
                 {
-                    best = s;
-                    zc = Vec3(tx, ty, phi);
+                    best = *s;
+                    zc = Vec3(z0.x() + ix * o.coarse_step_m, z0.y() + iy * o.coarse_step_m, phi);
                 }
             }
     }
@@ -103,15 +96,17 @@ std::vector<std::pair<Vec3, double>> fineSamples(const LikelihoodGrid& fine, con
     samples.reserve(static_cast<size_t>((2 * fxy + 1) * (2 * fxy + 1) * (2 * fph + 1)));
     fbest = -std::numeric_limits<double>::infinity();
     zbest = zc;
+    std::vector<double> scores;
     for (int k = -fph; k <= fph; ++k)
     {
         const double dphi = k * fphi;
-        const auto rot = rotate(tpl.points, zc.z() + dphi);
+        fine.scoreLattice(rotate(tpl.points, zc.z() + dphi), zc.x(), zc.y(), o.fine_step_m, fxy, fxy, scores);
+        const double* sc = scores.data();
         for (int iy = -fxy; iy <= fxy; ++iy)
-            for (int ix = -fxy; ix <= fxy; ++ix)
+            for (int ix = -fxy; ix <= fxy; ++ix, ++sc)
             {
                 const Vec3 d(ix * o.fine_step_m, iy * o.fine_step_m, dphi);
-                const double s = score(fine, rot, zc.x() + d.x(), zc.y() + d.y());
+                const double s = *sc;
                 ++res.iterations;
                 samples.emplace_back(d, s);
                 if (s > fbest)

@@ -58,6 +58,68 @@ public:
                ay * ((1 - ax) * cells_[i + n] + ax * cells_[i + n + 1]);
     }
 
+    /** The scores of a lattice of translations of `pts`:
+     *  out[(ky + ny) (2 nx + 1) + kx + nx] = sum over p of at(p + (cx + kx step, cy + ky step)),
+     *  |kx| <= nx, |ky| <= ny. The same arithmetic as calling at() pose by pose, summed
+     *  point by point in the same order (so the same scores), but a point's cell column
+     *  and weight are found once per lattice column, its row once per lattice row, and
+     *  the interpolation along x once per row of cells: the exhaustive searches spent
+     *  most of their time in at()'s divisions and floors. */
+    void scoreLattice(const std::vector<Vec2>& pts, double cx, double cy, double step, int nx, int ny,
+                      std::vector<double>& out) const
+    {
+        const int sx = 2 * nx + 1, sy = 2 * ny + 1;
+        out.assign(static_cast<size_t>(sx) * static_cast<size_t>(sy), 0.0);
+        std::vector<double> tx(static_cast<size_t>(sx)), ty(static_cast<size_t>(sy));
+        for (int i = 0; i < sx; ++i) tx[static_cast<size_t>(i)] = cx + (i - nx) * step;
+        for (int j = 0; j < sy; ++j) ty[static_cast<size_t>(j)] = cy + (j - ny) * step;
+        std::vector<int> col(static_cast<size_t>(sx)), row(static_cast<size_t>(sy));
+        std::vector<double> ax(static_cast<size_t>(sx)), ay(static_cast<size_t>(sy)), h;
+        for (const Vec2& p : pts)
+        {
+            // Cells as at() finds them: the same expressions, so the same weights.
+            bool inside = true;
+            for (size_t i = 0; i < tx.size(); ++i)
+            {
+                const double fx = (p.x() + tx[i] - lo_.x()) / res_;
+                col[i] = static_cast<int>(std::floor(fx));
+                ax[i] = fx - col[i];
+                inside = inside && col[i] >= 0 && col[i] + 1 < nx_;
+            }
+            for (size_t j = 0; j < ty.size(); ++j)
+            {
+                const double fy = (p.y() + ty[j] - lo_.y()) / res_;
+                row[j] = static_cast<int>(std::floor(fy));
+                ay[j] = fy - row[j];
+                inside = inside && row[j] >= 0 && row[j] + 1 < ny_;
+            }
+            if (!inside)
+            {
+                for (size_t j = 0; j < ty.size(); ++j)
+                    for (size_t i = 0; i < tx.size(); ++i) out[j * tx.size() + i] += at(p.x() + tx[i], p.y() + ty[j]);
+                continue;
+            }
+            const auto [rlo, rhi] = std::minmax_element(row.begin(), row.end());
+            const int r0 = *rlo, nr = *rhi + 2 - r0;
+            h.resize(static_cast<size_t>(nr) * tx.size());
+            for (int r = 0; r < nr; ++r)
+            {
+                const float* c = &cells_[static_cast<size_t>(r0 + r) * static_cast<size_t>(nx_)];
+                double* hr = &h[static_cast<size_t>(r) * tx.size()];
+                for (size_t i = 0; i < tx.size(); ++i)
+                    hr[i] = (1 - ax[i]) * c[col[i]] + ax[i] * c[col[i] + 1];
+            }
+            for (size_t j = 0; j < ty.size(); ++j)
+            {
+                const double* h0 = &h[static_cast<size_t>(row[j] - r0) * tx.size()];
+                const double* h1 = h0 + tx.size();
+                const double a = ay[j];
+                double* o = &out[j * tx.size()];
+                for (size_t i = 0; i < tx.size(); ++i) o[i] += (1 - a) * h0[i] + a * h1[i];
+            }
+        }
+    }
+
     double floorValue() const { return -floor_; }
 
 private:

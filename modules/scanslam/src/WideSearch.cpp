@@ -58,13 +58,6 @@ PointSet densify(const PointSet& scan, double step, double max_gap)
     return out;
 }
 
-double scoreAt(const LikelihoodGrid& g, const std::vector<Vec2>& rotated, double tx, double ty)
-{
-    double s = 0;
-    for (const Vec2& p : rotated) s += g.at(p.x() + tx, p.y() + ty);
-    return s;
-}
-
 /** Level A: every pose of the window on the coarse grid; the local maxima (26-
  *  neighbourhood), best first. */
 std::vector<Pose> levelA(const LikelihoodGrid& g, const std::vector<Vec2>& pts, const Vec3& z0,
@@ -78,15 +71,15 @@ std::vector<Pose> levelA(const LikelihoodGrid& g, const std::vector<Vec2>& pts, 
         return (static_cast<size_t>(a) * static_cast<size_t>(sy) + static_cast<size_t>(y)) * static_cast<size_t>(sx) +
                static_cast<size_t>(x);
     };
+    std::vector<double> scores;
     for (int a = 0; a < sa; ++a)
     {
         const Mat2 r = rotation(z0.z() + (a - na) * dphi);
         std::vector<Vec2> rot;
         rot.reserve(pts.size());
         for (const Vec2& p : pts) rot.push_back(r * p);
-        for (int y = 0; y < sy; ++y)
-            for (int x = 0; x < sx; ++x)
-                s[idx(a, y, x)] = scoreAt(g, rot, z0.x() + (x - nx) * step, z0.y() + (y - ny) * step);
+        g.scoreLattice(rot, z0.x(), z0.y(), step, nx, ny, scores);
+        std::copy(scores.begin(), scores.end(), s.begin() + static_cast<std::ptrdiff_t>(idx(a, 0, 0)));
     }
     poses += s.size();
     std::vector<Pose> peaks;
@@ -117,16 +110,19 @@ Pose levelB(const LikelihoodGrid& g, const std::vector<Vec2>& pts, const Vec3& c
 {
     const int n = static_cast<int>(std::ceil(stepA / step)), na = static_cast<int>(std::ceil(dphiA / dphi));
     Pose best{c, -std::numeric_limits<double>::infinity()};
+    std::vector<double> scores;
     for (int a = -na; a <= na; ++a)
     {
         const Mat2 r = rotation(c.z() + a * dphi);
         std::vector<Vec2> rot;
         rot.reserve(pts.size());
         for (const Vec2& p : pts) rot.push_back(r * p);
+        g.scoreLattice(rot, c.x(), c.y(), step, n, n, scores);
+        const double* sc = scores.data();
         for (int y = -n; y <= n; ++y)
-            for (int x = -n; x <= n; ++x)
+            for (int x = -n; x <= n; ++x, ++sc)
             {
-                const double v = scoreAt(g, rot, c.x() + x * step, c.y() + y * step);
+                const double v = *sc;
                 ++poses;
                 if (v > best.score) best = {Vec3(c.x() + x * step, c.y() + y * step, c.z() + a * dphi), v};
             }

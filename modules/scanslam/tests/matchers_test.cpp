@@ -11,7 +11,10 @@
 #include <mrpt/random/RandomGenerators.h>
 
 #include <cmath>
+#include <tuple>
+#include <vector>
 
+#include "../src/LikelihoodGrid.h"
 #include "matcher_pairs.h"
 
 using namespace hymm::scanslam;
@@ -83,4 +86,42 @@ TEST(MatcherFactoryTest, UnknownNamesAndKeysThrow)
     mrpt::config::CConfigFileMemory cfg("[M]\nscales_m = 0.3 0\ncov_inflation = 2\n");
     EXPECT_EQ(makeMatcher("sog", &cfg, "M")->name(), "sog");
     EXPECT_THROW(makeMatcher("icp", &cfg, "M"), std::exception);  // scales_m is not an ICP key
+}
+
+// The exhaustive searches (correlative matcher, wide search) score a lattice of
+// translations at once (LikelihoodGrid::scoreLattice). Each score must be the sum of the
+// bilinear lookups of the pose, point by point: the figures measured with the per-pose
+// loop stand only if it is. Points near the edge take the per-pose path, the others the
+// shared rows; both are checked, on steps finer and coarser than a cell.
+TEST(LikelihoodGridTest, LatticeScoresAreThePerPoseSums)
+{
+    auto& rng = mrpt::random::getRandomGenerator();
+    rng.randomize(11);
+    PointSet scan;
+    for (int k = 0; k < 300; ++k)
+        scan.add(Vec2(rng.drawUniform(-4, 4), rng.drawUniform(-3, 3)), Mat2::Identity() * 1e-4);
+    const LikelihoodGrid grid(Vec2(-5, -4), Vec2(5, 4), 0.1, 0.15, 3.0, scan);
+    std::vector<Vec2> pts;
+    for (int k = 0; k < 60; ++k) pts.emplace_back(rng.drawUniform(-3, 3), rng.drawUniform(-2, 2));
+    pts.emplace_back(4.93, 0.0);   // beyond the grid for some translations: the per-pose path
+    pts.emplace_back(0.0, -3.97);
+    size_t inside_floor = 0;
+    for (const auto& [cx, cy, step, nx, ny] :
+         {std::tuple{0.013, -0.021, 0.01, 10, 10}, std::tuple{0.3, 0.2, 0.1, 4, 6}, std::tuple{-0.1, 0.05, 0.23, 5, 3}})
+    {
+        std::vector<double> out;
+        grid.scoreLattice(pts, cx, cy, step, nx, ny, out);
+        ASSERT_EQ(out.size(), static_cast<size_t>((2 * nx + 1) * (2 * ny + 1)));
+        for (int ky = -ny; ky <= ny; ++ky)
+            for (int kx = -nx; kx <= nx; ++kx)
+            {
+                const double tx = cx + kx * step, ty = cy + ky * step;
+                double s = 0;
+                for (const Vec2& p : pts) s += grid.at(p.x() + tx, p.y() + ty);
+                const double got = out[static_cast<size_t>((ky + ny) * (2 * nx + 1) + kx + nx)];
+                EXPECT_NEAR(got, s, 1e-12 * (1 + std::abs(s))) << "kx " << kx << " ky " << ky << " step " << step;
+                inside_floor += got > grid.floorValue() * static_cast<double>(pts.size());
+            }
+    }
+    EXPECT_GT(inside_floor, 0u);  // the lattices do reach the scan
 }
