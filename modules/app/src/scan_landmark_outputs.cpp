@@ -2,6 +2,7 @@
 // the CSV of their frames, their part of the map figure, summary and metrics.
 #include <hymm/app/slam_outputs.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <iomanip>
@@ -81,6 +82,21 @@ void writeScanSourceSummary(std::ostream& f, const DenseSlam& slam)
     f << "scan sources        ";
     for (const auto& [k, n] : slam.scanSourceCounters()) f << ' ' << k << '=' << n;
     f << "\n";
+    // Where the run came back to a landmark it had left: the loop closures, local or wide.
+    if (const auto* src = slam.scanLandmarks())
+    {
+        const auto& map = src->map();
+        const auto& rv = map.revisits();
+        std::ostringstream line;  // its own precision, f's unchanged
+        line << std::fixed << std::setprecision(1) << "scan revisits        " << rv.size() << " (updates after "
+             << map.options().revisit_gap_s << " s or more without one)";
+        const size_t shown = std::min<size_t>(rv.size(), 8);
+        for (size_t k = 0; k < shown; ++k)
+            line << (k ? "; " : ": ") << "t+" << rv[k].t << " s landmark " << rv[k].id << ", unseen " << rv[k].unseen_s
+                 << " s, " << (rv[k].wide ? "wide" : "local");
+        if (shown < rv.size()) line << "; ...";
+        f << line.str() << "\n";
+    }
     // The heading the wheels lose per metre, as estimated at the end of the run.
     if (const auto* odo = slam.scanOdometry(); odo && odo->options().wheel_turn_bias)
     {

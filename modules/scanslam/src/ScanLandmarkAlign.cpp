@@ -16,6 +16,12 @@
 
 namespace hymm::scanslam
 {
+void ScanLandmarkMap::countUpdate(long id, bool wide)
+{
+    ++stats_.updated;
+    stats_.revisits += revisits_.updated(id, wide, options_.revisit_gap_s);
+}
+
 void declareViewCorrKeys(core::OptionTable& t, ScanLandmarkMap::Options& o)
 {
     using namespace hymm::core;
@@ -92,7 +98,7 @@ Vec3 ScanLandmarkMap::alignAndUpdate(ekf::EkfSlam& ekf, long id, const ScanTempl
     switch (rep.outcome)
     {
         case O::updated:
-            ++stats_.updated;
+            countUpdate(id, false);
             if (options_.view_corr_share > 0) fused_views_[id].push_back(view);
             return res.z;
         case O::gated: ++stats_.gated; break;

@@ -78,6 +78,8 @@ core::OptionTable ScanLandmarkMap::Options::table()
     t.real("augment_margin_m", augment_margin_m, "m", atLeast(0, 1000),
            "the dense map this far around a template's bounds is added");
     t.integer("augment_max_points", augment_max_points, "", 1, 100000, "dense Gaussians added at most (evenly thinned)");
+    t.real("revisit_gap_s", revisit_gap_s, "s", atLeast(0, 1e9),
+           "an update of a landmark not updated for this long counts as a revisit (a loop closure through it)");
     t.integer("seed", seed, "", 0, std::numeric_limits<uint32_t>::max(), "acceptance test's random seed");
     return t;
 }
@@ -133,6 +135,7 @@ std::vector<std::pair<std::string, size_t>> ScanLandmarkMap::Stats::list() const
     out.emplace_back("merge_align_failed", merge_align_failed);
     out.emplace_back("merge_gated", merge_gated);
     out.emplace_back("merged", merged);
+    out.emplace_back("revisits", revisits);
     return out;
 }
 
@@ -206,6 +209,7 @@ size_t markExplained(const ScanTemplate& tpl, const Vec3& z, const PointSet& pts
 void ScanLandmarkMap::processScan(ekf::EkfSlam& ekf, const mrpt::obs::CObservation2DRangeScan& scan)
 {
     ++stats_.scans;
+    revisits_.setScanTime(scan.timestamp);
     last_aligned_.clear();
     wide_this_scan_ = 0;
     ScanReadStats rs;
@@ -222,6 +226,7 @@ void ScanLandmarkMap::processScan(ekf::EkfSlam& ekf, const mrpt::obs::CObservati
     prune(wide_last_);
     prune(fused_views_);
     prune(first_scans_);
+    revisits_.prune([this](long id) { return templates_.count(id) > 0; });
     for (auto it = merge_last_.begin(); it != merge_last_.end();)
         it = templates_.count(it->first.first) && templates_.count(it->first.second) ? std::next(it)
                                                                                      : merge_last_.erase(it);
@@ -248,6 +253,7 @@ long ScanLandmarkMap::addTemplateLandmark(ekf::EkfSlam& ekf, ScanTemplate tpl, c
     if (!obs.ok || !obs.z.allFinite() || !isCovariance(obs.R))
         throw std::invalid_argument("addTemplateLandmark: the observation is not a valid alignment");
     const long id = ekf.addPoseLandmark(obs.z, obs.R, sensor);
+    revisits_.created(id);
     tpl.frame_in_sensor = obs.z;
     templates_.emplace(id, std::move(tpl));
     if (keepsFirstScans() && !first_scan.empty()) first_scans_[id] = std::move(first_scan);
@@ -382,6 +388,7 @@ void ScanLandmarkMap::createLandmarks(ekf::EkfSlam& ekf, const PointSet& pts, co
             continue;
         }
         const long id = ekf.addPoseLandmark(tpl.frame_in_sensor, res.R, sensor);
+        revisits_.created(id);
         templates_.emplace(id, std::move(tpl));
         ++stats_.created;
         if (keepsFirstScans()) first_scans_[id] = pts.points;

@@ -65,7 +65,8 @@ std::vector<size_t*> counters(ScanLandmarkMap::Stats& s)
             &s.prediction_uncertain, &s.aligned, &s.updated, &s.gated, &s.update_numeric,
             &s.update_invalid, &s.returns_explained, &s.segments, &s.short_runs, &s.segments_far,
             &s.segments_collinear, &s.creation_failed, &s.created, &s.augmented, &s.augment_points,
-            &s.augment_empty, &s.merge_candidates, &s.merge_align_failed, &s.merge_gated, &s.merged};
+            &s.augment_empty, &s.merge_candidates, &s.merge_align_failed, &s.merge_gated, &s.merged,
+            &s.revisits};
 }
 
 /** A distribution's state through its standard stream form (exact for the real ones:
@@ -199,8 +200,7 @@ void ScanLandmarkMap::saveState(mrpt::serialization::CArchive& out) const
         writeMatrix(out, a.z_hat);
         out << a.updated << a.wide;
     }
-    // The fused viewpoints of view_corr_share (state version 9).
-    writeSize(out, fused_views_.size());
+    writeSize(out, fused_views_.size());  // the fused viewpoints of view_corr_share (state version 9)
     for (const auto& [id, views] : fused_views_)
     {
         writeLong(out, id);
@@ -214,6 +214,7 @@ void ScanLandmarkMap::saveState(mrpt::serialization::CArchive& out) const
         writeLong(out, id);
         writeVectors(out, returns);
     }
+    revisits_.save(out);  // state version 12
     writeTag(out, "ScanLandmarkMap end");
 }
 
@@ -270,6 +271,7 @@ void ScanLandmarkMap::loadState(mrpt::serialization::CArchive& in)
     first_scans_.clear();
     const size_t nf = readSize(in, "template first scan");
     for (size_t i = 0; i < nf; ++i) readVectors(in, first_scans_[readLong(in)], "template first scan return");
+    revisits_.load(in);
     expectTag(in, "ScanLandmarkMap end");
 }
 

@@ -183,7 +183,7 @@ Vec3 ScanLandmarkMap::observeWide(ekf::EkfSlam& ekf, long id, const ScanTemplate
     switch (rep.outcome)
     {
         case O::updated:
-            ++stats_.updated;
+            countUpdate(id, true);
             ++stats_.wide["closed"];
             return res.z;
         case O::gated: ++stats_.wide["gated"]; break;

@@ -2,6 +2,7 @@
 // are created from corners and re-observed, and bad input (empty and all-invalid scans,
 // a straight wall, a scan far from the prediction) is counted, never a throw or a NaN.
 #include <gtest/gtest.h>
+#include <mrpt/core/Clock.h>
 #include <mrpt/io/CMemoryStream.h>
 #include <mrpt/serialization/CArchive.h>
 #include <hymm/ekf/pose_landmark_model.h>
@@ -663,3 +664,57 @@ TEST(ScanLandmarkMap, StateModelObservesAnApparentPoseThatFollowsTheViewpoint)
 
 
 }  // namespace
+
+TEST(ScanLandmarkMap, UpdateAfterAGapIsARevisitAndPartOfTheSavedState)
+{
+    // Scans of the same place at 0, 1 and 2 s, then at 100 s: the landmarks made then
+    // (and updated at 1 or 2 s) are revisited at 100 s (98-100 s unseen); the updates at
+    // 1 and 2 s are not (below revisit_gap_s, 30 s by default). A scan without
+    // a time keeps the last one. The bookkeeping survives a save and load.
+    const auto scanAtTime = [](double t, uint32_t seed) {
+        auto s = scanAt(boxes(), Vec3::Zero(), seed);
+        s->timestamp = mrpt::Clock::fromDouble(1e9 + t);
+        return s;
+    };
+    auto map = makeMap();
+    auto ekf = makeEkf();
+    for (int k = 0; k < 3; ++k) map->processScan(ekf, *scanAtTime(k, 1 + k));
+    ASSERT_GE(map->stats().created, 1u);
+    ASSERT_GE(map->stats().updated, 1u);
+    EXPECT_EQ(map->stats().revisits, 0u);
+    EXPECT_TRUE(map->revisits().empty());
+    auto [map2, ekf2] = reloaded(*map, ekf, map->options());
+    for (auto* m : {map.get(), map2.get()})
+    {
+        auto& e = m == map.get() ? ekf : ekf2;
+        const size_t updated = m->stats().updated;
+        m->processScan(e, *scanAtTime(100, 7));
+        const size_t now = m->stats().updated - updated;
+        ASSERT_GE(now, 1u);
+        EXPECT_EQ(m->stats().revisits, now);
+        ASSERT_EQ(m->revisits().size(), now);
+        for (const auto& r : m->revisits())
+        {
+            EXPECT_NEAR(r.t, 100, 1e-6);
+            EXPECT_GE(r.unseen_s, 98 - 1e-6);
+            EXPECT_LE(r.unseen_s, r.age_s + 1e-9);
+            EXPECT_LE(r.age_s, 100 + 1e-6);
+            EXPECT_FALSE(r.wide);
+            EXPECT_TRUE(m->templates().count(r.id));
+        }
+        // No time: the last one is kept, so an update now is no revisit.
+        auto untimed = scanAt(boxes(), Vec3::Zero(), 8);
+        untimed->timestamp = INVALID_TIMESTAMP;
+        m->processScan(e, *untimed);
+        EXPECT_EQ(m->stats().revisits, now);
+    }
+    EXPECT_EQ(map->revisits().size(), map2->revisits().size());
+    // With revisit_gap_s = 0 every update at a later time counts.
+    ScanLandmarkMap::Options o;
+    o.revisit_gap_s = 0;
+    auto every = makeMap(o);
+    auto e3 = makeEkf();
+    every->processScan(e3, *scanAtTime(0, 1));
+    every->processScan(e3, *scanAtTime(0.5, 2));
+    EXPECT_EQ(every->stats().revisits, every->stats().updated);
+}

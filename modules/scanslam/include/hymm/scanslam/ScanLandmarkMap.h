@@ -30,6 +30,7 @@
 #include <utility>
 #include <vector>
 
+#include "hymm/scanslam/RevisitLog.h"
 #include "hymm/scanslam/ScanMatcher.h"
 #include "hymm/scanslam/ScanTemplate.h"
 #include "hymm/scanslam/SegmentAcceptance.h"
@@ -181,6 +182,7 @@ public:
         double augment_above_std_m = 0;
         double augment_margin_m = 2;        //!< the dense map this far around the template's bounds [m]
         size_t augment_max_points = 300;    //!< dense Gaussians added at most (evenly thinned)
+        double revisit_gap_s = 30;  //!< [s] an update after this long without one is a revisit (RevisitLog)
 
         /** Every key, declared once (loader, unknown-key check, saver, README table). */
         core::OptionTable table();
@@ -220,6 +222,7 @@ public:
         size_t augmented = 0;          //!< alignments (local or wide) of a template augmented from the dense map
         size_t augment_points = 0;     //!< dense Gaussians added over those alignments
         size_t augment_empty = 0;      //!< augmentation wanted, but the dense map held nothing around the template
+        size_t revisits = 0;           //!< updates after revisit_gap_s without one (local or wide)
         /** Wide searches by outcome: closed (fused), window_too_large, deferred,
          *  no_overlap, ambiguous, refine.<matcher reason>, view_changed, view_elsewhere,
          *  free_space_conflict, pending, confirmed, disagreed, gated, numeric. */
@@ -285,6 +288,7 @@ public:
     /** landmark -> the returns of its template's first scan (wide_max_free_conflict < 1). */
     const std::map<long, std::vector<Vec2>>& firstScans() const { return first_scans_; }
     const Stats& stats() const { return stats_; }
+    const std::vector<RevisitLog::Revisit>& revisits() const { return revisits_.list(); }  //!< in order
     /** The converged alignments of the last processScan call. */
     const std::vector<AlignedObservation>& lastAligned() const { return last_aligned_; }
     const Options& options() const { return options_; }
@@ -381,6 +385,8 @@ private:
     /** landmark -> the returns of the scan its template was made from (sensor frame),
      *  with wide_max_free_conflict < 1. */
     std::map<long, std::vector<Vec2>> first_scans_;
+    RevisitLog revisits_;
+    void countUpdate(long id, bool wide);  //!< an EKF update of landmark `id` applied: counted, revisit noted
     bool keepsFirstScans() const { return options_.wide_search && options_.wide_max_free_conflict < 1; }
     WidePending wide_pending_;
 };
