@@ -21,19 +21,17 @@ void RevisitLog::setScanTime(mrpt::Clock::time_point t)
 
 void RevisitLog::created(long id) { seen_[id] = {now_, now_}; }
 
-bool RevisitLog::updated(long id, bool wide, double gap_s)
+void RevisitLog::updated(long id, bool wide, double gap_s)
 {
     auto it = seen_.find(id);
     if (it == seen_.end())
     {
         created(id);
-        return false;
+        return;
     }
     const double unseen = now_ - it->second.second;
-    const bool revisit = unseen >= gap_s && unseen > 0;
-    if (revisit) revisits_.push_back({now_ - first_, id, unseen, now_ - it->second.first, wide});
+    if (unseen >= gap_s && unseen > 0) revisits_.push_back({now_ - first_, id, unseen, now_ - it->second.first, wide});
     it->second.second = now_;
-    return revisit;
 }
 
 void RevisitLog::save(mrpt::serialization::CArchive& out) const

@@ -19,7 +19,7 @@ namespace hymm::scanslam
 void ScanLandmarkMap::countUpdate(long id, bool wide)
 {
     ++stats_.updated;
-    stats_.revisits += revisits_.updated(id, wide, options_.revisit_gap_s);
+    revisits_.updated(id, wide, options_.revisit_gap_s);
 }
 
 void declareViewCorrKeys(core::OptionTable& t, ScanLandmarkMap::Options& o)

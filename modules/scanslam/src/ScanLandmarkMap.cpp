@@ -135,7 +135,6 @@ std::vector<std::pair<std::string, size_t>> ScanLandmarkMap::Stats::list() const
     out.emplace_back("merge_align_failed", merge_align_failed);
     out.emplace_back("merge_gated", merge_gated);
     out.emplace_back("merged", merged);
-    out.emplace_back("revisits", revisits);
     return out;
 }
 

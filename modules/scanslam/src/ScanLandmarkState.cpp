@@ -65,8 +65,7 @@ std::vector<size_t*> counters(ScanLandmarkMap::Stats& s)
             &s.prediction_uncertain, &s.aligned, &s.updated, &s.gated, &s.update_numeric,
             &s.update_invalid, &s.returns_explained, &s.segments, &s.short_runs, &s.segments_far,
             &s.segments_collinear, &s.creation_failed, &s.created, &s.augmented, &s.augment_points,
-            &s.augment_empty, &s.merge_candidates, &s.merge_align_failed, &s.merge_gated, &s.merged,
-            &s.revisits};
+            &s.augment_empty, &s.merge_candidates, &s.merge_align_failed, &s.merge_gated, &s.merged};
 }
 
 /** A distribution's state through its standard stream form (exact for the real ones:

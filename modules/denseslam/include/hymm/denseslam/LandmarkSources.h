@@ -138,7 +138,13 @@ public:
         map_->processScan(ekf, scan);
     }
     size_t mapChanges() const override { return map_->stats().updated + map_->stats().created; }
-    std::vector<std::pair<std::string, size_t>> counters() const override { return map_->stats().list(); }
+    /** The map's counters, and its revisits (kept as a list, RevisitLog). */
+    std::vector<std::pair<std::string, size_t>> counters() const override
+    {
+        auto out = map_->stats().list();
+        out.emplace_back("revisits", map_->revisits().size());
+        return out;
+    }
     void saveState(mrpt::serialization::CArchive& out) const override { map_->saveState(out); }
     void loadState(mrpt::serialization::CArchive& in) override { map_->loadState(in); }
     const scanslam::ScanLandmarkMap& map() const { return *map_; }

@@ -32,9 +32,9 @@ public:
     void setScanTime(mrpt::Clock::time_point t);
     /** Landmark `id` was made now. */
     void created(long id);
-    /** Landmark `id` was updated now: a revisit (returned true, and listed) when its last
-     *  update or creation is `gap_s` or more ago and earlier than now. */
-    bool updated(long id, bool wide, double gap_s);
+    /** Landmark `id` was updated now: listed as a revisit when its last update or
+     *  creation is `gap_s` or more ago and earlier than now. */
+    void updated(long id, bool wide, double gap_s);
     /** Forgets the landmarks `keep` says no to (removed from the map). */
     template <class Keep>
     void prune(Keep keep)

@@ -222,7 +222,6 @@ public:
         size_t augmented = 0;          //!< alignments (local or wide) of a template augmented from the dense map
         size_t augment_points = 0;     //!< dense Gaussians added over those alignments
         size_t augment_empty = 0;      //!< augmentation wanted, but the dense map held nothing around the template
-        size_t revisits = 0;           //!< updates after revisit_gap_s without one (local or wide)
         /** Wide searches by outcome: closed (fused), window_too_large, deferred,
          *  no_overlap, ambiguous, refine.<matcher reason>, view_changed, view_elsewhere,
          *  free_space_conflict, pending, confirmed, disagreed, gated, numeric. */
