@@ -41,6 +41,8 @@ core::OptionTable ScanOdometry::Options::table()
     t.real("keyframe_distance_m", keyframe_distance_m, "m", atLeast(0, 1000),
            "align to a keyframe scan until the vehicle is this far from it (0: to the previous scan)");
     t.real("keyframe_angle_deg", keyframe_angle, "deg", above(0, 180), "or has turned this much", M_PI / 180);
+    t.real("step_cov_scale", step_cov_scale, "", above(0, 1000),
+           "the covariance of every fused increment handed to the filter times this (steps share scans, see above)");
     t.flag("wheel_turn_bias", wheel_turn_bias,
            "estimate the wheels' turn per metre travelled from the alignments and remove it from the wheel increments");
     t.real("wheel_turn_bias_prior_deg_per_m", wheel_turn_bias_prior, "deg/m", above(0, 180),
@@ -314,7 +316,9 @@ ScanOdometry::Increment ScanOdometry::aligned(const mrpt::obs::CObservation2DRan
     {
         since_reference_ = step;
         relative_measured = measured;
-        return step;
+        Increment out = step;
+        out.cov *= options_.step_cov_scale;
+        return out;
     }
     // The pose relative to the reference: predicted by the wheels from its last estimate,
     // updated by the alignment (a direct measurement of it). Its step is the increment.
@@ -322,7 +326,7 @@ ScanOdometry::Increment ScanOdometry::aligned(const mrpt::obs::CObservation2DRan
     since_reference_ = fuseIncrements(predicted, *relative_measured);
     Increment out;
     out.mean = compose(inverse(before.mean), since_reference_.mean);
-    out.cov = step.cov;
+    out.cov = step.cov * options_.step_cov_scale;
     return out;
 }
 

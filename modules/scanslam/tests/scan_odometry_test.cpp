@@ -240,6 +240,55 @@ TEST(ScanOdometryTest, KeyframesKeepTheDriftOfADriveFromAddingUpStepByStep)
     EXPECT_LT(sq_keys, 0.5 * sq_pairs);
 }
 
+TEST(ScanOdometryTest, StepCovScaleScalesOnlyTheCovarianceHandedOn)
+{
+    // The same drive with step_cov_scale 1 and 0.7, scan to scan and with keyframes: the
+    // increments, the gate and the counters are those of the unscaled run to the bit;
+    // only the covariance of the fused increments is scaled, and that of a step the
+    // wheels alone made (the first scan: no reference) is not.
+    const auto world = room();
+    const Vec3 step(0.1, 0, 0.01);
+    for (const double key : {0.0, 1.05})
+    {
+        std::vector<Increment> runs[2];
+        size_t fused[2] = {0, 0}, keys[2] = {0, 0};
+        for (int r = 0; r < 2; ++r)
+        {
+            ScanOdometry::Options o;
+            o.enabled = true;
+            o.noise = {0.1, 1.0 * M_PI / 180};
+            o.keyframe_distance_m = key;
+            o.step_cov_scale = r == 0 ? 1.0 : 0.7;
+            ScanOdometry odo(o, ScanOdometry::odometryMatcher("correlative", nullptr));
+            mrpt::random::CRandomGenerator rng(11);
+            Vec3 truth(-4, -2, 0.1);
+            Increment wheel;
+            wheel.cov = Mat3(Eigen::Vector3d(4e-4, 4e-4, std::pow(1.5 * M_PI / 180, 2)).asDiagonal());
+            runs[r].push_back(odo.refine(*scanAt(world, truth, Vec3::Zero(), 500), wheel));
+            for (uint32_t k = 1; k <= 15; ++k)
+            {
+                truth = compose(truth, step);
+                wheel.mean = step + Vec3(0.02 * rng.drawGaussian1D_normalized(), 0.02 * rng.drawGaussian1D_normalized(),
+                                         1.5 * M_PI / 180 * rng.drawGaussian1D_normalized());
+                runs[r].push_back(odo.refine(*scanAt(world, truth, Vec3::Zero(), 500 + k), wheel));
+            }
+            fused[r] = odo.stats().fused;
+            keys[r] = odo.stats().keyframes;
+        }
+        EXPECT_EQ(fused[0], 15u) << "keyframe " << key;
+        EXPECT_EQ(fused[1], fused[0]);
+        EXPECT_EQ(keys[1], keys[0]);
+        EXPECT_TRUE(runs[1][0].cov == runs[0][0].cov) << "the wheels' own step is not scaled";
+        for (size_t k = 1; k < runs[0].size(); ++k)
+        {
+            EXPECT_TRUE(runs[1][k].mean == runs[0][k].mean) << "step " << k << " keyframe " << key;
+            EXPECT_LT((runs[1][k].cov - 0.7 * runs[0][k].cov).cwiseAbs().maxCoeff(),
+                      1e-12 * runs[0][k].cov.cwiseAbs().maxCoeff())
+                << "step " << k << " keyframe " << key;
+        }
+    }
+}
+
 TEST(ScanOdometryTest, WheelTurnBiasIsLearntFromTheAlignmentsAndRemoved)
 {
     // Wheels that turn 5 deg/m too little (unequal radii) over 45 steps of 0.1 m with a

@@ -67,6 +67,11 @@ public:
          *  alignment errors nor the wheels' add up step by step. [m] */
         double keyframe_distance_m = 0;
         double keyframe_angle = 30 * M_PI / 180;  //!< or has turned this much [rad] (ini: keyframe_angle_deg)
+        /** The covariance of every fused increment handed to the filter times this.
+         *  Consecutive increments share a scan (with keyframes, the keyframe's alignment
+         *  too), so their errors partly cancel over a drive, which a filter taking each
+         *  step as independent counts in full (README, "Covariance of the steps"). */
+        double step_cov_scale = 1;
         /** Estimate the wheels' systematic turn per metre travelled (unequal wheel radii:
          *  the heading error grows with the distance, not with the time or the turning)
          *  from the alignments, and remove it from every wheel increment before it is
