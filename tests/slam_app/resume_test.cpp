@@ -16,6 +16,7 @@
 #include <hymm/denseslam/LandmarkSources.h>
 #include <hymm/hll/HighLevelLandmarks.h>
 #include <hymm/io/RawlogReader.h>
+#include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/poses/CPose2D.h>
 #include <mrpt/serialization/CArchive.h>
@@ -350,15 +351,13 @@ TEST_F(Resume, StateOfAnotherConfigIsRefused)
 // created and observed on both sides of the cut.
 TEST_F(Resume, ScanLandmarksResumeToIdenticalOutputs)
 {
-    std::string ini = readFile(kSrc + "/configs/ch5_scanslam.ini");
-    const auto at = ini.find("wide_search = true\n");
-    ASSERT_NE(at, std::string::npos);
-    ini.insert(at, "wide_max_free_conflict = 0.2\n");
+    mrpt::config::CConfigFileMemory cfg(readFile(kSrc + "/configs/ch5_scanslam.ini"));
+    cfg.write("ScanLandmarks", "wide_max_free_conflict", "0.2");
     // The run state does not hold the scan odometry's reference scan (--save-state refuses
     // a run with it): the templates, the wide search and the apparent poses are resumed.
-    const auto odo = ini.find("[ScanOdometry]\nenabled = true\n");
-    ASSERT_NE(odo, std::string::npos);
-    ini.replace(odo, 30, "[ScanOdometry]\nenabled = false\n");
+    cfg.write("ScanOdometry", "enabled", "false");
+    std::string ini;
+    cfg.getContent(ini);
     writeFile(*dir_ / "scan.ini", ini);
     expectCutResumes(*dir_ / "scan.ini", 200, 400, "scan", [](const hymm::denseslam::DenseSlam& slam) {
         ASSERT_EQ(slam.scanSources().size(), 1u);

@@ -110,16 +110,12 @@ TEST(ScanSlamPipeline, RegionsOnScanLandmarksMakeADenseMapOfAWorldWithoutPoints)
         text.replace(text.find("landmark_source = scan_landmarks"), 32,
                      std::string("landmark_source = scan_landmarks\ndense_layers = points,occupancy\n"
                                  "pose_landmark_vertices = ") + (on ? "true" : "false"));
+        mrpt::config::CConfigFileMemory cfg(text + dense);
         // The thesis' pipeline, without the scan odometry and the apparent poses of the
         // shipped config, for the same reason as the raw odometry below: the comparison
         // needs a filter that drifts by metres between template observations.
-        const auto odo = text.find("[ScanOdometry]\nenabled = true\n");
-        ASSERT_NE(odo, std::string::npos);
-        text.replace(odo, 30, "[ScanOdometry]\nenabled = false\n");
-        const auto corr = text.find("view_corr_share = 0.7\n");
-        ASSERT_NE(corr, std::string::npos);
-        text.replace(corr, 22, "view_corr_share = 0\n");
-        const mrpt::config::CConfigFileMemory cfg(text + dense);
+        cfg.write("ScanOdometry", "enabled", "false");
+        cfg.write("ScanLandmarks", "view_corr_share", "0");
         auto slam = hymm::denseslam::DenseSlam::fromConfig(cfg);
         auto scenario = shortRun(seed, kDuration);
         // The raw (heading-biased) odometry of earlier versions: the comparison below

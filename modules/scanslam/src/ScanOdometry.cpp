@@ -243,6 +243,9 @@ ScanOdometry::Increment ScanOdometry::refine(const mrpt::obs::CObservation2DRang
     else
     {
         out = aligned(scan, current, mount, wheel, relative);
+        // Only a fused step is scaled; the wheels alone keep their covariance (README,
+        // "Covariance of the steps").
+        if (relative) out.cov *= options_.step_cov_scale;
         if (options_.wheel_turn_bias) observeTurn(wheel_read, relative);
     }
     const bool ok = relative.has_value();
@@ -316,9 +319,7 @@ ScanOdometry::Increment ScanOdometry::aligned(const mrpt::obs::CObservation2DRan
     {
         since_reference_ = step;
         relative_measured = measured;
-        Increment out = step;
-        out.cov *= options_.step_cov_scale;
-        return out;
+        return step;
     }
     // The pose relative to the reference: predicted by the wheels from its last estimate,
     // updated by the alignment (a direct measurement of it). Its step is the increment.
@@ -326,7 +327,7 @@ ScanOdometry::Increment ScanOdometry::aligned(const mrpt::obs::CObservation2DRan
     since_reference_ = fuseIncrements(predicted, *relative_measured);
     Increment out;
     out.mean = compose(inverse(before.mean), since_reference_.mean);
-    out.cov = step.cov * options_.step_cov_scale;
+    out.cov = step.cov;
     return out;
 }
 
