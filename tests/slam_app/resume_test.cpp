@@ -5,7 +5,8 @@
 // compares), from the same rawlog and from a second rawlog holding the rest, also from the
 // periodic save (--save-state-every) of a run that failed later; a foreign,
 // other-version, truncated or corrupt state and another config are clear errors before
-// anything is written, as is --save-state-every without --save-state. Scan landmarks and high-level landmarks resume too.
+// anything is written, as is --save-state-every without --save-state. Scan landmarks with the
+// scan odometry and high-level landmarks resume too.
 #include "ch3_sample.h"
 #include "slam_app_files.h"
 
@@ -347,15 +348,14 @@ TEST_F(Resume, StateOfAnotherConfigIsRefused)
 }
 
 // Scan landmarks (templates, counters, the acceptance test's random generator and the
-// templates' first scans of the free-space check) on the same sample: landmarks are
-// created and observed on both sides of the cut.
+// templates' first scans of the free-space check, the wide search, the apparent poses)
+// and the scan odometry (its keyframe scan and filters, the wheel increment pending for
+// the next scan) on the same sample, with the chapter-5 config: landmarks are created and
+// observed on both sides of the cut.
 TEST_F(Resume, ScanLandmarksResumeToIdenticalOutputs)
 {
     mrpt::config::CConfigFileMemory cfg(readFile(kSrc + "/configs/ch5_scanslam.ini"));
     cfg.write("ScanLandmarks", "wide_max_free_conflict", "0.2");
-    // The run state does not hold the scan odometry's reference scan (--save-state refuses
-    // a run with it): the templates, the wide search and the apparent poses are resumed.
-    cfg.write("ScanOdometry", "enabled", "false");
     std::string ini;
     cfg.getContent(ini);
     writeFile(*dir_ / "scan.ini", ini);
@@ -366,6 +366,8 @@ TEST_F(Resume, ScanLandmarksResumeToIdenticalOutputs)
         EXPECT_GT(src->map().templates().size(), 0u);
         EXPECT_GT(src->map().stats().updated, 0u);
         EXPECT_EQ(src->map().firstScans().size(), src->map().templates().size());
+        ASSERT_NE(slam.scanOdometry(), nullptr);
+        EXPECT_GT(slam.scanOdometry()->stats().fused, 0u);
         // The templates' updates are landmark observations that reached the filter.
         for (const auto& w : hymm::app::runWarnings(slam))
             EXPECT_EQ(w.find("no landmark observation reached the filter"), std::string::npos) << w;

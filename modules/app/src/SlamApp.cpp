@@ -142,10 +142,6 @@ SlamApp::StateRun SlamApp::startState(KeyframeRecorder& keyframes, io::RawlogRea
 {
     StateRun st;
     if (args_.save_state.empty() && args_.resume.empty()) return st;
-    if (const auto why = slam_->stateUnsupported(); !why.empty())
-        throw std::invalid_argument(std::string(args_.resume.empty() ? "--save-state" : "--resume") +
-                                    ": the run state cannot hold " + why +
-                                    " yet (docs/mrpt-workflows.md, Saved state)");
     st.info.config = configFingerprint(args_.config);
     st.info.rawlog = absolutePath(args_.rawlog);
     if (args_.resume.empty()) return st;

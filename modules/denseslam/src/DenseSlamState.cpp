@@ -1,7 +1,6 @@
 // The pipeline's state for a saved run (hymm-slam --save-state / --resume): the filter,
 // the dense part (partition, layers, delayed store, classic grid) and the pipeline's own
-// counters and bookkeeping, bit for bit (core/state_archive.h). Components whose state
-// is not saved yet make saveState() / loadState() refuse (stateUnsupported()).
+// counters and bookkeeping, the scan odometry, bit for bit (core/state_archive.h).
 #include "hymm/denseslam/DenseSlam.h"
 
 #include <hymm/core/state_archive.h>
@@ -70,19 +69,8 @@ const char* registeredClassName(const std::string& name)
 }
 }  // namespace
 
-std::string DenseSlam::stateUnsupported() const
-{
-    // Every component's state is saved (state version 3) but the scan odometry's (its
-    // reference scan and the pending increment): refused rather than silently lost.
-    if (scan_odometry_) return "[ScanOdometry] (scan-matching odometry)";
-    if (options_.turn_bias_state) return "[DenseSlam] turn_bias_state";
-    return {};
-}
-
 void DenseSlam::saveState(mrpt::serialization::CArchive& out) const
 {
-    if (const auto why = stateUnsupported(); !why.empty())
-        throw std::runtime_error("the run state cannot hold " + why + " yet");
     writeTag(out, "DenseSlam");
     ekf_.saveState(out);
     writeSize(out, path_.size());
@@ -121,7 +109,46 @@ void DenseSlam::saveState(mrpt::serialization::CArchive& out) const
     out << static_cast<std::uint64_t>(predictions_at_last_frame_);
     writeIds(out, std::vector<long>(virtual_ids_.begin(), virtual_ids_.end()));
     writeLong(out, next_virtual_id_);
+    saveOdometryState(out);
     saveDenseState(out);
+}
+
+void DenseSlam::saveOdometryState(mrpt::serialization::CArchive& out) const
+{
+    // The wheels' increment held for the next scan, the scan odometry (reference scan,
+    // filters) and the turn bias state's counters; the bias and the vehicle's copy at the
+    // reference scan are blocks of the filter, saved with it.
+    out << pending_odometry_.has_value();
+    if (pending_odometry_)
+    {
+        writeMatrix(out, pending_odometry_->mean);
+        writeMatrix(out, pending_odometry_->cov);
+    }
+    out << bool(scan_odometry_);
+    if (scan_odometry_) scan_odometry_->saveState(out);
+    TurnBiasStats t = turn_bias_stats_;
+    writeCounters(out, {&t.copies, &t.fused, &t.gated, &t.failed});
+}
+
+void DenseSlam::loadOdometryState(mrpt::serialization::CArchive& in)
+{
+    pending_odometry_.reset();
+    if (readBool(in))
+    {
+        scanslam::ScanOdometry::Increment p;
+        readMatrix(in, p.mean, "pending odometry");
+        readMatrix(in, p.cov, "pending odometry covariance");
+        if (!p.mean.allFinite() || !p.cov.allFinite())
+            throw std::runtime_error("corrupt state: pending odometry is not finite");
+        pending_odometry_ = p;
+    }
+    if (readBool(in) != bool(scan_odometry_))
+        throw std::runtime_error("the state's scan odometry differs from the config's ([ScanOdometry] enabled)");
+    if (scan_odometry_) scan_odometry_->loadState(in);
+    if (pending_odometry_ && !scan_odometry_)
+        throw std::runtime_error("corrupt state: pending odometry without scan odometry");
+    TurnBiasStats& t = turn_bias_stats_;
+    readCounters(in, {&t.copies, &t.fused, &t.gated, &t.failed}, "turn bias counter");
 }
 
 void DenseSlam::saveDenseState(mrpt::serialization::CArchive& out) const
@@ -146,8 +173,6 @@ void DenseSlam::saveDenseState(mrpt::serialization::CArchive& out) const
 
 void DenseSlam::loadState(mrpt::serialization::CArchive& in)
 {
-    if (const auto why = stateUnsupported(); !why.empty())
-        throw std::runtime_error("the run state cannot hold " + why + " yet");
     expectTag(in, "DenseSlam");
     ekf_.loadState(in);
     path_.resize(readSize(in, "path sample"));
@@ -184,6 +209,7 @@ void DenseSlam::loadState(mrpt::serialization::CArchive& in)
         features_[id] = f;
     }
     loadBookkeeping(in);
+    loadOdometryState(in);
     loadDenseState(in);
 }
 

@@ -1,14 +1,18 @@
 // Scan-SLAM's state for a saved run (hymm-slam --save-state / --resume): every value bit
 // for bit (core/state_archive.h), including the acceptance test's random generator, so a
-// resumed run creates and observes exactly the landmarks the uninterrupted one would.
+// resumed run creates and observes exactly the landmarks the uninterrupted one would; and
+// the scan odometry's reference scan and filters, so it fuses the same steps.
 #include <hymm/core/state_archive.h>
 
+#include <cmath>
 #include <cstring>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <type_traits>
 
 #include "hymm/scanslam/ScanLandmarkMap.h"
+#include "hymm/scanslam/ScanOdometry.h"
 #include "hymm/scanslam/ScanTemplate.h"
 #include "hymm/scanslam/SegmentAcceptance.h"
 
@@ -272,6 +276,96 @@ void ScanLandmarkMap::loadState(mrpt::serialization::CArchive& in)
     for (size_t i = 0; i < nf; ++i) readVectors(in, first_scans_[readLong(in)], "template first scan return");
     revisits_.load(in);
     expectTag(in, "ScanLandmarkMap end");
+}
+
+namespace
+{
+/** Every plain counter of ScanOdometry::Stats, in the state's order. */
+std::vector<size_t*> counters(ScanOdometry::Stats& s)
+{
+    return {&s.scans, &s.no_reference, &s.too_few_points, &s.gated, &s.fused,
+            &s.keyframes, &s.bias_updates, &s.bias_gated, &s.bias_applied};
+}
+void writeIncrement(mrpt::serialization::CArchive& out, const ScanOdometry::Increment& i)
+{
+    writeMatrix(out, i.mean);
+    writeMatrix(out, i.cov);
+}
+ScanOdometry::Increment readIncrement(mrpt::serialization::CArchive& in, const char* what)
+{
+    ScanOdometry::Increment i;
+    readMatrix(in, i.mean, what);
+    readMatrix(in, i.cov, what);
+    if (!i.mean.allFinite() || !i.cov.allFinite())
+        throw std::runtime_error(std::string("corrupt state: ") + what + " is not finite");
+    return i;
+}
+}  // namespace
+
+void ScanOdometry::saveState(mrpt::serialization::CArchive& out) const
+{
+    writeTag(out, "ScanOdometry");
+    Stats stats = stats_;
+    writeCounters(out, counters(stats));
+    writeCounts(out, stats_.align_failed);
+    out << has_reference_;
+    savePointSet(out, reference_);
+    writeMatrix(out, reference_mount_);
+    writeIncrement(out, since_reference_);
+    out << reference_is_previous_;
+    writeIncrement(out, wheel_since_reference_);
+    out << wheel_distance_since_reference_;
+    out << turn_observation_.has_value();
+    if (turn_observation_) out << turn_observation_->e << turn_observation_->ds << turn_observation_->var;
+    out << last_relative_.has_value();
+    if (last_relative_) writeIncrement(out, *last_relative_);
+    out << last_is_reference_ << turn_bias_ << turn_bias_var_;
+    writeTag(out, "ScanOdometry end");
+}
+
+void ScanOdometry::loadState(mrpt::serialization::CArchive& in)
+{
+    // Read into a copy first: a corrupt state leaves this one as it was.
+    ScanOdometry::Stats stats;
+    expectTag(in, "ScanOdometry");
+    readCounters(in, counters(stats), "scan odometry counter");
+    readCounts(in, stats.align_failed, "scan odometry failure reason");
+    const bool has_reference = readBool(in);
+    PointSet reference;
+    loadPointSet(in, reference);
+    Vec3 mount;
+    readMatrix(in, mount, "scan odometry mount");
+    const Increment since = readIncrement(in, "scan odometry pose since the reference");
+    const bool reference_is_previous = readBool(in);
+    const Increment wheel_since = readIncrement(in, "scan odometry wheels since the reference");
+    const double wheel_distance = readDouble(in);
+    std::optional<TurnObservation> turn;
+    if (readBool(in))
+    {
+        TurnObservation t;
+        in >> t.e >> t.ds >> t.var;
+        turn = t;
+    }
+    std::optional<Increment> last_relative;
+    if (readBool(in)) last_relative = readIncrement(in, "scan odometry last alignment");
+    const bool last_is_reference = readBool(in);
+    const double bias = readDouble(in), bias_var = readDouble(in);
+    expectTag(in, "ScanOdometry end");
+    if (!std::isfinite(wheel_distance) || !std::isfinite(bias) || !(bias_var >= 0) || !mount.allFinite())
+        throw std::runtime_error("corrupt state: scan odometry values are not finite");
+    stats_ = std::move(stats);
+    has_reference_ = has_reference;
+    reference_ = std::move(reference);
+    reference_mount_ = mount;
+    since_reference_ = since;
+    reference_is_previous_ = reference_is_previous;
+    wheel_since_reference_ = wheel_since;
+    wheel_distance_since_reference_ = wheel_distance;
+    turn_observation_ = turn;
+    last_relative_ = last_relative;
+    last_is_reference_ = last_is_reference;
+    turn_bias_ = bias;
+    turn_bias_var_ = bias_var;
 }
 
 }  // namespace hymm::scanslam

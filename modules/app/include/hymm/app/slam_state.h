@@ -28,7 +28,7 @@
 namespace hymm::app
 {
 /** Format version of the state file; a reader accepts this one only. */
-constexpr std::uint32_t kRunStateVersion = 12;  // 2: the motion layers; 3: scan landmarks, HLLs; 4: observations_invalid_geometry; 5: point source counts by name, the keyframes' odometry; 6: template augmentation counters; 7: the points layer's bound by area; 8: motion layers of fallback tiles; 9: the scan landmarks' fused viewpoints; 10: auxiliary EKF blocks, the scan landmarks' apparent poses; 11: the scan landmarks' first scans; 12: their revisits
+constexpr std::uint32_t kRunStateVersion = 13;  // 2: the motion layers; 3: scan landmarks, HLLs; 4: observations_invalid_geometry; 5: point source counts by name, the keyframes' odometry; 6: template augmentation counters; 7: the points layer's bound by area; 8: motion layers of fallback tiles; 9: the scan landmarks' fused viewpoints; 10: auxiliary EKF blocks, the scan landmarks' apparent poses; 11: the scan landmarks' first scans; 12: their revisits; 13: the scan odometry, the pending wheel increment, the turn bias state's counters
 
 /** What hymm-slam keeps beside the pipeline. */
 struct RunInfo
@@ -45,8 +45,7 @@ std::string configFingerprint(const std::string& ini_path);
 
 /** Writes the state to `path` (to a temporary name first, renamed when complete: an
  *  interrupted save leaves the previous state). Throws std::runtime_error when the file
- *  cannot be written or the pipeline has a component the state cannot hold
- *  (DenseSlam::stateUnsupported()). */
+ *  cannot be written. */
 void saveRunState(const std::string& path, const RunInfo& info, const denseslam::DenseSlam& slam,
                   const KeyframeRecorder& keyframes);
 

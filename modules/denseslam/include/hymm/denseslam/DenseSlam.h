@@ -174,13 +174,10 @@ public:
     /** Saved run state (hymm-slam --save-state / --resume): the filter, the dense part
      *  and every counter and piece of bookkeeping a later entry reads, bit for bit, so
      *  that a run continued from it gives the uninterrupted run's results. loadState()
-     *  expects a pipeline built from the same config (hymm::app checks it). Both throw
-     *  std::runtime_error when stateUnsupported() names a component, and loadState()
-     *  on a corrupt or truncated state. Source: DenseSlamState.cpp. */
+     *  expects a pipeline built from the same config (hymm::app checks it) and throws
+     *  std::runtime_error on a corrupt or truncated state. Source: DenseSlamState.cpp. */
     void saveState(mrpt::serialization::CArchive& out) const;
     void loadState(mrpt::serialization::CArchive& in);
-    /** The enabled component whose state the run state does not hold yet (empty: none). */
-    std::string stateUnsupported() const;
 
 private:
     /** Class names and stamps of a frame's observations (duplicate detection). */
@@ -281,6 +278,9 @@ private:
     void saveDenseState(mrpt::serialization::CArchive& out) const;
     void loadDenseState(mrpt::serialization::CArchive& in);
     void loadBookkeeping(mrpt::serialization::CArchive& in);
+    /** The pending wheel increment, the scan odometry and the turn bias state's counters. */
+    void saveOdometryState(mrpt::serialization::CArchive& out) const;
+    void loadOdometryState(mrpt::serialization::CArchive& in);
 
     Options options_;
     ekf::EkfSlam ekf_;

@@ -27,6 +27,7 @@
 #include <hymm/core/OptionTable.h>
 #include <mrpt/config/CConfigFileBase.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
+#include <mrpt/serialization/CArchive.h>
 
 #include <cmath>
 #include <functional>
@@ -165,6 +166,15 @@ public:
 
     const Stats& stats() const { return stats_; }
     const Options& options() const { return options_; }
+
+    /** Saved run state (hymm-slam --save-state / --resume): the reference scan, the
+     *  filtered pose since it, the wheels since it, the turn bias with its pending
+     *  observation and the counters, bit for bit, so a resumed run fuses the steps the
+     *  uninterrupted one would. The matchers keep nothing between alignments. loadState()
+     *  expects the same options and throws std::runtime_error on a corrupt state.
+     *  Source: ScanLandmarkState.cpp. */
+    void saveState(mrpt::serialization::CArchive& out) const;
+    void loadState(mrpt::serialization::CArchive& in);
 
 private:
     /** The vehicle increment of the alignment `r` (u = increment(z)) with its covariance:
