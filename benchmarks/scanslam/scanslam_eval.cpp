@@ -114,6 +114,28 @@ void observationTable(const std::vector<hymm::app::ScanSlamRun>& runs, const cha
                     rd[0] / dn, rd[1] / dn, rd[2] / dn * 180 / M_PI);
     }
 }
+/** The scan odometry's fused alignments to their reference against the truth (none
+ *  without [ScanOdometry]): the 3-DOF NEES and per axis the normalised squared error
+ *  e_i^2 / R_ii (1 expected), the figures cov_scale (x, y) and heading_cov_scale (phi)
+ *  calibrate. */
+void odometryAlignmentTable(const std::vector<hymm::app::ScanSlamRun>& runs)
+{
+    size_t n = 0;
+    double nees = 0;
+    Eigen::Vector3d axis = Eigen::Vector3d::Zero();
+    for (const auto& r : runs)
+        for (const auto& a : r.odometry_alignments)
+        {
+            nees += a.error.dot(a.cov.ldlt().solve(a.error));
+            for (int i = 0; i < 3; ++i) axis[i] += a.error[i] * a.error[i] / a.cov(i, i);
+            ++n;
+        }
+    if (n == 0) return;
+    const double dn = static_cast<double>(n);
+    std::printf("\n| scan odometry: alignments to the reference against the truth | count | NEES (3 DOF) | e^2 / R x / y / phi |\n"
+                "|---|---|---|---|\n| all runs | %zu | %.2f | %.2f / %.2f / %.2f |\n",
+                n, nees / dn, axis[0] / dn, axis[1] / dn, axis[2] / dn);
+}
 /** The run counters whose name starts with `prefix`, summed over the runs, keyed by the
  *  name without its first `strip` characters. */
 std::map<std::string, size_t> sumCounters(const std::vector<hymm::app::ScanSlamRun>& runs, const std::string& prefix,
@@ -414,6 +436,7 @@ int main(int argc, char** argv)
         if (merge["merge_candidates"] > 0) printCounts("duplicate merging", merge);
         auto aug = sumCounters(runs, "scan_landmarks.augment", 15);
         if (aug["augmented"] + aug["augment_empty"] > 0) printCounts("template augmentation", aug);
+        odometryAlignmentTable(runs);
         if (obs_table.getValue()) observationTables(runs);
         if (profile.getValue() > 0) neesProfile(runs, profile.getValue());
         if (closure_profile.getValue() > 0) closureProfile(runs, closure_profile.getValue());

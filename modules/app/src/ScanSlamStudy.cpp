@@ -201,11 +201,19 @@ ScanSlamRun runScanSlamStudy(const sim::Scenario& scenario,
     ScanSlamRun run;
     ClosureWatch watch;
     watch.min_age_s = closure_min_age_s;
+    Eigen::Vector3d reference_true = Eigen::Vector3d::Zero();  // the scan odometry's reference
     while (sim.next(f))
     {
         // Scores of the state before this frame (the closure is found after it).
         const auto before = watch.closed ? ScanSlamRun::LandmarkErrors{} : landmarkErrors(slam, watch.truth);
         run.steps.push_back(processSimFrame(slam, f));
+        if (const auto* odo = slam.scanOdometry())
+        {
+            if (const auto& m = odo->lastRelativeMeasurement())
+                run.odometry_alignments.push_back(
+                    {poseError(m->mean, compose(scanslam::inverse(reference_true), f.true_pose)), m->cov});
+            if (odo->lastScanIsReference()) reference_true = f.true_pose;
+        }
         const auto* src = slam.scanLandmarks();
         if (!src || !f.scan) continue;
         const auto& sp = f.scan->sensorPose;

@@ -186,7 +186,8 @@ TEST(DenseSlamScanOdometry, TurnBiasStateRefusesWhatItCannotCombineWith)
 TEST(DenseSlamScanOdometry, RunStateContinuesBitForBit)
 {
     // The run state holds the scan odometry (reference scan, the pose filtered since it,
-    // the wheels since it, the turn bias estimate), the wheel increment pending for the
+    // the wheels since it, the covariance of the steps handed on since it, the turn bias
+    // estimate), the wheel increment pending for the
     // next scan and the turn bias state's counters: a pipeline saved between an odometry
     // reading and its scan, loaded into a fresh one, continues as the one that ran on.
     struct Case
@@ -196,7 +197,9 @@ TEST(DenseSlamScanOdometry, RunStateContinuesBitForBit)
     };
     // Keyframes start about every second scan here (0.6 m per scan): one of two
     // consecutive cuts falls inside a keyframe.
-    for (const Case& c : {Case{"", "keyframe_distance_m = 1\n"}, Case{"", "wheel_turn_bias = true\n"},
+    for (const Case& c : {Case{"", "keyframe_distance_m = 1\n"},
+                          Case{"", "keyframe_distance_m = 1\nkeyframe_step_cov = growth\nheading_cov_scale = 1.5\n"},
+                          Case{"", "wheel_turn_bias = true\n"},
                           Case{"turn_bias_state = true\n", "keyframe_distance_m = 1\n"}})
     for (const size_t cut : {76, 77})
     {

@@ -284,7 +284,7 @@ namespace
 std::vector<size_t*> counters(ScanOdometry::Stats& s)
 {
     return {&s.scans, &s.no_reference, &s.too_few_points, &s.gated, &s.fused,
-            &s.keyframes, &s.bias_updates, &s.bias_gated, &s.bias_applied};
+            &s.keyframes, &s.bias_updates, &s.bias_gated, &s.bias_applied, &s.growth_clamped};
 }
 void writeIncrement(mrpt::serialization::CArchive& out, const ScanOdometry::Increment& i)
 {
@@ -313,6 +313,7 @@ void ScanOdometry::saveState(mrpt::serialization::CArchive& out) const
     writeMatrix(out, reference_mount_);
     writeIncrement(out, since_reference_);
     out << reference_is_previous_;
+    writeMatrix(out, handed_cov_);
     writeIncrement(out, wheel_since_reference_);
     out << wheel_distance_since_reference_;
     out << turn_observation_.has_value();
@@ -337,6 +338,8 @@ void ScanOdometry::loadState(mrpt::serialization::CArchive& in)
     readMatrix(in, mount, "scan odometry mount");
     const Increment since = readIncrement(in, "scan odometry pose since the reference");
     const bool reference_is_previous = readBool(in);
+    Mat3 handed_cov;
+    readMatrix(in, handed_cov, "scan odometry steps since the reference");
     const Increment wheel_since = readIncrement(in, "scan odometry wheels since the reference");
     const double wheel_distance = readDouble(in);
     std::optional<TurnObservation> turn;
@@ -351,7 +354,8 @@ void ScanOdometry::loadState(mrpt::serialization::CArchive& in)
     const bool last_is_reference = readBool(in);
     const double bias = readDouble(in), bias_var = readDouble(in);
     expectTag(in, "ScanOdometry end");
-    if (!std::isfinite(wheel_distance) || !std::isfinite(bias) || !(bias_var >= 0) || !mount.allFinite())
+    if (!std::isfinite(wheel_distance) || !std::isfinite(bias) || !(bias_var >= 0) || !mount.allFinite() ||
+        !handed_cov.allFinite())
         throw std::runtime_error("corrupt state: scan odometry values are not finite");
     stats_ = std::move(stats);
     has_reference_ = has_reference;
@@ -359,6 +363,7 @@ void ScanOdometry::loadState(mrpt::serialization::CArchive& in)
     reference_mount_ = mount;
     since_reference_ = since;
     reference_is_previous_ = reference_is_previous;
+    handed_cov_ = handed_cov;
     wheel_since_reference_ = wheel_since;
     wheel_distance_since_reference_ = wheel_distance;
     turn_observation_ = turn;

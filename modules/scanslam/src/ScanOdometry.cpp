@@ -4,12 +4,10 @@
  */
 #include "hymm/scanslam/ScanOdometry.h"
 
-#include <hymm/core/laser_noise.h>
-#include <hymm/scanslam/CorrelativeMatcher.h>
-#include <hymm/scanslam/matcher_choice.h>
 #include <mrpt/math/distributions.h>
 
 #include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 
 #include <algorithm>
 #include <cmath>
@@ -19,92 +17,6 @@
 
 namespace hymm::scanslam
 {
-core::OptionTable ScanOdometry::Options::table()
-{
-    using namespace hymm::core;
-    OptionTable t;
-    t.flag("enabled", enabled,
-           "fuse the alignment of each scan to the previous one with the wheel odometry in between");
-    declareMatcherChoice(t, matcher, "scan matcher of the consecutive scans (its keys in [ScanOdometryMatcher])");
-    t.real("max_range_m", max_range_m, "m", above(0, 10000), "returns farther away are not aligned");
-    t.integer("max_points", max_points, "", 3, 1000000,
-              "the previous scan is thinned evenly to at most this many points");
-    t.real("gate_prob", gate_prob, "", between(0, 1),
-           "chi-square(3) gate on the aligned minus the wheel increment (0 or 1: none)");
-    t.real("cov_scale", cov_scale, "", above(0, 1000),
-           "the matcher's covariance of a consecutive pair times this (measured, see above)");
-    t.real("min_std_xy_m", min_std_xy_m, "m", atLeast(0, 10), "std added to the aligned increment in x and y");
-    t.real("min_std_phi_deg", min_std_phi, "deg", atLeast(0, 180), "std added to its angle", M_PI / 180);
-    t.real("std_xy_per_m", std_xy_per_m, "", atLeast(0, 10), "std added in x and y per metre travelled");
-    t.real("std_phi_deg_per_m", std_phi_per_m, "deg/m", atLeast(0, 180), "std added to the angle per metre travelled",
-           M_PI / 180);
-    t.real("keyframe_distance_m", keyframe_distance_m, "m", atLeast(0, 1000),
-           "align to a keyframe scan until the vehicle is this far from it (0: to the previous scan)");
-    t.real("keyframe_angle_deg", keyframe_angle, "deg", above(0, 180), "or has turned this much", M_PI / 180);
-    t.real("step_cov_scale", step_cov_scale, "", above(0, 1000),
-           "the covariance of every fused increment handed to the filter times this (steps share scans, see above)");
-    t.flag("wheel_turn_bias", wheel_turn_bias,
-           "estimate the wheels' turn per metre travelled from the alignments and remove it from the wheel increments");
-    t.real("wheel_turn_bias_prior_deg_per_m", wheel_turn_bias_prior, "deg/m", above(0, 180),
-           "prior std of the wheels' turn per metre", M_PI / 180);
-    t.real("wheel_turn_bias_walk_deg_per_m", wheel_turn_bias_walk, "deg/m/sqrt(m)", atLeast(0, 180),
-           "random walk of that turn: std of its change per square root of a metre travelled", M_PI / 180);
-    t.real("wheel_turn_bias_min_sigmas", wheel_turn_bias_min_sigmas, "sigma", atLeast(0, 1000),
-           "the estimate corrects the wheels only while it is this many of its std from zero");
-    return t;
-}
-
-void ScanOdometry::Options::load(const mrpt::config::CConfigFileBase& cfg, const std::string& section)
-{
-    table().load(cfg, section);
-    // The return noise is [Laser]'s (the section has no noise keys of its own).
-    core::applyLaserNoise(cfg, section, "std_range_m", "std_bearing_deg", noise.std_range_m, noise.std_bearing);
-}
-
-std::vector<std::pair<std::string, size_t>> ScanOdometry::Stats::list() const
-{
-    std::vector<std::pair<std::string, size_t>> out = {
-        {"scans", scans}, {"no_reference", no_reference}, {"too_few_points", too_few_points}};
-    for (const auto& [reason, n] : align_failed) out.emplace_back("align_failed." + reason, n);
-    out.emplace_back("gated", gated);
-    out.emplace_back("fused", fused);
-    out.emplace_back("keyframes", keyframes);
-    out.emplace_back("bias_updates", bias_updates);
-    out.emplace_back("bias_gated", bias_gated);
-    out.emplace_back("bias_applied", bias_applied);
-    return out;
-}
-
-ScanOdometry::Options ScanOdometry::loadOptions(const mrpt::config::CConfigFileBase* cfg)
-{
-    Options o;
-    if (cfg)
-    {
-        o.load(*cfg, "ScanOdometry");
-        (void)odometryMatcher(o.matcher, cfg);
-    }
-    return o;
-}
-
-std::unique_ptr<ScanMatcher> ScanOdometry::odometryMatcher(const std::string& kind,
-                                                           const mrpt::config::CConfigFileBase* cfg)
-{
-    if (kind != "correlative") return makeMatcher(kind, cfg, "ScanOdometryMatcher");
-    // Consecutive scans: the wheels predict within a few decimetres and degrees, and a
-    // whole scan's likelihood grid at the template default (0.03 m) would cost 10x more.
-    CorrelativeMatcher::Options o;
-    o.grid_resolution_m = 0.1;
-    o.search_xy_m = 0.4;
-    o.search_phi = 4 * M_PI / 180;
-    if (cfg) o.load(*cfg, "ScanOdometryMatcher");
-    return std::make_unique<CorrelativeMatcher>(o);
-}
-
-std::unique_ptr<ScanOdometry> ScanOdometry::make(const Options& options, const mrpt::config::CConfigFileBase* cfg)
-{
-    return std::make_unique<ScanOdometry>(options, odometryMatcher(options.matcher, cfg));
-}
-
 ScanOdometry::ScanOdometry(const Options& options, std::unique_ptr<ScanMatcher> matcher)
     : options_(options),
       matcher_(std::move(matcher)),
@@ -262,6 +174,7 @@ ScanOdometry::Increment ScanOdometry::refine(const mrpt::obs::CObservation2DRang
         reference_ = thinned(current, options_.max_points);
         reference_mount_ = mount;
         since_reference_ = Increment{};
+        handed_cov_ = Mat3::Zero();
         has_reference_ = true;
         reference_is_previous_ = true;
         ++stats_.keyframes;
@@ -318,6 +231,7 @@ ScanOdometry::Increment ScanOdometry::aligned(const mrpt::obs::CObservation2DRan
     if (previous)
     {
         since_reference_ = step;
+        handed_cov_ = step.cov;
         relative_measured = measured;
         return step;
     }
@@ -325,9 +239,38 @@ ScanOdometry::Increment ScanOdometry::aligned(const mrpt::obs::CObservation2DRan
     // updated by the alignment (a direct measurement of it). Its step is the increment.
     relative_measured = alignedIncrement(r, relative);
     since_reference_ = fuseIncrements(predicted, *relative_measured);
-    Increment out;
-    out.mean = compose(inverse(before.mean), since_reference_.mean);
-    out.cov = step.cov;
+    const Vec3 mean = compose(inverse(before.mean), since_reference_.mean);
+    if (options_.keyframe_step_cov == Options::KeyframeStepCov::alignment) return {mean, step.cov};
+    return {mean, covarianceGrowth(before, since_reference_.cov, mean, step.cov)};
+}
+
+Mat3 ScanOdometry::covarianceGrowth(const Increment& before, const Mat3& after, const Vec3& step, const Mat3& fallback)
+{
+    // The filter composes the steps: H' = Ja H Ja^T + Jb Q Jb^T (composeIncrements, a =
+    // the relative pose before the step, b = the step), H the covariance of the steps
+    // handed on since the reference. Q is solved for H' = after, the relative pose's.
+    const double c = std::cos(before.mean.z()), s = std::sin(before.mean.z());
+    Mat3 Ja = Mat3::Identity();
+    Ja(0, 2) = -s * step.x() - c * step.y();
+    Ja(1, 2) = c * step.x() - s * step.y();
+    Mat3 Jb = Mat3::Identity();
+    Jb.topLeftCorner<2, 2>() = rotation(before.mean.z());
+    const Mat3 carried = Ja * handed_cov_ * Ja.transpose();
+    const Mat3 Q = symmetric(Jb.transpose() * (after - carried) * Jb);  // Jb is a rotation: Jb^-1 = Jb^T
+    Eigen::SelfAdjointEigenSolver<Mat3> es(Q);
+    if (!Q.allFinite() || es.info() != Eigen::Success)
+    {
+        handed_cov_ = symmetric(carried + Jb * fallback * Jb.transpose());
+        return fallback;
+    }
+    // An update can shrink the relative pose's covariance below what the filter already
+    // holds for the earlier steps (they share the reference's error): the step's negative
+    // share is clamped to zero, and the excess is kept in H, so later steps pay it back
+    // rather than adding up clamps.
+    const Vec3 d = es.eigenvalues();
+    if ((d.array() < 0).any()) ++stats_.growth_clamped;
+    const Mat3 out = symmetric(es.eigenvectors() * d.cwiseMax(0.0).asDiagonal() * es.eigenvectors().transpose());
+    handed_cov_ = symmetric(carried + Jb * out * Jb.transpose());
     return out;
 }
 
@@ -346,6 +289,12 @@ ScanOdometry::Increment ScanOdometry::alignedIncrement(const AlignResult& r,
     Increment s;
     s.mean = increment(r.z);
     s.cov = symmetric(J * r.R * J.transpose()) * options_.cov_scale;
+    if (options_.heading_cov_scale != 1)
+    {
+        const double k = std::sqrt(options_.heading_cov_scale);
+        s.cov.row(2) *= k;
+        s.cov.col(2) *= k;
+    }
     const double travel = s.mean.head<2>().norm();
     const double sxy = options_.min_std_xy_m + options_.std_xy_per_m * travel;
     const double sphi = options_.min_std_phi + options_.std_phi_per_m * travel;

@@ -14,6 +14,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <vector>
 
 #include "sim_scenes.h"
@@ -394,4 +395,106 @@ TEST(ScanOdometryTest, TurnBiasCorrectsTheWheelsOnlyBeyondItsThreshold)
     ASSERT_EQ(increments.size(), 3u);
     EXPECT_EQ(increments[1], increments[0]);  // estimated, never applied: the wheels untouched
     EXPECT_NE(increments[2], increments[0]);
+}
+
+TEST(ScanOdometryTest, HeadingCovScaleScalesTheAlignmentsHeadingOnly)
+{
+    // The first alignment of the same drive with heading_cov_scale 1 and 2: the same
+    // measurement; its heading variance (less the floor added after the scaling) doubles,
+    // the heading's covariances with x and y grow by sqrt(2), the rest stays.
+    const auto world = room();
+    std::optional<Increment> m[2];
+    for (int r = 0; r < 2; ++r)
+    {
+        ScanOdometry::Options o;
+        o.enabled = true;
+        o.noise = {0.1, 1.0 * M_PI / 180};
+        o.heading_cov_scale = r == 0 ? 1.0 : 2.0;
+        ScanOdometry odo(o, ScanOdometry::odometryMatcher("correlative", nullptr));
+        Increment wheel;
+        wheel.cov = Mat3(Eigen::Vector3d(4e-4, 4e-4, std::pow(1.5 * M_PI / 180, 2)).asDiagonal());
+        const Vec3 start(-4, -2, 0.1), step(0.1, 0, 0.01);
+        (void)odo.refine(*scanAt(world, start, Vec3::Zero(), 900), wheel);
+        wheel.mean = step;
+        (void)odo.refine(*scanAt(world, compose(start, step), Vec3::Zero(), 901), wheel);
+        m[r] = odo.lastRelativeMeasurement();
+        ASSERT_TRUE(m[r].has_value());
+    }
+    const double floor = std::pow(0.1 * M_PI / 180, 2), tol = 1e-9;
+    EXPECT_TRUE(m[1]->mean == m[0]->mean);
+    EXPECT_NEAR((m[1]->cov(2, 2) - floor) / (m[0]->cov(2, 2) - floor), 2.0, tol);
+    for (int i = 0; i < 2; ++i)
+    {
+        EXPECT_NEAR(m[1]->cov(i, 2) / m[0]->cov(i, 2), std::sqrt(2.0), tol);
+        EXPECT_NEAR(m[1]->cov(2, i) / m[0]->cov(2, i), std::sqrt(2.0), tol);
+        for (int j = 0; j < 2; ++j) EXPECT_EQ(m[1]->cov(i, j), m[0]->cov(i, j));
+    }
+}
+
+TEST(ScanOdometryTest, GrowthStepsAddUpToTheKeyframesCovariance)
+{
+    // 30 steps through the room with a keyframe about every metre, 6 drives. The steps
+    // handed on since the last keyframe, composed as the filter composes them
+    // (composeIncrements, from zero covariance), against the pose relative to the keyframe
+    // that ScanOdometry filters (relativePose()). With `growth` they hold its covariance
+    // exactly after every step whose share was not clamped, and never less; with
+    // `alignment` each step takes one alignment's covariance, and the keyframe's shared
+    // error is counted once per step.
+    const auto world = room();
+    const Vec3 step(0.1, 0, 0.01);
+    double ratio_sum[2] = {0, 0};
+    size_t steps[2] = {0, 0}, exact = 0, clamped = 0;
+    for (int mode = 0; mode < 2; ++mode)
+        for (uint32_t seed = 0; seed < 6; ++seed)
+        {
+            ScanOdometry::Options o;
+            o.enabled = true;
+            o.noise = {0.1, 1.0 * M_PI / 180};
+            o.keyframe_distance_m = 1.05;
+            o.keyframe_step_cov = mode == 0 ? ScanOdometry::Options::KeyframeStepCov::alignment
+                                            : ScanOdometry::Options::KeyframeStepCov::growth;
+            ScanOdometry odo(o, ScanOdometry::odometryMatcher("correlative", nullptr));
+            mrpt::random::CRandomGenerator rng(40 + seed);
+            Vec3 truth(-4, -2, 0.1);
+            Increment wheel;
+            wheel.cov = Mat3(Eigen::Vector3d(4e-4, 4e-4, std::pow(1.5 * M_PI / 180, 2)).asDiagonal());
+            (void)odo.refine(*scanAt(world, truth, Vec3::Zero(), 2000 + 100 * seed), wheel);
+            Increment since;  // the steps since the keyframe, composed
+            for (uint32_t k = 1; k <= 30; ++k)
+            {
+                truth = compose(truth, step);
+                wheel.mean = step + Vec3(0.02 * rng.drawGaussian1D_normalized(), 0.02 * rng.drawGaussian1D_normalized(),
+                                         1.5 * M_PI / 180 * rng.drawGaussian1D_normalized());
+                const size_t clamped_before = odo.stats().growth_clamped;
+                since = composeIncrements(since, odo.refine(*scanAt(world, truth, Vec3::Zero(), 2000 + 100 * seed + k), wheel));
+                ASSERT_TRUE(odo.lastRelativeMeasurement().has_value()) << "seed " << seed << " step " << k;
+                if (odo.lastScanIsReference())
+                {
+                    since = Increment{};  // a new keyframe: the next steps compose from it
+                    continue;
+                }
+                const Mat3 P = odo.relativePose().cov;
+                const Mat3 d = since.cov - P;
+                const double scale = P.cwiseAbs().maxCoeff();
+                ratio_sum[mode] += since.cov.trace() / P.trace();
+                ++steps[mode];
+                if (mode == 0) continue;
+                EXPECT_GE(Eigen::SelfAdjointEigenSolver<Mat3>(d).eigenvalues().minCoeff(), -1e-9 * scale)
+                    << "seed " << seed << " step " << k;
+                if (odo.stats().growth_clamped == clamped_before)
+                {
+                    EXPECT_LT(d.cwiseAbs().maxCoeff(), 1e-9 * scale) << "seed " << seed << " step " << k;
+                    ++exact;
+                }
+            }
+            if (mode == 1) clamped += odo.stats().growth_clamped;
+        }
+    const double alignment = ratio_sum[0] / static_cast<double>(steps[0]);
+    const double growth = ratio_sum[1] / static_cast<double>(steps[1]);
+    std::printf("steps since the keyframe over its relative pose (covariance trace), mean: alignment %.2f, growth "
+                "%.3f; growth: %zu of %zu steps exact, %zu clamped\n",
+                alignment, growth, exact, steps[1], clamped);
+    EXPECT_GT(exact, steps[1] / 10);
+    EXPECT_LT(growth, 1.05);
+    EXPECT_GT(alignment, 1.4);
 }

@@ -58,8 +58,17 @@ struct ScanSlamRun
         bool updated = false;    //!< fused (false: gated)
         bool wide = false;       //!< found by the wide search (ScanLandmarkMap::observeWide)
     };
+    /** A fused alignment of the scan odometry ([ScanOdometry]) to its reference scan:
+     *  its measurement of the vehicle relative to its pose at the reference, against the
+     *  true relative pose (what cov_scale and heading_cov_scale calibrate). */
+    struct OdometryAlignment
+    {
+        Eigen::Vector3d error = Eigen::Vector3d::Zero();  //!< measured - true, angle wrapped
+        Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();    //!< the measurement's covariance
+    };
     std::vector<Step> steps;
     std::vector<Observation> observations;  //!< every converged alignment of the run
+    std::vector<OdometryAlignment> odometry_alignments;  //!< empty without [ScanOdometry]
     double duration_s = 0;          //!< simulated time of the run
     double closure_t = -1;          //!< time of the loop closure (-1: none)
     size_t closure_step = 0;        //!< index of the frame of the closure

@@ -75,6 +75,20 @@ public:
          *  (measured 0.7 on one simulated world, 1 on another): calibrate it against
          *  ground truth (README, "Covariance of the steps"). */
         double step_cov_scale = 1;
+        /** The covariance handed to the filter for a step inside a keyframe (not the
+         *  first after it): `alignment`, the alignment's as if it measured that step alone
+         *  (the steps of one keyframe then count its shared error once each), or `growth`,
+         *  the growth of the keyframe-relative pose's covariance over the step, so that the
+         *  steps of a keyframe add up to the covariance of the pose relative to it. */
+        enum class KeyframeStepCov
+        {
+            alignment,
+            growth
+        };
+        KeyframeStepCov keyframe_step_cov = KeyframeStepCov::alignment;
+        /** The alignment's heading variance times this, on top of cov_scale (the matchers'
+         *  covariance shape was measured heading-light on consecutive scans: README). */
+        double heading_cov_scale = 1;
         /** Estimate the wheels' systematic turn per metre travelled (unequal wheel radii:
          *  the heading error grows with the distance, not with the time or the turning)
          *  from the alignments, and remove it from every wheel increment before it is
@@ -108,6 +122,7 @@ public:
         size_t bias_updates = 0;   //!< keyframes whose last alignment updated the wheels' turn bias
         size_t bias_gated = 0;     //!< and those whose turn disagreed with the bias estimate (chi-square(1), gate_prob)
         size_t bias_applied = 0;   //!< wheel increments corrected by the estimate
+        size_t growth_clamped = 0; //!< keyframe steps whose covariance growth had a negative eigenvalue
 
         /** (name, count) of every counter, failures as align_failed.<reason>. */
         std::vector<std::pair<std::string, size_t>> list() const;
@@ -161,6 +176,9 @@ public:
      *  reference): for a filter that keeps a copy of the pose at the reference
      *  (EkfSlam::updateVehicleFromCopy) instead of taking refine()'s increment. */
     const std::optional<Increment>& lastRelativeMeasurement() const { return last_relative_; }
+    /** The vehicle at the last scan relative to its pose at the reference scan, filtered
+     *  from the wheels and the alignments to the reference (zero after a new reference). */
+    const Increment& relativePose() const { return since_reference_; }
     /** Whether the last refine()'s scan became the reference of the next ones. */
     bool lastScanIsReference() const { return last_is_reference_; }
 
@@ -181,6 +199,11 @@ private:
      *  the matcher's through the numeric Jacobian of `increment`, times cov_scale, plus
      *  the floors and the per-metre terms. */
     Increment alignedIncrement(const AlignResult& r, const std::function<Vec3(const Vec3&)>& increment) const;
+    /** The covariance of the step `step` from the relative pose `before` that makes the
+     *  composition of the steps handed on since the reference hold `after`, the relative
+     *  pose's covariance now (keyframe_step_cov = growth), PSD-clamped; `fallback` when it
+     *  cannot be formed. Updates handed_cov_. */
+    Mat3 covarianceGrowth(const Increment& before, const Mat3& after, const Vec3& step, const Mat3& fallback);
     /** Valid returns of `scan` within max_range_m, in the sensor frame. */
     PointSet usablePoints(const mrpt::obs::CObservation2DRangeScan& scan) const;
     /** `wheel` less the estimated turn bias while it is applied (else itself). */
@@ -209,6 +232,9 @@ private:
      *  keyframe (zero right after a new reference). */
     Increment since_reference_;
     bool reference_is_previous_ = false;  //!< the reference is the previous scan (set there)
+    /** The covariance of the steps handed on since the reference, composed as the filter
+     *  composes them (keyframe_step_cov = growth): at least since_reference_'s. */
+    Mat3 handed_cov_ = Mat3::Zero();
     /** The wheels alone (as read, bias included) since the reference scan, and the
      *  distance they travelled [m]. */
     Increment wheel_since_reference_;
