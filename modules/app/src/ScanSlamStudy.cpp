@@ -207,7 +207,8 @@ ScanSlamRun runScanSlamStudy(const sim::Scenario& scenario,
         // Scores of the state before this frame (the closure is found after it).
         const auto before = watch.closed ? ScanSlamRun::LandmarkErrors{} : landmarkErrors(slam, watch.truth);
         run.steps.push_back(processSimFrame(slam, f));
-        if (const auto* odo = slam.scanOdometry())
+        // Only a frame with a scan refines the odometry (the last measurement is stale otherwise).
+        if (const auto* odo = f.scan ? slam.scanOdometry() : nullptr)
         {
             if (const auto& m = odo->lastRelativeMeasurement())
                 run.odometry_alignments.push_back(

@@ -257,7 +257,8 @@ Mat3 ScanOdometry::covarianceGrowth(const Increment& before, const Mat3& after, 
     Jb.topLeftCorner<2, 2>() = rotation(before.mean.z());
     const Mat3 carried = Ja * handed_cov_ * Ja.transpose();
     const Mat3 Q = symmetric(Jb.transpose() * (after - carried) * Jb);  // Jb is a rotation: Jb^-1 = Jb^T
-    Eigen::SelfAdjointEigenSolver<Mat3> es(Q);
+    Eigen::SelfAdjointEigenSolver<Mat3> es;
+    if (Q.allFinite()) es.compute(Q);
     if (!Q.allFinite() || es.info() != Eigen::Success)
     {
         handed_cov_ = symmetric(carried + Jb * fallback * Jb.transpose());

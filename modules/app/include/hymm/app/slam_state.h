@@ -28,7 +28,7 @@
 namespace hymm::app
 {
 /** Format version of the state file; a reader accepts this one only. */
-constexpr std::uint32_t kRunStateVersion = 13;  // 2: the motion layers; 3: scan landmarks, HLLs; 4: observations_invalid_geometry; 5: point source counts by name, the keyframes' odometry; 6: template augmentation counters; 7: the points layer's bound by area; 8: motion layers of fallback tiles; 9: the scan landmarks' fused viewpoints; 10: auxiliary EKF blocks, the scan landmarks' apparent poses; 11: the scan landmarks' first scans; 12: their revisits; 13: the scan odometry, the pending wheel increment, the turn bias state's counters
+constexpr std::uint32_t kRunStateVersion = 13;  // 2: the motion layers; 3: scan landmarks, HLLs; 4: observations_invalid_geometry; 5: point source counts by name, the keyframes' odometry; 6: template augmentation counters; 7: the points layer's bound by area; 8: motion layers of fallback tiles; 9: the scan landmarks' fused viewpoints; 10: auxiliary EKF blocks, the scan landmarks' apparent poses; 11: the scan landmarks' first scans; 12: their revisits; 13: the scan odometry (keyframe scan, filters, the steps' covariance since the keyframe), the pending wheel increment, the turn bias state's counters
 
 /** What hymm-slam keeps beside the pipeline. */
 struct RunInfo

@@ -154,7 +154,8 @@ public:
      *  relative to the keyframe, which updates the filtered relative pose (predicted by
      *  the wheels), and the increment's mean is the step of that pose's estimate; its
      *  covariance is the one of the wheels fused with the alignment seen as a measurement
-     *  of this step alone (as without keyframes). `scan` becomes the next reference
+     *  of this step alone (as without keyframes), or with keyframe_step_cov = growth the
+     *  growth of the relative pose's covariance over the step. `scan` becomes the next reference
      *  when it starts a keyframe (always without keyframes, and after a failed or gated
      *  alignment). Never throws on bad data; the result's covariance is symmetric PSD. */
     Increment refine(const mrpt::obs::CObservation2DRangeScan& scan, const Increment& wheel);
