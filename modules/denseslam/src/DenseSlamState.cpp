@@ -119,11 +119,7 @@ void DenseSlam::saveOdometryState(mrpt::serialization::CArchive& out) const
     // filters) and the turn bias state's counters; the bias and the vehicle's copy at the
     // reference scan are blocks of the filter, saved with it.
     out << pending_odometry_.has_value();
-    if (pending_odometry_)
-    {
-        writeMatrix(out, pending_odometry_->mean);
-        writeMatrix(out, pending_odometry_->cov);
-    }
+    if (pending_odometry_) scanslam::saveIncrement(out, *pending_odometry_);
     out << bool(scan_odometry_);
     if (scan_odometry_) scan_odometry_->saveState(out);
     TurnBiasStats t = turn_bias_stats_;
@@ -133,15 +129,7 @@ void DenseSlam::saveOdometryState(mrpt::serialization::CArchive& out) const
 void DenseSlam::loadOdometryState(mrpt::serialization::CArchive& in)
 {
     pending_odometry_.reset();
-    if (readBool(in))
-    {
-        scanslam::ScanOdometry::Increment p;
-        readMatrix(in, p.mean, "pending odometry");
-        readMatrix(in, p.cov, "pending odometry covariance");
-        if (!p.mean.allFinite() || !p.cov.allFinite())
-            throw std::runtime_error("corrupt state: pending odometry is not finite");
-        pending_odometry_ = p;
-    }
+    if (readBool(in)) pending_odometry_ = scanslam::loadIncrement(in, "pending odometry");
     if (readBool(in) != bool(scan_odometry_))
         throw std::runtime_error("the state's scan odometry differs from the config's ([ScanOdometry] enabled)");
     if (scan_odometry_) scan_odometry_->loadState(in);

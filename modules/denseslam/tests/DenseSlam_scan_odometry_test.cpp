@@ -267,7 +267,15 @@ TEST(DenseSlamScanOdometry, RunStateContinuesBitForBit)
             mem.Seek(0);
             auto in = mrpt::serialization::archiveFrom(mem);
             DenseSlam other = pipeline(false, c.dense);
-            EXPECT_THROW(other.loadState(in), std::runtime_error);
+            try
+            {
+                other.loadState(in);
+                ADD_FAILURE() << "a state with scan odometry loaded into a pipeline without it";
+            }
+            catch (const std::runtime_error& e)
+            {
+                EXPECT_NE(std::string(e.what()).find("scan odometry differs"), std::string::npos) << e.what();
+            }
         }
         // With keyframes one of the cuts holds a keyframe-relative pose (not just reset).
         if (std::string(c.odometry).find("keyframe_distance_m") != std::string::npos)

@@ -286,12 +286,15 @@ std::vector<size_t*> counters(ScanOdometry::Stats& s)
     return {&s.scans, &s.no_reference, &s.too_few_points, &s.gated, &s.fused,
             &s.keyframes, &s.bias_updates, &s.bias_gated, &s.bias_applied, &s.growth_clamped};
 }
-void writeIncrement(mrpt::serialization::CArchive& out, const ScanOdometry::Increment& i)
+}  // namespace
+
+void saveIncrement(mrpt::serialization::CArchive& out, const ScanOdometry::Increment& i)
 {
     writeMatrix(out, i.mean);
     writeMatrix(out, i.cov);
 }
-ScanOdometry::Increment readIncrement(mrpt::serialization::CArchive& in, const char* what)
+
+ScanOdometry::Increment loadIncrement(mrpt::serialization::CArchive& in, const char* what)
 {
     ScanOdometry::Increment i;
     readMatrix(in, i.mean, what);
@@ -300,7 +303,6 @@ ScanOdometry::Increment readIncrement(mrpt::serialization::CArchive& in, const c
         throw std::runtime_error(std::string("corrupt state: ") + what + " is not finite");
     return i;
 }
-}  // namespace
 
 void ScanOdometry::saveState(mrpt::serialization::CArchive& out) const
 {
@@ -311,15 +313,15 @@ void ScanOdometry::saveState(mrpt::serialization::CArchive& out) const
     out << has_reference_;
     savePointSet(out, reference_);
     writeMatrix(out, reference_mount_);
-    writeIncrement(out, since_reference_);
+    saveIncrement(out, since_reference_);
     out << reference_is_previous_;
     writeMatrix(out, handed_cov_);
-    writeIncrement(out, wheel_since_reference_);
+    saveIncrement(out, wheel_since_reference_);
     out << wheel_distance_since_reference_;
     out << turn_observation_.has_value();
     if (turn_observation_) out << turn_observation_->e << turn_observation_->ds << turn_observation_->var;
     out << last_relative_.has_value();
-    if (last_relative_) writeIncrement(out, *last_relative_);
+    if (last_relative_) saveIncrement(out, *last_relative_);
     out << last_is_reference_ << turn_bias_ << turn_bias_var_;
     writeTag(out, "ScanOdometry end");
 }
@@ -336,11 +338,11 @@ void ScanOdometry::loadState(mrpt::serialization::CArchive& in)
     loadPointSet(in, reference);
     Vec3 mount;
     readMatrix(in, mount, "scan odometry mount");
-    const Increment since = readIncrement(in, "scan odometry pose since the reference");
+    const Increment since = loadIncrement(in, "scan odometry pose since the reference");
     const bool reference_is_previous = readBool(in);
     Mat3 handed_cov;
     readMatrix(in, handed_cov, "scan odometry steps since the reference");
-    const Increment wheel_since = readIncrement(in, "scan odometry wheels since the reference");
+    const Increment wheel_since = loadIncrement(in, "scan odometry wheels since the reference");
     const double wheel_distance = readDouble(in);
     std::optional<TurnObservation> turn;
     if (readBool(in))
@@ -350,7 +352,7 @@ void ScanOdometry::loadState(mrpt::serialization::CArchive& in)
         turn = t;
     }
     std::optional<Increment> last_relative;
-    if (readBool(in)) last_relative = readIncrement(in, "scan odometry last alignment");
+    if (readBool(in)) last_relative = loadIncrement(in, "scan odometry last alignment");
     const bool last_is_reference = readBool(in);
     const double bias = readDouble(in), bias_var = readDouble(in);
     expectTag(in, "ScanOdometry end");

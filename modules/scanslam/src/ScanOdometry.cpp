@@ -4,6 +4,7 @@
  */
 #include "hymm/scanslam/ScanOdometry.h"
 
+#include <hymm/ekf/pose_composition.h>
 #include <mrpt/math/distributions.h>
 
 #include <Eigen/Cholesky>
@@ -249,12 +250,8 @@ Mat3 ScanOdometry::covarianceGrowth(const Increment& before, const Mat3& after, 
     // The filter composes the steps: H' = Ja H Ja^T + Jb Q Jb^T (composeIncrements, a =
     // the relative pose before the step, b = the step), H the covariance of the steps
     // handed on since the reference. Q is solved for H' = after, the relative pose's.
-    const double c = std::cos(before.mean.z()), s = std::sin(before.mean.z());
-    Mat3 Ja = Mat3::Identity();
-    Ja(0, 2) = -s * step.x() - c * step.y();
-    Ja(1, 2) = c * step.x() - s * step.y();
-    Mat3 Jb = Mat3::Identity();
-    Jb.topLeftCorner<2, 2>() = rotation(before.mean.z());
+    Mat3 Ja, Jb;
+    (void)ekf::composePose(before.mean, step, &Ja, &Jb);
     const Mat3 carried = Ja * handed_cov_ * Ja.transpose();
     const Mat3 Q = symmetric(Jb.transpose() * (after - carried) * Jb);  // Jb is a rotation: Jb^-1 = Jb^T
     Eigen::SelfAdjointEigenSolver<Mat3> es;
@@ -290,12 +287,8 @@ ScanOdometry::Increment ScanOdometry::alignedIncrement(const AlignResult& r,
     Increment s;
     s.mean = increment(r.z);
     s.cov = symmetric(J * r.R * J.transpose()) * options_.cov_scale;
-    if (options_.heading_cov_scale != 1)
-    {
-        const double k = std::sqrt(options_.heading_cov_scale);
-        s.cov.row(2) *= k;
-        s.cov.col(2) *= k;
-    }
+    s.cov.row(2) *= std::sqrt(options_.heading_cov_scale);  // its variance times the factor
+    s.cov.col(2) *= std::sqrt(options_.heading_cov_scale);
     const double travel = s.mean.head<2>().norm();
     const double sxy = options_.min_std_xy_m + options_.std_xy_per_m * travel;
     const double sphi = options_.min_std_phi + options_.std_phi_per_m * travel;
@@ -307,13 +300,8 @@ ScanOdometry::Increment ScanOdometry::alignedIncrement(const AlignResult& r,
 
 ScanOdometry::Increment composeIncrements(const ScanOdometry::Increment& a, const ScanOdometry::Increment& b)
 {
-    const double c = std::cos(a.mean.z()), s = std::sin(a.mean.z());
-    const double bx = b.mean.x(), by = b.mean.y();
-    Mat3 Ja = Mat3::Identity();
-    Ja(0, 2) = -s * bx - c * by;
-    Ja(1, 2) = c * bx - s * by;
-    Mat3 Jb = Mat3::Identity();
-    Jb.topLeftCorner<2, 2>() = rotation(a.mean.z());
+    Mat3 Ja, Jb;
+    (void)ekf::composePose(a.mean, b.mean, &Ja, &Jb);
     ScanOdometry::Increment out;
     out.mean = compose(a.mean, b.mean);
     out.cov = symmetric(Ja * a.cov * Ja.transpose() + Jb * b.cov * Jb.transpose());

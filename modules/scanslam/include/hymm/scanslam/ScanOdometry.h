@@ -256,6 +256,11 @@ private:
 /** a (+) b with the covariance of both propagated to first order (independent a and b). */
 ScanOdometry::Increment composeIncrements(const ScanOdometry::Increment& a, const ScanOdometry::Increment& b);
 
+/** An increment in a saved run state (mean, covariance); loading throws
+ *  std::runtime_error naming `what` on a corrupt or non-finite one. */
+void saveIncrement(mrpt::serialization::CArchive& out, const ScanOdometry::Increment& i);
+ScanOdometry::Increment loadIncrement(mrpt::serialization::CArchive& in, const char* what);
+
 /** The wheel increment `w` updated by the independent measurement `s` of the same
  *  increment (Kalman update, Joseph form); `d2` receives the squared Mahalanobis
  *  distance of s - w (angle wrapped) under P_w + P_s. */
