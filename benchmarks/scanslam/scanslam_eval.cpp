@@ -155,11 +155,13 @@ void printCounts(const std::string& title, const std::map<std::string, size_t>& 
     std::cout << "\n";
 }
 
-/** How alike the errors of two fused alignments of the same template are, by the true
- *  sensor travel between them: per axis, the correlation of the normalised errors
- *  e_i / sqrt(R_ii) over all such pairs (0: independent, as the EKF assumes; 1: the same
- *  error again). Local alignments only (the wide search's start is another). */
-void errorCorrelationTable(const std::vector<hymm::app::ScanSlamRun>& runs)
+/** How alike the errors of two fused alignments of the same template are, by the
+ *  distance between the true sensor positions (the change of viewpoint): per axis, the
+ *  correlation of the normalised errors e_i / sqrt(R_ii) over all such pairs (0:
+ *  independent, as the EKF assumes; 1: the same error again). Local alignments only (the
+ *  wide search's start is another). Pairs more than `pass_gap_s` apart in time (another
+ *  pass of the template: the view_corr model's "earlier passes") in a table of their own. */
+void errorCorrelationTable(const std::vector<hymm::app::ScanSlamRun>& runs, bool other_pass, double pass_gap_s)
 {
     const std::vector<double> edges{0, 0.5, 1, 2, 4, 8, 16, 1e9};
     const size_t nb = edges.size() - 1;
@@ -175,6 +177,7 @@ void errorCorrelationTable(const std::vector<hymm::app::ScanSlamRun>& runs)
             for (size_t a = 0; a < obs.size(); ++a)
                 for (size_t b = a + 1; b < obs.size(); ++b)
                 {
+                    if ((std::abs(obs[b]->t - obs[a]->t) > pass_gap_s) != other_pass) continue;
                     const double d = (obs[b]->sensor - obs[a]->sensor).norm();
                     const auto it = std::upper_bound(edges.begin(), edges.end(), d);
                     const size_t k = static_cast<size_t>(it - edges.begin()) - 1;
@@ -188,7 +191,8 @@ void errorCorrelationTable(const std::vector<hymm::app::ScanSlamRun>& runs)
                     }
                 }
     }
-    std::printf("\n| sensor travel between two fused alignments of one template [m] | pairs | error correlation x / y / phi |\n|---|---|---|\n");
+    std::printf("\n| change of viewpoint between two fused alignments of one template [m], %s | pairs | error correlation x / y / phi |\n|---|---|---|\n",
+                other_pass ? "another pass (more than 30 s apart)" : "the same pass (within 30 s)");
     for (size_t k = 0; k < nb; ++k)
     {
         if (pairs[k] == 0) continue;
@@ -207,7 +211,8 @@ void observationTables(const std::vector<hymm::app::ScanSlamRun>& runs)
                      [](const O& o) { return o.travel_m; });
     observationTable(runs, "view change since creation [deg]", {0, 5, 10, 20, 40, 90, 180},
                      [](const O& o) { return o.view_change * 180 / M_PI; });
-    errorCorrelationTable(runs);
+    errorCorrelationTable(runs, false, 30);
+    errorCorrelationTable(runs, true, 30);
 }
 // Steps every run has (the runs share the frame times).
 size_t commonSteps(const std::vector<hymm::app::ScanSlamRun>& runs)

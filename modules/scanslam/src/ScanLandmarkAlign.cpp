@@ -30,6 +30,8 @@ void declareViewCorrKeys(core::OptionTable& t, ScanLandmarkMap::Options& o)
            "correlated share c of an alignment's error between nearby viewpoints (0: independent)");
     t.real("view_corr_length_m", o.view_corr_length_m, "m", above(0, 10000),
            "correlation length L of that share over the viewpoint");
+    t.real("view_corr_pass_fraction", o.view_corr_pass_fraction, "", between(0, 1),
+           "state: the share counted against earlier passes' viewpoints, as a fraction of view_corr_share (0: a new pass is independent)");
     t.choice("view_corr_model", o.view_corr_model, {{"inflate", M::Inflate}, {"state", M::State}},
              "that share as a larger R (inflate) or as a Gauss-Markov state of each template's apparent pose (state)");
     t.real("view_corr_drop_lengths", o.view_corr_drop_lengths, "", above(0, 1000),
@@ -42,9 +44,9 @@ size_t ScanLandmarkMap::fusedViews(long id) const
     return it != fused_views_.end() ? it->second.size() : 0;
 }
 
-double ScanLandmarkMap::viewCorrelationFactor(long id, const Vec2& view, size_t n_views) const
+double ScanLandmarkMap::viewCorrelationFactor(long id, const Vec2& view, size_t n_views, double share) const
 {
-    const double c = options_.view_corr_share;
+    const double c = share >= 0 ? share : options_.view_corr_share;
     const auto it = fused_views_.find(id);
     if (c <= 0 || it == fused_views_.end()) return 1.0;
     const size_t n = std::min(n_views, it->second.size());
@@ -86,7 +88,8 @@ Vec3 ScanLandmarkMap::alignAndUpdate(ekf::EkfSlam& ekf, long id, const ScanTempl
         // in the inflate model: the state carries the correlation within a pass only.
         const auto a = apparent_.find(id);
         const size_t past = a != apparent_.end() ? a->second.first_view : fusedViews(id);
-        const Mat3 Rp = viewCorrelationFactor(id, view, past) * Rv;
+        const Mat3 Rp =
+            viewCorrelationFactor(id, view, past, options_.view_corr_pass_fraction * options_.view_corr_share) * Rv;
         target = apparentBlock(ekf, id, view, Rp, sensor);
         R = (1 - options_.view_corr_share) * Rp;
     }

@@ -121,9 +121,10 @@ public:
          *  view_corr_drop_lengths L from its last viewpoint, and before a wide (loop-
          *  closing) answer, which observes L with the whole R. The state carries the
          *  correlation within a pass; against the viewpoints of earlier passes (fused
-         *  before the current A existed) R is scaled as in `inflate` first, so that a
-         *  second lap along the first one's viewpoints does not count their shared error
-         *  again. */
+         *  before the current A existed) R is scaled as in `inflate` first, with the
+         *  share view_corr_pass_fraction c, so that a second lap along the first one's
+         *  viewpoints does not count their shared error again (fraction 1) or counts a
+         *  new pass as independent of the earlier ones (0). */
         enum class ViewCorrModel
         {
             Inflate,
@@ -131,6 +132,8 @@ public:
         };
         ViewCorrModel view_corr_model = ViewCorrModel::Inflate;  //!< ini: view_corr_model = inflate | state
         double view_corr_drop_lengths = 3;  //!< state: A is dropped beyond this many L (rho < e^-3)
+        /** state: the share counted against earlier passes' viewpoints, times c (above). */
+        double view_corr_pass_fraction = 1;  //!< ini: view_corr_pass_fraction
         /** > 0: a template whose d exceeds this is not aligned (`view_changed`) [m]. */
         double max_view_change_m = 0;
         /** > 0: a template whose predicted position in the sensor frame has a standard
@@ -326,10 +329,11 @@ private:
      *  viewpoint change of `d` metres (viewChange). */
     Mat3 viewCovariance(const Mat3& R, double d) const;
     /** Options::view_corr_share: the factor on R of an alignment of landmark `id` from
-     *  the viewpoint `view` (sensor position in the template frame); 1 when off or when
-     *  the template was never fused. */
-    double viewCorrelationFactor(long id, const Vec2& view,
-                                 size_t n_views = std::numeric_limits<size_t>::max()) const;
+     *  the viewpoint `view` (sensor position in the template frame) against its first
+     *  `n_views` fused viewpoints, with the correlated share `share` (negative:
+     *  view_corr_share); 1 when off or when the template was never fused. */
+    double viewCorrelationFactor(long id, const Vec2& view, size_t n_views = std::numeric_limits<size_t>::max(),
+                                 double share = -1) const;
     /** view_corr_model = state: relaxes (or creates) the apparent-pose block of landmark
      *  `id` for an alignment from `view` with covariance `R` (sensor frame, whole);
      *  returns the block to update. */
