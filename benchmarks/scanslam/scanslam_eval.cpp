@@ -160,7 +160,9 @@ void printCounts(const std::string& title, const std::map<std::string, size_t>& 
  *  correlation of the normalised errors e_i / sqrt(R_ii) over all such pairs (0:
  *  independent, as the EKF assumes; 1: the same error again). Local alignments only (the
  *  wide search's start is another). Pairs more than `pass_gap_s` apart in time (another
- *  pass of the template: the view_corr model's "earlier passes") in a table of their own. */
+ *  pass of the template; an approximation of the view_corr state model's "earlier
+ *  passes", which it separates by the viewpoint, view_corr_drop_lengths L) in a table
+ *  of their own. */
 void errorCorrelationTable(const std::vector<hymm::app::ScanSlamRun>& runs, bool other_pass, double pass_gap_s)
 {
     const std::vector<double> edges{0, 0.5, 1, 2, 4, 8, 16, 1e9};
@@ -191,8 +193,9 @@ void errorCorrelationTable(const std::vector<hymm::app::ScanSlamRun>& runs, bool
                     }
                 }
     }
-    std::printf("\n| change of viewpoint between two fused alignments of one template [m], %s | pairs | error correlation x / y / phi |\n|---|---|---|\n",
-                other_pass ? "another pass (more than 30 s apart)" : "the same pass (within 30 s)");
+    std::printf("\n| change of viewpoint between two fused alignments of one template [m], %s %g s) | pairs | "
+                "error correlation x / y / phi |\n|---|---|---|\n",
+                other_pass ? "another pass (more than" : "the same pass (within", pass_gap_s);
     for (size_t k = 0; k < nb; ++k)
     {
         if (pairs[k] == 0) continue;
@@ -211,8 +214,9 @@ void observationTables(const std::vector<hymm::app::ScanSlamRun>& runs)
                      [](const O& o) { return o.travel_m; });
     observationTable(runs, "view change since creation [deg]", {0, 5, 10, 20, 40, 90, 180},
                      [](const O& o) { return o.view_change * 180 / M_PI; });
-    errorCorrelationTable(runs, false, 30);
-    errorCorrelationTable(runs, true, 30);
+    constexpr double kPassGapS = 30;
+    errorCorrelationTable(runs, false, kPassGapS);
+    errorCorrelationTable(runs, true, kPassGapS);
 }
 // Steps every run has (the runs share the frame times).
 size_t commonSteps(const std::vector<hymm::app::ScanSlamRun>& runs)

@@ -85,11 +85,12 @@ Vec3 ScanLandmarkMap::alignAndUpdate(ekf::EkfSlam& ekf, long id, const ScanTempl
     if (state)
     {
         // Viewpoints of earlier passes (fused before this apparent pose existed) count as
-        // in the inflate model: the state carries the correlation within a pass only.
+        // in the inflate model, with the share view_corr_pass_fraction c: the state
+        // carries the correlation within a pass only.
         const auto a = apparent_.find(id);
         const size_t past = a != apparent_.end() ? a->second.first_view : fusedViews(id);
-        const Mat3 Rp =
-            viewCorrelationFactor(id, view, past, options_.view_corr_pass_fraction * options_.view_corr_share) * Rv;
+        const double pass_share = std::clamp(options_.view_corr_pass_fraction, 0.0, 1.0) * options_.view_corr_share;
+        const Mat3 Rp = viewCorrelationFactor(id, view, past, pass_share) * Rv;
         target = apparentBlock(ekf, id, view, Rp, sensor);
         R = (1 - options_.view_corr_share) * Rp;
     }

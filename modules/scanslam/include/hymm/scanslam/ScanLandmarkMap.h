@@ -120,11 +120,10 @@ public:
          *  and marginalised out (removed from the state) once the sensor is more than
          *  view_corr_drop_lengths L from its last viewpoint, and before a wide (loop-
          *  closing) answer, which observes L with the whole R. The state carries the
-         *  correlation within a pass; against the viewpoints of earlier passes (fused
-         *  before the current A existed) R is scaled as in `inflate` first, with the
-         *  share view_corr_pass_fraction c, so that a second lap along the first one's
-         *  viewpoints does not count their shared error again (fraction 1) or counts a
-         *  new pass as independent of the earlier ones (0). */
+         *  correlation within a pass; against earlier passes' viewpoints (fused before
+         *  the current A existed) R is scaled as in `inflate` first, with the share
+         *  view_corr_pass_fraction c (1: a later pass does not count their shared error
+         *  again; 0: it is independent of them). */
         enum class ViewCorrModel
         {
             Inflate,
@@ -132,8 +131,7 @@ public:
         };
         ViewCorrModel view_corr_model = ViewCorrModel::Inflate;  //!< ini: view_corr_model = inflate | state
         double view_corr_drop_lengths = 3;  //!< state: A is dropped beyond this many L (rho < e^-3)
-        /** state: the share counted against earlier passes' viewpoints, times c (above). */
-        double view_corr_pass_fraction = 1;  //!< ini: view_corr_pass_fraction
+        double view_corr_pass_fraction = 1;  //!< state: earlier passes' share / c (above)
         /** > 0: a template whose d exceeds this is not aligned (`view_changed`) [m]. */
         double max_view_change_m = 0;
         /** > 0: a template whose predicted position in the sensor frame has a standard
