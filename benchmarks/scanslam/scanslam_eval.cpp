@@ -161,15 +161,24 @@ void printCounts(const std::string& title, const std::map<std::string, size_t>& 
  *  independent, as the EKF assumes; 1: the same error again). Local alignments only (the
  *  wide search's start is another). Pairs more than `pass_gap_s` apart in time (another
  *  pass of the template; an approximation of the view_corr state model's "earlier
- *  passes", which it separates by the viewpoint, view_corr_drop_lengths L) in a table
- *  of their own. */
-void errorCorrelationTable(const std::vector<hymm::app::ScanSlamRun>& runs, bool other_pass, double pass_gap_s)
+ *  passes", which it separates by the viewpoint, view_corr_drop_lengths L) in a second
+ *  table. */
+void errorCorrelationTables(const std::vector<hymm::app::ScanSlamRun>& runs, double pass_gap_s)
 {
     const std::vector<double> edges{0, 0.5, 1, 2, 4, 8, 16, 1e9};
     const size_t nb = edges.size() - 1;
-    std::vector<Eigen::Vector3d> sab(nb, Eigen::Vector3d::Zero()), saa(nb, Eigen::Vector3d::Zero()),
-        sbb(nb, Eigen::Vector3d::Zero());
-    std::vector<size_t> pairs(nb, 0);
+    /** Sums of one table (one per pass relation): per bin, the pairs and the products. */
+    struct Sums
+    {
+        std::vector<Eigen::Vector3d> ab, aa, bb;
+        std::vector<size_t> pairs;
+    };
+    std::array<Sums, 2> tables;  // [0]: the same pass, [1]: another pass
+    for (Sums& t : tables)
+    {
+        t.ab = t.aa = t.bb = std::vector<Eigen::Vector3d>(nb, Eigen::Vector3d::Zero());
+        t.pairs.assign(nb, 0);
+    }
     for (const auto& r : runs)
     {
         std::map<long, std::vector<const hymm::app::ScanSlamRun::Observation*>> by_id;
@@ -179,29 +188,34 @@ void errorCorrelationTable(const std::vector<hymm::app::ScanSlamRun>& runs, bool
             for (size_t a = 0; a < obs.size(); ++a)
                 for (size_t b = a + 1; b < obs.size(); ++b)
                 {
-                    if ((std::abs(obs[b]->t - obs[a]->t) > pass_gap_s) != other_pass) continue;
                     const double d = (obs[b]->sensor - obs[a]->sensor).norm();
                     const auto it = std::upper_bound(edges.begin(), edges.end(), d);
                     const size_t k = static_cast<size_t>(it - edges.begin()) - 1;
                     if (k >= nb) continue;
-                    ++pairs[k];
+                    Sums& t = tables[std::abs(obs[b]->t - obs[a]->t) > pass_gap_s ? 1 : 0];
+                    ++t.pairs[k];
                     for (int i = 0; i < 3; ++i)
                     {
                         const double ua = obs[a]->error[i] / std::sqrt(obs[a]->R(i, i));
                         const double ub = obs[b]->error[i] / std::sqrt(obs[b]->R(i, i));
-                        sab[k][i] += ua * ub, saa[k][i] += ua * ua, sbb[k][i] += ub * ub;
+                        t.ab[k][i] += ua * ub, t.aa[k][i] += ua * ua, t.bb[k][i] += ub * ub;
                     }
                 }
     }
-    std::printf("\n| change of viewpoint between two fused alignments of one template [m], %s %g s) | pairs | "
-                "error correlation x / y / phi |\n|---|---|---|\n",
-                other_pass ? "another pass (more than" : "the same pass (within", pass_gap_s);
-    for (size_t k = 0; k < nb; ++k)
+    for (size_t other = 0; other < 2; ++other)
     {
-        if (pairs[k] == 0) continue;
-        Eigen::Vector3d c;
-        for (int i = 0; i < 3; ++i) c[i] = sab[k][i] / std::sqrt(saa[k][i] * sbb[k][i]);
-        std::printf("| %g-%g | %zu | %.2f / %.2f / %.2f |\n", edges[k], edges[k + 1], pairs[k], c[0], c[1], c[2]);
+        const Sums& t = tables[other];
+        std::printf("\n| change of viewpoint between two fused alignments of one template [m], %s %g s) | pairs | "
+                    "error correlation x / y / phi |\n|---|---|---|\n",
+                    other ? "another pass (more than" : "the same pass (within", pass_gap_s);
+        for (size_t k = 0; k < nb; ++k)
+        {
+            if (t.pairs[k] == 0) continue;
+            Eigen::Vector3d c;
+            for (int i = 0; i < 3; ++i) c[i] = t.ab[k][i] / std::sqrt(t.aa[k][i] * t.bb[k][i]);
+            std::printf("| %g-%g | %zu | %.2f / %.2f / %.2f |\n", edges[k], edges[k + 1], t.pairs[k], c[0], c[1],
+                        c[2]);
+        }
     }
 }
 
@@ -214,9 +228,7 @@ void observationTables(const std::vector<hymm::app::ScanSlamRun>& runs)
                      [](const O& o) { return o.travel_m; });
     observationTable(runs, "view change since creation [deg]", {0, 5, 10, 20, 40, 90, 180},
                      [](const O& o) { return o.view_change * 180 / M_PI; });
-    constexpr double kPassGapS = 30;
-    errorCorrelationTable(runs, false, kPassGapS);
-    errorCorrelationTable(runs, true, kPassGapS);
+    errorCorrelationTables(runs, 30);
 }
 // Steps every run has (the runs share the frame times).
 size_t commonSteps(const std::vector<hymm::app::ScanSlamRun>& runs)

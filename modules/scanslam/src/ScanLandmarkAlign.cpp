@@ -44,9 +44,8 @@ size_t ScanLandmarkMap::fusedViews(long id) const
     return it != fused_views_.end() ? it->second.size() : 0;
 }
 
-double ScanLandmarkMap::viewCorrelationFactor(long id, const Vec2& view, size_t n_views, double share) const
+double ScanLandmarkMap::viewCorrelationFactor(long id, const Vec2& view, double c, size_t n_views) const
 {
-    const double c = share >= 0 ? share : options_.view_corr_share;
     const auto it = fused_views_.find(id);
     if (c <= 0 || it == fused_views_.end()) return 1.0;
     const size_t n = std::min(n_views, it->second.size());
@@ -89,13 +88,13 @@ Vec3 ScanLandmarkMap::alignAndUpdate(ekf::EkfSlam& ekf, long id, const ScanTempl
         // carries the correlation within a pass only.
         const auto a = apparent_.find(id);
         const size_t past = a != apparent_.end() ? a->second.first_view : fusedViews(id);
-        const double pass_share = std::clamp(options_.view_corr_pass_fraction, 0.0, 1.0) * options_.view_corr_share;
-        const Mat3 Rp = viewCorrelationFactor(id, view, past, pass_share) * Rv;
+        const double pass_share = options_.view_corr_pass_fraction * options_.view_corr_share;
+        const Mat3 Rp = viewCorrelationFactor(id, view, pass_share, past) * Rv;
         target = apparentBlock(ekf, id, view, Rp, sensor);
         R = (1 - options_.view_corr_share) * Rp;
     }
     else
-        R = viewCorrelationFactor(id, view) * Rv;
+        R = viewCorrelationFactor(id, view, options_.view_corr_share) * Rv;
     const auto rep = ekf.updatePoseLandmark(target, res.z, R, sensor, options_.gate_prob, options_.update_iterations);
     using O = ekf::PoseUpdateReport::Outcome;
     last_aligned_.push_back({id, res.z, R, z_hat, rep.outcome == O::updated});

@@ -287,8 +287,9 @@ ScanOdometry::Increment ScanOdometry::alignedIncrement(const AlignResult& r,
     Increment s;
     s.mean = increment(r.z);
     s.cov = symmetric(J * r.R * J.transpose()) * options_.cov_scale;
-    s.cov.row(2) *= std::sqrt(options_.heading_cov_scale);  // its variance times the factor
-    s.cov.col(2) *= std::sqrt(options_.heading_cov_scale);
+    const double k = std::sqrt(options_.heading_cov_scale);  // its variance times the factor
+    s.cov.row(2) *= k;
+    s.cov.col(2) *= k;
     const double travel = s.mean.head<2>().norm();
     const double sxy = options_.min_std_xy_m + options_.std_xy_per_m * travel;
     const double sphi = options_.min_std_phi + options_.std_phi_per_m * travel;

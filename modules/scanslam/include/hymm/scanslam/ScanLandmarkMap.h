@@ -326,12 +326,12 @@ private:
     /** The matcher's covariance `R` plus the viewpoint term of Options (view_std_*) for a
      *  viewpoint change of `d` metres (viewChange). */
     Mat3 viewCovariance(const Mat3& R, double d) const;
-    /** Options::view_corr_share: the factor on R of an alignment of landmark `id` from
-     *  the viewpoint `view` (sensor position in the template frame) against its first
-     *  `n_views` fused viewpoints, with the correlated share `share` (negative:
-     *  view_corr_share); 1 when off or when the template was never fused. */
-    double viewCorrelationFactor(long id, const Vec2& view, size_t n_views = std::numeric_limits<size_t>::max(),
-                                 double share = -1) const;
+    /** The factor on R of an alignment of landmark `id` from the viewpoint `view`
+     *  (sensor position in the template frame) with the correlated share `c`, against
+     *  its first `n_views` fused viewpoints; 1 when c is 0 or the template was never
+     *  fused. */
+    double viewCorrelationFactor(long id, const Vec2& view, double c,
+                                 size_t n_views = std::numeric_limits<size_t>::max()) const;
     /** view_corr_model = state: relaxes (or creates) the apparent-pose block of landmark
      *  `id` for an alignment from `view` with covariance `R` (sensor frame, whole);
      *  returns the block to update. */
