@@ -4,7 +4,8 @@
 // medians and spreads; the vehicle NEES is averaged over the runs step by step and
 // compared with the 95 % band of the run-averaged chi-square(3). -p S also prints that
 // NEES (3 DOF, position, heading) in bins of S seconds: where the runs leave the band;
-// --closure-profile S the same in bins of time relative to each run's loop closure.
+// --closure-profile S the same in bins of time relative to each run's loop closure;
+// --subsets K how the share of steps in the band varies over sets of K of the runs.
 //   hymm-scanslam-eval -c configs/ch5_scanslam.ini -s configs/sim/ch5_scanslam.ini -n 20
 #include <hymm/app/ScanSlamStudy.h>
 #include <hymm/core/config_utils.h>
@@ -22,6 +23,7 @@
 #include <cstdio>
 #include <iostream>
 #include <numeric>
+#include <random>
 #include <string>
 #include <utility>
 #include <vector>
@@ -284,6 +286,75 @@ void neesProfile(const std::vector<hymm::app::ScanSlamRun>& runs, double bin_s)
     }
 }
 
+// How much the share of steps inside the band depends on which seeds a set holds: the
+// share for random k-run subsets of the runs (1000 draws without replacement, generator
+// seed fixed) and for the disjoint blocks of k consecutive seeds; then the same with every
+// covariance divided by a constant (the NEES times 0.7 ... 1.5): what the best constant
+// calibration of these runs would give, their errors and their differences unchanged.
+void subsetTable(const std::vector<hymm::app::ScanSlamRun>& runs, int k, long first_seed)
+{
+    const size_t n = commonSteps(runs), nr = runs.size();
+    if (k < 1 || static_cast<size_t>(k) >= nr)
+        throw std::invalid_argument("--subsets must be >= 1 and below --seeds");
+    std::vector<double> run_mean;
+    for (const auto& r : runs)
+    {
+        double sum = 0;
+        size_t count = 0;
+        for (size_t i = 0; i < n; ++i)
+            if (std::isfinite(r.steps[i].nees)) sum += r.steps[i].nees, ++count;
+        run_mean.push_back(count > 0 ? sum / static_cast<double>(count) : std::nan(""));
+    }
+    const double mean = std::accumulate(run_mean.begin(), run_mean.end(), 0.0) / static_cast<double>(nr);
+    const Spread per_run = spread(run_mean);
+    const auto band = hymm::eval::averageNeesBounds(3, k, 0.95);
+    const auto share = [&](const std::vector<size_t>& pick, double scale) {
+        std::vector<double> avg(n, 0.0);
+        for (size_t j : pick)
+            for (size_t i = 0; i < n; ++i) avg[i] += scale * runs[j].steps[i].nees / k;
+        size_t above = 0;
+        for (double v : avg) above += v > band.upper;
+        return std::make_pair(hymm::eval::fractionInsideBounds(avg, band),
+                              static_cast<double>(above) / static_cast<double>(n));
+    };
+    std::printf("\nvehicle NEES over every step of the %zu runs: mean %.2f (3 expected); each run's mean: "
+                "median %.2f (10th-90th %.2f-%.2f); %d-run sets, band [%.3f, %.3f]\n\n",
+                nr, mean, per_run.median, per_run.lo, per_run.hi, k, band.lower, band.upper);
+    std::cout << "| NEES | share of the steps inside the band: median (10th-90th) over 1000 random sets | "
+                 "sets at >= 0.9 | steps above the band: 90th percentile | consecutive blocks of seeds |\n"
+                 "|---|---|---|---|---|\n";
+    std::vector<size_t> idx(nr);
+    for (const double scale : {0.7, 0.8, 0.9, 1.0, 1.1, 1.2, 1.3, 1.4, 1.5})
+    {
+        std::iota(idx.begin(), idx.end(), 0);
+        std::mt19937 gen(1);
+        std::vector<double> shares, aboves;
+        size_t hit = 0;
+        for (int d = 0; d < 1000; ++d)
+        {
+            std::shuffle(idx.begin(), idx.end(), gen);
+            const auto [in, above] = share({idx.begin(), idx.begin() + k}, scale);
+            shares.push_back(in);
+            aboves.push_back(above);
+            hit += in >= 0.9;
+        }
+        std::string blocks;
+        for (size_t b = 0; b + static_cast<size_t>(k) <= nr; b += static_cast<size_t>(k))
+        {
+            std::vector<size_t> pick(static_cast<size_t>(k));
+            std::iota(pick.begin(), pick.end(), b);
+            char buf[64];
+            std::snprintf(buf, sizeof buf, "%s%ld-%ld: %.2f", blocks.empty() ? "" : ", ",
+                          first_seed + static_cast<long>(b), first_seed + static_cast<long>(b) + k - 1,
+                          share(pick, scale).first);
+            blocks += buf;
+        }
+        const Spread s = spread(shares);
+        std::printf("| x %.1f | %.2f (%.2f-%.2f) | %.2f | %.2f | %s |\n", scale, s.median, s.lo, s.hi,
+                    static_cast<double>(hit) / 1000.0, spread(aboves).hi, blocks.c_str());
+    }
+}
+
 // Vehicle NEES averaged over the runs that close their loop, in bins of `bin_s` seconds of
 // time relative to each run's closure (its first fused wide answer): the runs close at
 // different times, so the absolute-time profile smears what a closure does to the
@@ -346,8 +417,15 @@ int main(int argc, char** argv)
             "also print the vehicle NEES of the runs that close their loop in bins of this many "
             "seconds of time relative to each run's closure",
             false, 0, "S", cmd);
+        TCLAP::ValueArg<int> subsets(
+            "", "subsets",
+            "also print how the share of steps inside the band varies over sets of this many of the "
+            "runs (random sets and consecutive blocks), as estimated and with the NEES times 0.7 ... 1.5",
+            false, 0, "K", cmd);
         if (!cmd.parse(argc, argv)) return 0;
         if (seeds.getValue() < 1) throw std::invalid_argument("--seeds must be >= 1");
+        if (subsets.getValue() < 0 || subsets.getValue() >= std::max(seeds.getValue(), 2))
+            throw std::invalid_argument("--subsets must be between 1 and --seeds - 1 (0: none)");
         const auto cfg = hymm::core::openConfigFile(config.getValue());
         auto sc = hymm::sim::Scenario::fromFile(scenario.getValue());
         if (duration.getValue() > 0) sc.run.duration_s = duration.getValue();
@@ -461,6 +539,7 @@ int main(int argc, char** argv)
         if (obs_table.getValue()) observationTables(runs);
         if (profile.getValue() > 0) neesProfile(runs, profile.getValue());
         if (closure_profile.getValue() > 0) closureProfile(runs, closure_profile.getValue());
+        if (subsets.getValue() > 0) subsetTable(runs, subsets.getValue(), first.getValue());
         return 0;
     }
     catch (const std::exception& e)
