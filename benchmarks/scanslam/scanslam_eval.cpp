@@ -240,6 +240,16 @@ size_t commonSteps(const std::vector<hymm::app::ScanSlamRun>& runs)
     return n;
 }
 
+/** The vehicle NEES averaged over the runs `pick` (indices into runs), step by step over
+ *  the steps every run has. */
+std::vector<double> averagedNees(const std::vector<hymm::app::ScanSlamRun>& runs, const std::vector<size_t>& pick)
+{
+    std::vector<double> avg(commonSteps(runs), 0.0);
+    for (size_t j : pick)
+        for (size_t i = 0; i < avg.size(); ++i) avg[i] += runs[j].steps[i].nees / static_cast<double>(pick.size());
+    return avg;
+}
+
 /** The position (2 DOF) and heading (1 DOF) parts of a step's vehicle NEES. */
 std::pair<double, double> positionHeadingNees(const hymm::app::ScanSlamRun::Step& st)
 {
@@ -296,8 +306,6 @@ void neesProfile(const std::vector<hymm::app::ScanSlamRun>& runs, double bin_s)
 void subsetTable(const std::vector<hymm::app::ScanSlamRun>& runs, int k, long first_seed)
 {
     const size_t n = commonSteps(runs), nr = runs.size();
-    if (k < 1 || static_cast<size_t>(k) >= nr)
-        throw std::invalid_argument("--subsets must be >= 1 and below --seeds");
     std::vector<double> run_mean;
     double total = 0;
     size_t total_count = 0;
@@ -313,51 +321,64 @@ void subsetTable(const std::vector<hymm::app::ScanSlamRun>& runs, int k, long fi
     const double mean = total_count > 0 ? total / static_cast<double>(total_count) : std::nan("");
     const Spread per_run = spread(run_mean);
     const auto band = hymm::eval::averageNeesBounds(3, k, 0.95);
-    const auto share = [&](const std::vector<size_t>& pick, double scale) {
-        std::vector<double> avg(n, 0.0);
-        for (size_t j : pick)
-            for (size_t i = 0; i < n; ++i) avg[i] += scale * runs[j].steps[i].nees / k;
-        // A step whose NEES is NaN in one of the runs counts in neither share.
+    const std::vector<double> scales{0.7, 0.8, 0.9, 1.0, 1.1, 1.2, 1.3, 1.4, 1.5};
+    // The steps inside the band and the share above it, a step NaN in one of the runs
+    // counting in neither.
+    std::vector<double> scaled(n);
+    const auto share = [&](const std::vector<double>& avg, double scale) {
         size_t above = 0, finite = 0;
-        for (double v : avg) above += v > band.upper, finite += std::isfinite(v);
-        return std::make_pair(hymm::eval::fractionInsideBounds(avg, band),
+        for (size_t i = 0; i < n; ++i)
+        {
+            scaled[i] = scale * avg[i];
+            above += scaled[i] > band.upper, finite += std::isfinite(scaled[i]);
+        }
+        return std::make_pair(hymm::eval::fractionInsideBounds(scaled, band),
                               finite > 0 ? static_cast<double>(above) / static_cast<double>(finite) : std::nan(""));
     };
+    // Every scale reads the same draws and blocks.
+    std::vector<std::vector<double>> shares(scales.size()), aboves(scales.size());
+    std::vector<size_t> idx(nr);
+    std::iota(idx.begin(), idx.end(), 0);
+    std::mt19937 gen(1);
+    for (int d = 0; d < 1000; ++d)
+    {
+        std::shuffle(idx.begin(), idx.end(), gen);
+        const std::vector<double> avg = averagedNees(runs, {idx.begin(), idx.begin() + k});
+        for (size_t s = 0; s < scales.size(); ++s)
+        {
+            const auto [in, above] = share(avg, scales[s]);
+            shares[s].push_back(in);
+            aboves[s].push_back(above);
+        }
+    }
+    std::vector<std::vector<double>> block_avgs;
+    for (size_t b = 0; b + static_cast<size_t>(k) <= nr; b += static_cast<size_t>(k))
+    {
+        std::vector<size_t> pick(static_cast<size_t>(k));
+        std::iota(pick.begin(), pick.end(), b);
+        block_avgs.push_back(averagedNees(runs, pick));
+    }
     std::printf("\nvehicle NEES over every step of the %zu runs: mean %.2f (3 expected); each run's mean: "
                 "median %.2f (10th-90th %.2f-%.2f); %d-run sets, band [%.3f, %.3f]\n\n",
                 nr, mean, per_run.median, per_run.lo, per_run.hi, k, band.lower, band.upper);
     std::cout << "| NEES | share of the steps inside the band: median (10th-90th) over 1000 random sets | "
                  "sets at >= 0.9 | steps above the band: 90th percentile | consecutive blocks of seeds |\n"
                  "|---|---|---|---|---|\n";
-    std::vector<size_t> idx(nr);
-    for (const double scale : {0.7, 0.8, 0.9, 1.0, 1.1, 1.2, 1.3, 1.4, 1.5})
+    for (size_t s = 0; s < scales.size(); ++s)
     {
-        std::iota(idx.begin(), idx.end(), 0);
-        std::mt19937 gen(1);
-        std::vector<double> shares, aboves;
-        size_t hit = 0;
-        for (int d = 0; d < 1000; ++d)
-        {
-            std::shuffle(idx.begin(), idx.end(), gen);
-            const auto [in, above] = share({idx.begin(), idx.begin() + k}, scale);
-            shares.push_back(in);
-            aboves.push_back(above);
-            hit += in >= 0.9;
-        }
+        const auto hit = std::count_if(shares[s].begin(), shares[s].end(), [](double v) { return v >= 0.9; });
         std::string blocks;
-        for (size_t b = 0; b + static_cast<size_t>(k) <= nr; b += static_cast<size_t>(k))
+        for (size_t b = 0; b < block_avgs.size(); ++b)
         {
-            std::vector<size_t> pick(static_cast<size_t>(k));
-            std::iota(pick.begin(), pick.end(), b);
+            const long lo = first_seed + static_cast<long>(b) * k;
             char buf[64];
-            std::snprintf(buf, sizeof buf, "%s%ld-%ld: %.2f", blocks.empty() ? "" : ", ",
-                          first_seed + static_cast<long>(b), first_seed + static_cast<long>(b) + k - 1,
-                          share(pick, scale).first);
+            std::snprintf(buf, sizeof buf, "%s%ld-%ld: %.2f", b == 0 ? "" : ", ", lo, lo + k - 1,
+                          share(block_avgs[b], scales[s]).first);
             blocks += buf;
         }
-        const Spread s = spread(shares);
-        std::printf("| x %.1f | %.2f (%.2f-%.2f) | %.2f | %.2f | %s |\n", scale, s.median, s.lo, s.hi,
-                    static_cast<double>(hit) / 1000.0, spread(aboves).hi, blocks.c_str());
+        const Spread sh = spread(shares[s]);
+        std::printf("| x %.1f | %.2f (%.2f-%.2f) | %.2f | %.2f | %s |\n", scales[s], sh.median, sh.lo, sh.hi,
+                    static_cast<double>(hit) / 1000.0, spread(aboves[s]).hi, blocks.c_str());
     }
 }
 
@@ -480,9 +501,9 @@ int main(int argc, char** argv)
         }
         // Vehicle NEES averaged over the runs, step by step (runs share the frame times).
         const size_t n_steps = commonSteps(runs);
-        std::vector<double> avg(n_steps, 0.0);
-        for (const auto& r : runs)
-            for (size_t i = 0; i < n_steps; ++i) avg[i] += r.steps[i].nees / static_cast<double>(runs.size());
+        std::vector<size_t> all(runs.size());
+        std::iota(all.begin(), all.end(), 0);
+        const std::vector<double> avg = averagedNees(runs, all);
         const auto band = hymm::eval::averageNeesBounds(3, static_cast<int>(runs.size()), 0.95);
         const double inside = hymm::eval::fractionInsideBounds(avg, band);
         size_t above = 0;
